@@ -1,0 +1,30 @@
+# plugslam_add_plugin(NAME SOURCES a.cpp ... [LIBRARIES lib ...])
+# Builds lib<NAME>.so as a plugslam plugin: linked to the SDK, named so the host finds it
+# (plugslam_<NAME>.so), placed in the plugin folder of the build tree and installed with the host.
+# Works in-tree and, through the installed package config, in an outside project.
+function(plugslam_add_plugin name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBRARIES;INCLUDE_DIRS" ${ARGN})
+  if(NOT ARG_SOURCES)
+    message(FATAL_ERROR "plugslam_add_plugin(${name}): SOURCES is required")
+  endif()
+  set(target plugslam_plugin_${name})
+  add_library(${target} MODULE ${ARG_SOURCES})
+  if(TARGET plugslam::sdk)
+    target_link_libraries(${target} PRIVATE plugslam::sdk ${ARG_LIBRARIES})
+  else()
+    target_link_libraries(${target} PRIVATE plugslam_sdk ${ARG_LIBRARIES})
+  endif()
+  if(ARG_INCLUDE_DIRS)
+    target_include_directories(${target} PRIVATE ${ARG_INCLUDE_DIRS})
+  endif()
+  target_compile_definitions(${target} PRIVATE PLUGSLAM_PLUGIN_NAME="${name}")
+  set_target_properties(${target} PROPERTIES
+    PREFIX "" OUTPUT_NAME "plugslam_${name}"
+    CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON)
+  if(DEFINED PLUGSLAM_BUILD_PLUGIN_DIR)
+    set_target_properties(${target} PROPERTIES LIBRARY_OUTPUT_DIRECTORY "${PLUGSLAM_BUILD_PLUGIN_DIR}")
+  endif()
+  if(DEFINED PLUGSLAM_PLUGIN_INSTALL_DIR)
+    install(TARGETS ${target} LIBRARY DESTINATION "${PLUGSLAM_PLUGIN_INSTALL_DIR}")
+  endif()
+endfunction()

@@ -1,0 +1,11 @@
+#pragma once
+// The plugslam command line: parses argv, dispatches to the commands, maps errors to exit codes.
+namespace plugslam::runtime {
+
+/// Exit codes of every command.
+enum ExitCode : int { kOk = 0, kRuntimeFailure = 1, kBadInput = 2 };
+
+/// Runs the CLI on argv; never throws.
+int runCli(int argc, char** argv);
+
+}  // namespace plugslam::runtime
