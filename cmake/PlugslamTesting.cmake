@@ -1,0 +1,25 @@
+# plugslam_add_test(NAME SOURCES ... [LIBRARIES ...] [LABELS unit|integration|e2e])
+# One GoogleTest executable registered with CTest. Tests get PLUGSLAM_DATA (real datasets, may be
+# absent: tests skip with a reason), PLUGSLAM_BUILD_DIR and PLUGSLAM_SOURCE_DIR in their environment.
+if(DEFINED ENV{PLUGSLAM_DATA})
+  set(PLUGSLAM_DATA_DIR "$ENV{PLUGSLAM_DATA}")
+else()
+  get_filename_component(PLUGSLAM_DATA_DIR "${PROJECT_SOURCE_DIR}/../shared/data" ABSOLUTE)
+endif()
+
+function(plugslam_add_test name)
+  if(NOT PLUGSLAM_BUILD_TESTS)
+    return()
+  endif()
+  cmake_parse_arguments(ARG "" "" "SOURCES;LIBRARIES;LABELS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE plugslam_sdk GTest::gtest GTest::gtest_main ${ARG_LIBRARIES})
+  set_target_properties(${name} PROPERTIES RUNTIME_OUTPUT_DIRECTORY "${CMAKE_BINARY_DIR}/tests")
+  if(NOT ARG_LABELS)
+    set(ARG_LABELS unit)
+  endif()
+  gtest_discover_tests(${name}
+    PROPERTIES LABELS "${ARG_LABELS}"
+    ENVIRONMENT "PLUGSLAM_DATA=${PLUGSLAM_DATA_DIR};PLUGSLAM_BUILD_DIR=${CMAKE_BINARY_DIR};PLUGSLAM_SOURCE_DIR=${PROJECT_SOURCE_DIR}"
+    DISCOVERY_TIMEOUT 60)
+endfunction()
