@@ -1,6 +1,7 @@
 // sim2d simulator: determinism, odometry, presets, collisions, loops, exploration, speed.
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -41,7 +42,8 @@ bool segmentsIntersect(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const
   };
   const double d1 = orient(p, q, s.a), d2 = orient(p, q, s.b);
   const double d3 = orient(s.a, s.b, p), d4 = orient(s.a, s.b, q);
-  return ((d1 > 0) != (d2 > 0) || d1 == 0 || d2 == 0) && ((d3 > 0) != (d4 > 0) || d3 == 0 || d4 == 0);
+  return ((d1 > 0) != (d2 > 0) || d1 == 0 || d2 == 0) &&
+         ((d3 > 0) != (d4 > 0) || d3 == 0 || d4 == 0);
 }
 
 TEST(Sim2dSimulator, SameSeedSameFramesOtherSeedDiffers) {
@@ -138,8 +140,8 @@ TEST(Sim2dSimulator, PresetsMatchSeedLengthsAndNeverCrossWalls) {
     }
     EXPECT_NEAR(length, sim.pathLength(), 0.01 * seed_length) << name;
     EXPECT_GE(min_clearance, sim.config().drive.robot_radius) << name;
-    std::cout << name << ": " << sim.frameCount() << " frames, " << sim.pathLength()
-              << " m (seed " << seed_length << " m), min clearance " << min_clearance << " m\n";
+    std::cout << name << ": " << sim.frameCount() << " frames, " << sim.pathLength() << " m (seed "
+              << seed_length << " m), min clearance " << min_clearance << " m\n";
   }
 }
 
@@ -158,6 +160,53 @@ TEST(Sim2dSimulator, LongSessionsRevisitPlaces) {
       }
     }
     EXPECT_GT(revisits, 100u) << name;
+  }
+}
+
+// Sum of n n^T over scan points (normals from neighbouring points, in the robot frame): its
+// smallest eigenvalue counts the points constraining the worst translation direction.
+Eigen::Matrix2d normalInformation(const LaserScan& scan) {
+  std::vector<Eigen::Vector2d> p(scan.ranges.size());
+  for (size_t i = 0; i < p.size(); ++i) {
+    const double a = scan.angle_min + i * scan.angle_increment;
+    p[i] = scan.ranges[i] * Eigen::Vector2d(std::cos(a), std::sin(a));
+  }
+  Eigen::Matrix2d h = Eigen::Matrix2d::Zero();
+  const Eigen::Matrix2d r = Eigen::Rotation2Dd(scan.mount.z()).toRotationMatrix();
+  for (size_t i = 2; i + 2 < p.size(); ++i) {
+    if (!p[i - 2].allFinite() || !p[i].allFinite() || !p[i + 2].allFinite()) continue;
+    const Eigen::Vector2d t = p[i + 2] - p[i - 2];
+    if (t.norm() > 0.3 || t.norm() < 1e-9) continue;  // a depth jump, not a surface
+    const Eigen::Vector2d n = r * Eigen::Vector2d(-t.y(), t.x()).normalized();
+    h += n * n.transpose();
+  }
+  return h;
+}
+
+TEST(Sim2dSimulator, ScansConstrainBothAxesEverywhere) {
+  // Corridors carry columns, doors and alcoves, so even a single laser is never degenerate.
+  for (const std::string name : {"stage-1", "stage-3"}) {
+    SimConfig config = presetSession(name);
+    for (LaserConfig& l : config.lasers) {
+      l.range_sigma = 0.0;
+      l.dropout = 0.0;
+    }
+    Simulator sim(config);
+    SimFrame f;
+    double worst_front = 1e9, worst_both = 1e9;
+    while (sim.step(f)) {
+      if (f.index % 10 != 0) continue;
+      const Eigen::Matrix2d front = normalInformation(f.lasers[0]);
+      const Eigen::Matrix2d both = front + normalInformation(f.lasers[1]);
+      worst_front = std::min(
+          worst_front, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(front).eigenvalues()(0));
+      worst_both = std::min(worst_both,
+                            Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(both).eigenvalues()(0));
+    }
+    std::cout << name << ": weakest-axis information front " << worst_front << ", both "
+              << worst_both << "\n";
+    EXPECT_GT(worst_front, 25.0) << name;
+    EXPECT_GT(worst_both, 60.0) << name;
   }
 }
 

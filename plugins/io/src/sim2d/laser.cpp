@@ -48,7 +48,8 @@ void simulateScan(const World& world, const Eigen::Vector3d& robot_pose, const L
       if (dropped) r = nan;
       r += noise;
     }
-    scan->ranges[i] = (std::isfinite(r) && r >= config.min_range && r <= config.max_range) ? r : nan;
+    scan->ranges[i] =
+        (std::isfinite(r) && r >= config.min_range && r <= config.max_range) ? r : nan;
   }
 }
 

@@ -43,7 +43,8 @@ GridPlanner::GridPlanner(const World& world, const PlannerOptions& options) : op
 
 int GridPlanner::cellOf(const Eigen::Vector2d& p) const {
   const Eigen::Vector2d q = (p - origin_) / options_.resolution;
-  const int x = static_cast<int>(std::floor(q.x() + 0.5)), y = static_cast<int>(std::floor(q.y() + 0.5));
+  const int x = static_cast<int>(std::floor(q.x() + 0.5)),
+            y = static_cast<int>(std::floor(q.y() + 0.5));
   if (x < 0 || y < 0 || x >= nx_ || y >= ny_) return -1;
   return y * nx_ + x;
 }
@@ -67,11 +68,13 @@ std::vector<Eigen::Vector2d> GridPlanner::plan(const Eigen::Vector2d& from,
                                                const Eigen::Vector2d& to) const {
   const int start = cellOf(from), goal = cellOf(to);
   if (start < 0 || clearance_[start] < options_.min_clearance) {
-    throw InputError("sim2d planner: start " + pointText(from) + " is not in free space (closer than " +
+    throw InputError("sim2d planner: start " + pointText(from) +
+                     " is not in free space (closer than " +
                      std::to_string(options_.min_clearance) + " m to a wall or outside the world)");
   }
   if (goal < 0 || clearance_[goal] < options_.min_clearance) {
-    throw InputError("sim2d planner: waypoint " + pointText(to) + " is not in free space (closer than " +
+    throw InputError("sim2d planner: waypoint " + pointText(to) +
+                     " is not in free space (closer than " +
                      std::to_string(options_.min_clearance) + " m to a wall or outside the world)");
   }
   const double inf = std::numeric_limits<double>::infinity();

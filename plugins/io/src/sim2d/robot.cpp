@@ -32,9 +32,11 @@ Eigen::Vector3d driveArc(const Eigen::Vector3d& pose, double dl, double dr, doub
 
 PurePursuit::PurePursuit(std::vector<Eigen::Vector2d> path, const DriveLimits& limits)
     : path_(std::move(path)), limits_(limits) {
-  if (path_.size() < 2) throw InputError("sim2d pure pursuit: expected a path of at least two points");
+  if (path_.size() < 2)
+    throw InputError("sim2d pure pursuit: expected a path of at least two points");
   arc_.assign(path_.size(), 0.0);
-  for (size_t i = 1; i < path_.size(); ++i) arc_[i] = arc_[i - 1] + (path_[i] - path_[i - 1]).norm();
+  for (size_t i = 1; i < path_.size(); ++i)
+    arc_[i] = arc_[i - 1] + (path_[i] - path_[i - 1]).norm();
 }
 
 Eigen::Vector2d PurePursuit::pointAt(double s) const {
@@ -100,8 +102,8 @@ Eigen::Vector2d WheelOdometry::update(double dl, double dr) {
   const double rotation = std::abs(dr - dl) / wheel_base_;
   const double rot_var = noise_.slip_per_rotation * noise_.slip_per_rotation * rotation;
   const double kd2 = noise_.slip_per_distance * noise_.slip_per_distance;
-  const double ml = dl * (1.0 + noise_.left_scale_error) +
-                    rng_.gaussian(std::sqrt(kd2 * std::abs(dl) + rot_var));
+  const double ml =
+      dl * (1.0 + noise_.left_scale_error) + rng_.gaussian(std::sqrt(kd2 * std::abs(dl) + rot_var));
   const double mr = dr * (1.0 + noise_.right_scale_error) +
                     rng_.gaussian(std::sqrt(kd2 * std::abs(dr) + rot_var));
   pose_ = driveArc(pose_, ml, mr, wheel_base_ * (1.0 + noise_.wheel_base_error));

@@ -19,13 +19,13 @@ Eigen::Vector3d driveArc(const Eigen::Vector3d& pose, double dl, double dr, doub
 
 /// Robot geometry and motion limits of the simulated differential-drive platform.
 struct DriveLimits {
-  double max_linear = 0.5;        ///< [m/s]
-  double max_angular = 1.0;       ///< [rad/s]
-  double max_linear_acc = 0.6;    ///< [m/s^2]
-  double max_angular_acc = 2.0;   ///< [rad/s^2]
-  double lookahead = 0.6;         ///< pure-pursuit lookahead distance [m]
-  double wheel_base = 0.4;        ///< distance between the wheels [m]
-  double robot_radius = 0.25;     ///< body radius, for clearance checks [m]
+  double max_linear = 0.5;       ///< [m/s]
+  double max_angular = 1.0;      ///< [rad/s]
+  double max_linear_acc = 0.6;   ///< [m/s^2]
+  double max_angular_acc = 2.0;  ///< [rad/s^2]
+  double lookahead = 0.6;        ///< pure-pursuit lookahead distance [m]
+  double wheel_base = 0.4;       ///< distance between the wheels [m]
+  double robot_radius = 0.25;    ///< body radius, for clearance checks [m]
 };
 
 /// Follows a polyline with the pure-pursuit law; turns in place when the path turns back.
@@ -47,8 +47,8 @@ class PurePursuit {
   std::vector<Eigen::Vector2d> path_;
   std::vector<double> arc_;  // cumulative arc length at each path point
   DriveLimits limits_;
-  double progress_ = 0.0;    // arc length of the closest path point
-  size_t segment_ = 0;       // path segment holding progress_
+  double progress_ = 0.0;  // arc length of the closest path point
+  size_t segment_ = 0;     // path segment holding progress_
   Eigen::Vector2d velocity_{0.0, 0.0};
   bool turning_in_place_ = false;
   bool finished_ = false;

@@ -53,18 +53,21 @@ Simulator::Simulator(SimConfig config) : config_(std::move(config)) {
   requirePositive(d.max_angular_acc, "drive.max_angular_acc");
   requirePositive(d.lookahead, "drive.lookahead");
   requirePositive(d.wheel_base, "drive.wheel_base");
-  if (!(d.robot_radius >= 0.0)) throw InputError("sim2d simulator: drive.robot_radius must be >= 0");
+  if (!(d.robot_radius >= 0.0))
+    throw InputError("sim2d simulator: drive.robot_radius must be >= 0");
   if (config_.tour.empty()) throw InputError("sim2d simulator: expected at least one tour place");
   std::set<std::string> names;
   for (const LaserConfig& l : config_.lasers) {
     l.validate();
     if (!names.insert(l.name).second) {
-      throw InputError("sim2d simulator: two lasers are named '" + l.name + "'; names must be unique");
+      throw InputError("sim2d simulator: two lasers are named '" + l.name +
+                       "'; names must be unique");
     }
   }
   const OdometryNoise& n = config_.odometry;
   for (double v : {n.left_scale_error, n.right_scale_error, n.wheel_base_error}) {
-    if (!(v > -0.5 && v < 0.5)) throw InputError("sim2d simulator: odometry scale errors must be in (-0.5, 0.5)");
+    if (!(v > -0.5 && v < 0.5))
+      throw InputError("sim2d simulator: odometry scale errors must be in (-0.5, 0.5)");
   }
   if (!(n.slip_per_distance >= 0.0) || !(n.slip_per_rotation >= 0.0)) {
     throw InputError("sim2d simulator: odometry slip must be >= 0");
@@ -84,7 +87,8 @@ void Simulator::buildTrajectory() {
     const auto& t = config_.tour;
     for (size_t i = 0; i < t.size(); ++i) append(cycle, planner.plan(t[i], t[(i + 1) % t.size()]));
     const double cycle_len = polylineLength(cycle);
-    if (cycle_len < 1e-6) throw InputError("sim2d simulator: the tour places are all the same point");
+    if (cycle_len < 1e-6)
+      throw InputError("sim2d simulator: the tour places are all the same point");
     while (polylineLength(planned_) < needed) append(planned_, cycle);
   } else {
     // Exploration: random reachable goals with good clearance, at least 4 m apart.
@@ -92,14 +96,16 @@ void Simulator::buildTrajectory() {
     const Eigen::Vector2d start = config_.tour.front();
     const std::vector<Eigen::Vector2d> goals = planner.reachable(start, 0.8);
     if (goals.empty()) {
-      throw InputError("sim2d simulator: nothing reachable with 0.8 m clearance from the start place");
+      throw InputError(
+          "sim2d simulator: nothing reachable with 0.8 m clearance from the start place");
     }
     Eigen::Vector2d at = start;
     planned_.push_back(start);
     double length = 0.0;
     int attempts = 0;
     while (length < needed) {
-      if (++attempts > 100000) throw InputError("sim2d simulator: exploration found no goals 4 m apart");
+      if (++attempts > 100000)
+        throw InputError("sim2d simulator: exploration found no goals 4 m apart");
       const Eigen::Vector2d g = goals[rng.index(goals.size())];
       if ((g - at).norm() < 4.0) continue;
       const std::vector<Eigen::Vector2d> leg = planner.plan(at, g);
@@ -122,7 +128,8 @@ void Simulator::buildTrajectory() {
   wheels_.clear();
   path_length_ = 0.0;
   min_clearance_ = world.clearance(pose.head<2>(), 1e9);
-  const double max_frames = 100.0 * config_.rate * config_.path_length / config_.drive.max_linear + 1e4;
+  const double max_frames =
+      100.0 * config_.rate * config_.path_length / config_.drive.max_linear + 1e4;
   while (path_length_ < config_.path_length) {
     const Eigen::Vector3d frame_start = pose;
     for (int k = 0; k < config_.substeps; ++k) {
@@ -143,8 +150,9 @@ void Simulator::buildTrajectory() {
     min_clearance_ = std::min(min_clearance_, world.clearance(pose.head<2>(), 1e9));
     ground_truth_.push_back(pose);
     if (follower.finished() || ground_truth_.size() > max_frames) {
-      throw InputError("sim2d simulator: the robot could not complete the tour (stuck or the path "
-                       "ended early); check that the tour places are reachable");
+      throw InputError(
+          "sim2d simulator: the robot could not complete the tour (stuck or the path "
+          "ended early); check that the tour places are reachable");
     }
   }
 }
@@ -154,7 +162,8 @@ void Simulator::reset() {
   odometry_ = std::make_unique<WheelOdometry>(ground_truth_.front(), config_.drive.wheel_base,
                                               config_.odometry, config_.seed);
   laser_rngs_.clear();
-  for (size_t i = 0; i < config_.lasers.size(); ++i) laser_rngs_.emplace_back(config_.seed, 100 + i);
+  for (size_t i = 0; i < config_.lasers.size(); ++i)
+    laser_rngs_.emplace_back(config_.seed, 100 + i);
 }
 
 bool Simulator::step(SimFrame& frame) {

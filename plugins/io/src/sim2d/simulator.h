@@ -26,25 +26,25 @@ struct SimConfig {
   /// place, the robot starts there and explores: it drives to random reachable places drawn
   /// from the seed (which then also changes the ground truth).
   std::vector<Eigen::Vector2d> tour;
-  double path_length = 50.0;           ///< the session ends at the first frame past this [m]
-  double rate = 10.0;                  ///< frame rate of odometry and lasers [Hz]
-  int substeps = 5;                    ///< control / integration steps per frame
-  DriveLimits drive;                   ///< robot geometry and limits
-  PlannerOptions planner;              ///< path planning grid and clearance
-  std::vector<LaserConfig> lasers;     ///< any number of scanners (names must be unique)
-  OdometryNoise odometry;              ///< wheel odometry errors
-  uint64_t seed = 0;                   ///< seeds every random stream
+  double path_length = 50.0;        ///< the session ends at the first frame past this [m]
+  double rate = 10.0;               ///< frame rate of odometry and lasers [Hz]
+  int substeps = 5;                 ///< control / integration steps per frame
+  DriveLimits drive;                ///< robot geometry and limits
+  PlannerOptions planner;           ///< path planning grid and clearance
+  std::vector<LaserConfig> lasers;  ///< any number of scanners (names must be unique)
+  OdometryNoise odometry;           ///< wheel odometry errors
+  uint64_t seed = 0;                ///< seeds every random stream
 };
 
 /// One synchronised step: ground truth, odometry and all scans at the same instant.
 struct SimFrame {
-  size_t index = 0;                         ///< 0-based frame number
-  double time = 0.0;                        ///< [s], index / rate
-  Eigen::Vector3d ground_truth{0, 0, 0};    ///< true robot pose in the world (x, y, theta)
-  Eigen::Vector3d odometry{0, 0, 0};        ///< integrated wheel odometry (starts at ground truth)
-  double wheel_left = 0.0;                  ///< measured left wheel travel since last frame [m]
-  double wheel_right = 0.0;                 ///< measured right wheel travel since last frame [m]
-  std::vector<LaserScan> lasers;            ///< one scan per configured laser, in config order
+  size_t index = 0;                       ///< 0-based frame number
+  double time = 0.0;                      ///< [s], index / rate
+  Eigen::Vector3d ground_truth{0, 0, 0};  ///< true robot pose in the world (x, y, theta)
+  Eigen::Vector3d odometry{0, 0, 0};      ///< integrated wheel odometry (starts at ground truth)
+  double wheel_left = 0.0;                ///< measured left wheel travel since last frame [m]
+  double wheel_right = 0.0;               ///< measured right wheel travel since last frame [m]
+  std::vector<LaserScan> lasers;          ///< one scan per configured laser, in config order
 };
 
 /// A pose (x, y, theta) as an isometry.

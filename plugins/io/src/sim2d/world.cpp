@@ -14,7 +14,9 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-double cross(const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); }
+double cross(const Eigen::Vector2d& u, const Eigen::Vector2d& v) {
+  return u.x() * v.y() - u.y() * v.x();
+}
 
 // Liang-Barsky: does any part of segment a-b lie inside the box [lo, hi]?
 bool segmentTouchesBox(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
@@ -73,10 +75,14 @@ World::World(std::vector<Segment> segments, double cell_size) : segments_(std::m
   for (size_t i = 0; i < segments_.size(); ++i) {
     const Segment& s = segments_[i];
     const Eigen::Vector2d lo = s.a.cwiseMin(s.b), hi = s.a.cwiseMax(s.b);
-    const int x0 = std::max(0, static_cast<int>(std::floor((lo.x() - grid_origin_.x() - eps) / cell_)));
-    const int y0 = std::max(0, static_cast<int>(std::floor((lo.y() - grid_origin_.y() - eps) / cell_)));
-    const int x1 = std::min(nx_ - 1, static_cast<int>(std::floor((hi.x() - grid_origin_.x() + eps) / cell_)));
-    const int y1 = std::min(ny_ - 1, static_cast<int>(std::floor((hi.y() - grid_origin_.y() + eps) / cell_)));
+    const int x0 =
+        std::max(0, static_cast<int>(std::floor((lo.x() - grid_origin_.x() - eps) / cell_)));
+    const int y0 =
+        std::max(0, static_cast<int>(std::floor((lo.y() - grid_origin_.y() - eps) / cell_)));
+    const int x1 =
+        std::min(nx_ - 1, static_cast<int>(std::floor((hi.x() - grid_origin_.x() + eps) / cell_)));
+    const int y1 =
+        std::min(ny_ - 1, static_cast<int>(std::floor((hi.y() - grid_origin_.y() + eps) / cell_)));
     for (int cy = y0; cy <= y1; ++cy) {
       for (int cx = x0; cx <= x1; ++cx) {
         const Eigen::Vector2d clo = grid_origin_ + cell_ * Eigen::Vector2d(cx, cy);
@@ -171,10 +177,14 @@ bool World::crosses(const Eigen::Vector2d& p, const Eigen::Vector2d& q) const {
 }
 
 double World::clearance(const Eigen::Vector2d& p, double max_distance) const {
-  const int x0 = std::max(0, static_cast<int>(std::floor((p.x() - max_distance - grid_origin_.x()) / cell_)));
-  const int y0 = std::max(0, static_cast<int>(std::floor((p.y() - max_distance - grid_origin_.y()) / cell_)));
-  const int x1 = std::min(nx_ - 1, static_cast<int>(std::floor((p.x() + max_distance - grid_origin_.x()) / cell_)));
-  const int y1 = std::min(ny_ - 1, static_cast<int>(std::floor((p.y() + max_distance - grid_origin_.y()) / cell_)));
+  const int x0 =
+      std::max(0, static_cast<int>(std::floor((p.x() - max_distance - grid_origin_.x()) / cell_)));
+  const int y0 =
+      std::max(0, static_cast<int>(std::floor((p.y() - max_distance - grid_origin_.y()) / cell_)));
+  const int x1 = std::min(
+      nx_ - 1, static_cast<int>(std::floor((p.x() + max_distance - grid_origin_.x()) / cell_)));
+  const int y1 = std::min(
+      ny_ - 1, static_cast<int>(std::floor((p.y() + max_distance - grid_origin_.y()) / cell_)));
   double best = max_distance;
   for (int cy = y0; cy <= y1; ++cy) {
     for (int cx = x0; cx <= x1; ++cx) {

@@ -69,7 +69,8 @@ class World {
   Eigen::Vector2d grid_origin_{0.0, 0.0};
   double cell_ = 1.0;
   int nx_ = 0, ny_ = 0;
-  std::vector<uint32_t> cell_start_;  // CSR: segments of cell c are cell_items_[start[c]..start[c+1])
+  std::vector<uint32_t>
+      cell_start_;  // CSR: segments of cell c are cell_items_[start[c]..start[c+1])
   std::vector<uint32_t> cell_items_;
 };
 

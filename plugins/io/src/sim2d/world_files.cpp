@@ -1,7 +1,7 @@
 // World loaders: the segment-list text format and PGM occupancy images.
 #include <cctype>
-#include <cmath>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
@@ -26,7 +26,8 @@ bool parseDouble(const std::string& token, double* value) {
 // Reads the PGM header and pixel tokens while tracking 1-based line numbers for errors.
 class PgmReader {
  public:
-  PgmReader(std::string path, std::string bytes) : path_(std::move(path)), data_(std::move(bytes)) {}
+  PgmReader(std::string path, std::string bytes)
+      : path_(std::move(path)), data_(std::move(bytes)) {}
 
   // Skips whitespace and '#' comments, then returns the next whitespace-delimited token.
   std::string token(const char* what) {
@@ -72,7 +73,9 @@ class PgmReader {
     return ++pos_;
   }
 
-  [[noreturn]] void fail(const std::string& message) const { throw ParseError(path_, line_, message); }
+  [[noreturn]] void fail(const std::string& message) const {
+    throw ParseError(path_, line_, message);
+  }
 
   const std::string& data() const { return data_; }
   int line() const { return line_; }
@@ -101,15 +104,16 @@ World World::loadSegments(const std::string& path) {
                                     std::istream_iterator<std::string>()};
     if (tokens.empty()) continue;
     if (tokens.size() != 4) {
-      throw ParseError(path, number, "expected four numbers 'x1 y1 x2 y2', got " +
-                                         std::to_string(tokens.size()) + " fields");
+      throw ParseError(
+          path, number,
+          "expected four numbers 'x1 y1 x2 y2', got " + std::to_string(tokens.size()) + " fields");
     }
     double v[4];
     for (int k = 0; k < 4; ++k) {
       if (!parseDouble(tokens[k], &v[k])) {
-        throw ParseError(path, number, "expected a finite number for field " +
-                                           std::to_string(k + 1) + " of 'x1 y1 x2 y2', got '" +
-                                           tokens[k] + "'");
+        throw ParseError(path, number,
+                         "expected a finite number for field " + std::to_string(k + 1) +
+                             " of 'x1 y1 x2 y2', got '" + tokens[k] + "'");
       }
     }
     Segment s{Eigen::Vector2d(v[0], v[1]), Eigen::Vector2d(v[2], v[3])};
@@ -136,7 +140,8 @@ World World::loadPgm(const std::string& path, double resolution, const Eigen::Ve
   PgmReader reader(path, std::move(bytes));
 
   const std::string magic = reader.token("the magic number P2 or P5");
-  if (magic != "P2" && magic != "P5") reader.fail("expected magic number P2 or P5, got '" + magic + "'");
+  if (magic != "P2" && magic != "P5")
+    reader.fail("expected magic number P2 or P5, got '" + magic + "'");
   const long width = reader.integer("the image width", 1, 1 << 15);
   const long height = reader.integer("the image height", 1, 1 << 15);
   const long maxval = reader.integer("the maximum grey value", 1, 65535);
@@ -168,7 +173,8 @@ World World::loadPgm(const std::string& path, double resolution, const Eigen::Ve
   };
   auto corner = [&](long c, long image_row_edge) {
     // image_row_edge counts pixel edges from the image top (0 = top border).
-    return Eigen::Vector2d(origin.x() + resolution * c, origin.y() + resolution * (height - image_row_edge));
+    return Eigen::Vector2d(origin.x() + resolution * c,
+                           origin.y() + resolution * (height - image_row_edge));
   };
 
   std::vector<Segment> segments;
