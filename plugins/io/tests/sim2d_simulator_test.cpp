@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 
 #include "plugslam/errors.h"
 #include "sim2d/simulator.h"
@@ -243,6 +244,55 @@ TEST(Sim2dSimulator, ExplorationIsDeterministicAndCollisionFree) {
   config.seed = 12;
   Simulator c(config);
   EXPECT_NE(a.groundTruth().back(), c.groundTruth().back());
+}
+
+TEST(Sim2dSimulator, DrivesInALoadedPgmWorld) {
+  // A 12 x 8 m room at 0.1 m/pixel: 2-pixel thick outer walls, a 1 x 1 m block and an internal
+  // wall with a 1.5 m gap.
+  const int w = 120, h = 80;
+  std::vector<int> img(w * h, 254);
+  auto fill = [&](int c0, int r0, int c1, int r1) {
+    for (int r = r0; r < r1; ++r)
+      for (int c = c0; c < c1; ++c) img[r * w + c] = 0;
+  };
+  fill(0, 0, w, 2);
+  fill(0, h - 2, w, h);
+  fill(0, 0, 2, h);
+  fill(w - 2, 0, w, h);
+  fill(30, 30, 40, 40);
+  fill(70, 2, 72, 50);  // leaves rows 50..78 open
+  const std::string path = ::testing::TempDir() + "/room.pgm";
+  {
+    std::ofstream out(path);
+    out << "P2\n" << w << " " << h << "\n255\n";
+    for (int v : img) out << v << "\n";
+  }
+  SimConfig config;
+  config.world = std::make_shared<const World>(World::loadPgm(path, 0.1, Eigen::Vector2d(-1, -1)));
+  config.tour = {Eigen::Vector2d(1.5, 5.0), Eigen::Vector2d(9.5, 5.0)};  // either side of the wall
+  config.path_length = 60.0;
+  config.lasers = defaultLasers();
+  config.seed = 4;
+  Simulator sim(config);
+  EXPECT_NEAR(sim.pathLength(), 60.0, 0.1);
+  EXPECT_GE(sim.minClearance(), config.drive.robot_radius);
+  const auto& gt = sim.groundTruth();
+  for (size_t i = 1; i < gt.size(); ++i) {
+    ASSERT_FALSE(sim.world().crosses(gt[i - 1].head<2>(), gt[i].head<2>())) << "frame " << i;
+  }
+  // The robot reached the far side of the internal wall (x = 6.0 .. 6.2 m).
+  double max_x = -1e9;
+  for (const auto& p : gt) max_x = std::max(max_x, p.x());
+  EXPECT_GT(max_x, 9.0);
+  SimFrame f;
+  ASSERT_TRUE(sim.step(f));
+  size_t valid = 0;
+  for (double r : f.lasers[0].ranges) valid += std::isfinite(r) ? 1 : 0;
+  EXPECT_GT(valid, 1000u);  // a closed room: nearly every beam returns
+
+  config.tour = {Eigen::Vector2d(1.5, 5.0)};  // exploration
+  Simulator explorer(config);
+  EXPECT_GE(explorer.minClearance(), config.drive.robot_radius);
 }
 
 TEST(Sim2dSimulator, RejectsBadConfigs) {
