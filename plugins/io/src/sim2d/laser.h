@@ -1,6 +1,7 @@
 #pragma once
 // Simulated 2D laser scanners.
 #include <Eigen/Core>
+#include <cmath>
 #include <string>
 #include <vector>
 
