@@ -434,6 +434,78 @@ TEST_F(CarmenReaderTest, TruncatedGzip) {
   EXPECT_LT(recs.size(), 800u);
 }
 
+TEST_F(CarmenReaderTest, RobotLaserWithoutLoggerTimestampAndRawLaser) {
+  std::string text =
+      "ROBOTLASER2 0 -1.0 2.0 0.5 20 0.01 0 5 1 2 3 4 5 0 1 2 3 4 5 6 0 0 0 0 0 7.5 host\n"
+      "RAWLASER1 4 -1.5 3.0 1.5 30 0.01 1 3 1 nan 3 3 7 8 9 8.0 host 8.0\n";
+  auto r = CarmenReader::fromText("mem.log", text);
+  auto recs = readAll(*r);
+  ASSERT_EQ(recs.size(), 2u);
+  EXPECT_EQ(recs[0].laser.sensor, "rear");
+  EXPECT_DOUBLE_EQ(recs[0].laser.timestamp, 7.5);
+  EXPECT_DOUBLE_EQ(recs[0].laser.logger_timestamp, 0.0);
+  EXPECT_DOUBLE_EQ(recs[0].laser.laser_pose.x, 1.0);
+  EXPECT_DOUBLE_EQ(recs[0].laser.robot_pose.theta, 6.0);
+  EXPECT_EQ(recs[1].laser.message, "RAWLASER1");
+  EXPECT_EQ(recs[1].laser.sensor, "raw1");
+  EXPECT_FALSE(recs[1].laser.has_pose);
+  EXPECT_EQ(recs[1].laser.laser_type, 4);
+  EXPECT_EQ(recs[1].laser.remissions, (std::vector<double>{7, 8, 9}));
+  EXPECT_TRUE(std::isnan(recs[1].laser.ranges[1]));
+}
+
+TEST_F(CarmenReaderTest, DirectoryIsAnInputError) {
+  EXPECT_THROW(CarmenReader r(dir_.string()), InputError);
+}
+
+// Random byte edits of a valid log: the reader returns records or throws ParseError, nothing else.
+TEST_F(CarmenReaderTest, MutatedLogsNeverCrash) {
+  std::string base = "PARAM laser_front_laser_resolution 0.5 nohost 0\n" + odom(0, 1) +
+                     flaser(20, 1, 1.5) + kRobotLaser +
+                     "RAWLASER1 4 -1.5 3.0 1.5 30 0.01 1 2 1 2 1 7 8.0 h 8.0\n" + odom(1, 2);
+  std::mt19937 rng(3);
+  const char alphabet[] = "0123456789 .-+eEnaif\n\t#\x01\xff";
+  std::size_t errors = 0, records = 0;
+  for (int iter = 0; iter < 3000; ++iter) {
+    std::string text = base;
+    int edits = 1 + static_cast<int>(rng() % 6);
+    for (int k = 0; k < edits; ++k) {
+      std::size_t at = rng() % text.size();
+      switch (rng() % 3) {
+        case 0:
+          text[at] = alphabet[rng() % (sizeof(alphabet) - 1)];
+          break;
+        case 1:
+          text.erase(at, 1 + rng() % 8);
+          break;
+        default:
+          text.insert(at, 1, alphabet[rng() % (sizeof(alphabet) - 1)]);
+          break;
+      }
+      if (text.empty()) text = "x";
+    }
+    for (ErrorPolicy policy : {ErrorPolicy::kStrict, ErrorPolicy::kSkip}) {
+      CarmenReaderOptions opt;
+      opt.policy = policy;
+      auto r = CarmenReader::fromText("fuzz.log", text, opt);
+      try {
+        CarmenRecord rec;
+        while (r->next(rec)) {
+          ++records;
+          if (rec.kind == CarmenRecord::Kind::kLaser) {
+            EXPECT_FALSE(rec.laser.ranges.empty());
+          }
+        }
+      } catch (const ParseError& e) {
+        ++errors;
+        EXPECT_GT(e.line(), 0);
+      }
+    }
+  }
+  EXPECT_GT(errors, 0u);
+  EXPECT_GT(records, 0u);
+}
+
 struct RealLog {
   const char* file;
   std::size_t lasers, odometry, params, beams;

@@ -245,6 +245,7 @@ TEST_F(RosbagReaderTest, MissingFileNotABagAndWrongVersion) {
     EXPECT_NE(std::string(e.what()).find(missing), std::string::npos);
   }
   EXPECT_THROW(RosbagReader(write("x.bag", "hello world, not a bag at all")), ParseError);
+  EXPECT_THROW(RosbagReader(dir_.string()), InputError);
   EXPECT_THROW(RosbagReader(write("e.bag", "")), ParseError);
   try {
     RosbagReader bag(write("v.bag", "#ROSBAG V1.2\nxxxx"));
@@ -259,14 +260,12 @@ TEST_F(RosbagReaderTest, TruncatedBagsThrowWithByteOffset) {
   for (const char* how : {"none", "bz2", "lz4"}) {
     std::string full = smallBag(how);
     std::size_t errors = 0;
-    // A prime stride keeps the test fast and still lands in every kind of field.
     std::size_t tried = 0;
-    for (std::size_t cut = 13; cut < full.size(); cut += 7, ++tried) {
-      std::string p = write("t.bag", full.substr(0, cut));
+    for (std::size_t cut = 13; cut < full.size(); cut += 3, ++tried) {
       try {
-        RosbagReader bag(p);
+        auto bag = RosbagReader::fromBytes("t.bag", full.substr(0, cut));
         RosbagMessage m;
-        while (bag.next(m)) {
+        while (bag->next(m)) {
         }
       } catch (const ParseError& e) {
         ++errors;
@@ -290,15 +289,14 @@ TEST_F(RosbagReaderTest, CorruptBytesNeverCrash) {
         std::size_t at = 13 + rng() % (bytes.size() - 13);
         bytes[at] = static_cast<char>(rng() & 0xff);
       }
-      std::string p = write("c.bag", bytes);
       try {
-        RosbagReader bag(p);
+        auto bag = RosbagReader::fromBytes("c.bag", bytes);
         RosbagMessage m;
         LaserScanMsg scan;
         OdometryMsg odom;
-        while (bag.next(m)) {
-          if (m.connection->type == kLaserScanType) decodeLaserScan(bag, m, scan);
-          if (m.connection->type == kOdometryType) decodeOdometry(bag, m, odom);
+        while (bag->next(m)) {
+          if (m.connection->type == kLaserScanType) decodeLaserScan(*bag, m, scan);
+          if (m.connection->type == kOdometryType) decodeOdometry(*bag, m, odom);
         }
       } catch (const ParseError&) {
         ++parse_errors;

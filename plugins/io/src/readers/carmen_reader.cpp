@@ -1,8 +1,10 @@
 #include "readers/carmen_reader.h"
 
+#include <sys/stat.h>
 #include <zlib.h>
 
 #include <cctype>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -61,6 +63,10 @@ bool isRangeReturn(double range, double max_range) {
 class CarmenReader::Source {
  public:
   Source(const std::string& path, bool& compressed) : path_(path) {
+    struct stat st;
+    if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) {
+      throw InputError("'" + path + "' is a directory; expected a CARMEN log file");
+    }
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) throw InputError("cannot open CARMEN log '" + path + "': " + std::strerror(errno));
     unsigned char magic[2] = {0, 0};
@@ -71,6 +77,11 @@ class CarmenReader::Source {
     if (!gz_) throw InputError("cannot open CARMEN log '" + path + "'");
     gzbuffer(gz_, 1 << 17);
     buffer_.resize(1 << 17);
+  }
+  // In-memory plain text: the whole buffer is one block, never refilled.
+  explicit Source(std::string text) : buffer_(text.begin(), text.end()) {
+    end_ = buffer_.size();
+    eof_ = true;
   }
   ~Source() {
     if (gz_) gzclose(gz_);
@@ -148,6 +159,18 @@ CarmenReader::CarmenReader(const std::string& path, CarmenReaderOptions options)
     : path_(path), options_(std::move(options)) {
   source_ = std::make_unique<Source>(path_, stats_.compressed);
   tokens_.reserve(512);
+}
+
+CarmenReader::CarmenReader(std::string name, std::string text, CarmenReaderOptions options)
+    : path_(std::move(name)), options_(std::move(options)) {
+  source_ = std::make_unique<Source>(std::move(text));
+  tokens_.reserve(512);
+}
+
+std::unique_ptr<CarmenReader> CarmenReader::fromText(std::string name, std::string text,
+                                                     CarmenReaderOptions options) {
+  return std::unique_ptr<CarmenReader>(
+      new CarmenReader(std::move(name), std::move(text), std::move(options)));
 }
 
 CarmenReader::~CarmenReader() = default;
@@ -424,7 +447,7 @@ void CarmenReader::parseRobotLaser(CarmenRecord& record, int index) {
   l.remission_mode = smallInt(7, "the remission mode");
   std::size_t n = count(8, "the number of readings");
   std::size_t m = count(9 + n, "the number of remissions");
-  expectTokens(n + m + 25, layout);
+  expectTokens(n + m + 24, layout);
   l.ranges.resize(n);
   for (std::size_t i = 0; i < n; ++i) l.ranges[i] = number(9 + i, "a range reading");
   l.remissions.resize(m);

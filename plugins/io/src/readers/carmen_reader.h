@@ -132,6 +132,10 @@ class CarmenReader {
  public:
   /// Opens path (plain text or gzip by magic bytes); throws InputError naming a missing file.
   explicit CarmenReader(const std::string& path, CarmenReaderOptions options = {});
+  /// Reads plain text held in memory (no gzip); name stands for the path in messages. For
+  /// fuzzers and tests.
+  static std::unique_ptr<CarmenReader> fromText(std::string name, std::string text,
+                                                CarmenReaderOptions options = {});
   ~CarmenReader();
   CarmenReader(const CarmenReader&) = delete;
   CarmenReader& operator=(const CarmenReader&) = delete;
@@ -148,6 +152,7 @@ class CarmenReader {
 
  private:
   class Source;
+  CarmenReader(std::string name, std::string text, CarmenReaderOptions options);
   bool readLine();
   bool parseLine(CarmenRecord& record);
   void parseOldLaser(CarmenRecord& record, bool rear);

@@ -2,11 +2,14 @@
 
 #include <bzlib.h>
 #include <lz4frame.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <fstream>
 #include <optional>
+#include <sstream>
 
 #include "plugslam/errors.h"
 
@@ -91,19 +94,43 @@ struct RosbagReader::Record {
 
 RosbagReader::RosbagReader(const std::string& path, RosbagReaderOptions options)
     : path_(path), options_(std::move(options)) {
-  file_.open(path, std::ios::binary);
-  if (!file_) throw InputError("cannot open ROS bag '" + path + "': " + std::strerror(errno));
-  file_.seekg(0, std::ios::end);
-  file_size_ = static_cast<std::uint64_t>(file_.tellg());
-  file_.seekg(0);
+  struct stat st;
+  if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+    throw InputError("'" + path + "' is not a regular file; expected a ROS bag");
+  }
+  auto file = std::make_unique<std::ifstream>(path, std::ios::binary);
+  if (!*file) throw InputError("cannot open ROS bag '" + path + "': " + std::strerror(errno));
+  file->seekg(0, std::ios::end);
+  file_size_ = static_cast<std::uint64_t>(file->tellg());
+  file->seekg(0);
+  file_ = std::move(file);
+  checkMagic();
+}
+
+RosbagReader::RosbagReader(std::string name, std::string bytes, RosbagReaderOptions options)
+    : path_(std::move(name)), options_(std::move(options)) {
+  file_size_ = bytes.size();
+  file_ = std::make_unique<std::istringstream>(std::move(bytes), std::ios::binary);
+  checkMagic();
+}
+
+std::unique_ptr<RosbagReader> RosbagReader::fromBytes(std::string name, std::string bytes,
+                                                      RosbagReaderOptions options) {
+  return std::unique_ptr<RosbagReader>(
+      new RosbagReader(std::move(name), std::move(bytes), std::move(options)));
+}
+
+void RosbagReader::checkMagic() {
   char magic[kMagicSize] = {};
-  file_.read(magic, kMagicSize);
-  if (static_cast<std::size_t>(file_.gcount()) != kMagicSize ||
+  file_->read(magic, kMagicSize);
+  if (static_cast<std::size_t>(file_->gcount()) != kMagicSize ||
       std::memcmp(magic, kMagic, kMagicSize) != 0) {
     if (std::memcmp(magic, "#ROSBAG V", 9) == 0) {
-      fail(0, "unsupported bag version '" +
-                  std::string(magic, magic + std::min<std::size_t>(kMagicSize - 1, 12)) +
-                  "'; expected #ROSBAG V2.0");
+      std::string version(magic, magic + kMagicSize - 1);
+      for (char& c : version) {
+        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
+      }
+      fail(0, "unsupported bag version '" + version + "'; expected #ROSBAG V2.0");
     }
     fail(0, "not a ROS bag: expected the magic line '#ROSBAG V2.0'");
   }
@@ -126,8 +153,8 @@ bool RosbagReader::readTopRecord(Record& record) {
                           std::to_string(left) + " (truncated bag)");
     }
     std::uint8_t b[4];
-    file_.read(reinterpret_cast<char*>(b), 4);
-    if (!file_) fail(position_, "read error");
+    file_->read(reinterpret_cast<char*>(b), 4);
+    if (!*file_) fail(position_, "read error");
     position_ += 4;
     return le32(b);
   };
@@ -144,8 +171,8 @@ bool RosbagReader::readTopRecord(Record& record) {
                               std::to_string(options_.max_record_bytes));
     }
     out.resize(n);
-    if (n) file_.read(reinterpret_cast<char*>(out.data()), n);
-    if (!file_) fail(position_, "read error");
+    if (n) file_->read(reinterpret_cast<char*>(out.data()), n);
+    if (!*file_) fail(position_, "read error");
     position_ += n;
   };
   std::uint32_t header_len = readLength("record header");

@@ -4,7 +4,7 @@
 // in file order and messages are returned in time order.
 #include <cstddef>
 #include <cstdint>
-#include <fstream>
+#include <istream>
 #include <map>
 #include <memory>
 #include <set>
@@ -75,6 +75,9 @@ class RosbagReader {
   /// Opens path and checks the "#ROSBAG V2.0" magic; InputError if missing, ParseError if not a
   /// bag.
   explicit RosbagReader(const std::string& path, RosbagReaderOptions options = {});
+  /// Reads a bag held in memory; name stands for the path in messages. For fuzzers and tests.
+  static std::unique_ptr<RosbagReader> fromBytes(std::string name, std::string bytes,
+                                                 RosbagReaderOptions options = {});
   ~RosbagReader();
   RosbagReader(const RosbagReader&) = delete;
   RosbagReader& operator=(const RosbagReader&) = delete;
@@ -95,6 +98,8 @@ class RosbagReader {
  private:
   struct Pending;
   struct Record;
+  RosbagReader(std::string name, std::string bytes, RosbagReaderOptions options);
+  void checkMagic();
   bool readTopRecord(Record& record);
   void loadChunk(const Record& record);
   void parseInner(const std::uint8_t* data, std::size_t size, std::uint64_t base);
@@ -107,7 +112,7 @@ class RosbagReader {
 
   std::string path_;
   RosbagReaderOptions options_;
-  std::ifstream file_;
+  std::unique_ptr<std::istream> file_;
   std::uint64_t file_size_{0};
   std::uint64_t position_{0};
   bool at_end_{false};
