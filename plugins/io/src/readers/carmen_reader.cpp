@@ -187,23 +187,24 @@ void CarmenReader::warn(const std::string& message) {
 }
 
 bool CarmenReader::readLine() {
-  bool terminated = false;
-  bool got = source_->getLine(line_, terminated, options_.max_line_bytes);
-  if (!got) {
-    if (!source_->error().empty()) {
-      stats_.truncated = true;
-      std::string what = source_->error() + " after line " + std::to_string(line_number_);
-      if (options_.policy == ErrorPolicy::kStrict) {
-        throw ParseError(path_, static_cast<int>(line_number_), what);
+  for (;;) {
+    bool terminated = false;
+    bool got = source_->getLine(line_, terminated, options_.max_line_bytes);
+    if (!got) {
+      if (!source_->error().empty()) {
+        stats_.truncated = true;
+        std::string what = source_->error() + " after line " + std::to_string(line_number_);
+        if (options_.policy == ErrorPolicy::kStrict) {
+          throw ParseError(path_, static_cast<int>(line_number_), what);
+        }
+        warn(what + "; stopping there");
       }
-      warn(what + "; stopping there");
+      return false;
     }
-    return false;
-  }
-  ++line_number_;
-  ++stats_.lines;
-  last_line_unterminated_ = !terminated;
-  if (source_->tooLong()) {
+    ++line_number_;
+    ++stats_.lines;
+    last_line_unterminated_ = !terminated;
+    if (!source_->tooLong()) return true;
     std::string what = "line longer than " + std::to_string(options_.max_line_bytes) +
                        " bytes (binary data?); expected one text message per line";
     if (options_.policy == ErrorPolicy::kStrict) {
@@ -211,9 +212,11 @@ bool CarmenReader::readLine() {
     }
     ++stats_.malformed;
     warn(what + "; line skipped");
-    return readLine();
   }
-  return true;
+}
+
+std::string CarmenReader::rawToken(std::size_t index) const {
+  return std::string(tokens_[index].first, tokens_[index].second);
 }
 
 std::string CarmenReader::token(std::size_t index) const {
@@ -400,7 +403,7 @@ void CarmenReader::parseOldLaser(CarmenRecord& record, bool rear) {
   l.laser_pose = {number(k, "laser x"), number(k + 1, "laser y"), number(k + 2, "laser theta")};
   l.robot_pose = {number(k + 3, "odom x"), number(k + 4, "odom y"), number(k + 5, "odom theta")};
   l.timestamp = number(k + 6, "the ipc timestamp");
-  l.host = token(k + 7);
+  l.host = rawToken(k + 7);
   l.logger_timestamp = tokens_.size() > k + 8 ? number(k + 8, "the logger timestamp") : 0.0;
   if (!std::isfinite(l.timestamp)) fail(l.message + ": expected a finite timestamp");
   for (double v : {l.laser_pose.x, l.laser_pose.y, l.laser_pose.theta, l.robot_pose.x,
@@ -462,7 +465,7 @@ void CarmenReader::parseRobotLaser(CarmenRecord& record, int index) {
   number(k + 9, "side_safety_dist");
   number(k + 10, "turn_axis");
   l.timestamp = number(k + 11, "the ipc timestamp");
-  l.host = token(k + 12);
+  l.host = rawToken(k + 12);
   l.logger_timestamp = tokens_.size() > k + 13 ? number(k + 13, "the logger timestamp") : 0.0;
   for (double v :
        {l.angle_min, l.fov, l.angle_increment, l.max_range, l.timestamp, l.laser_pose.x,
@@ -498,7 +501,7 @@ void CarmenReader::parseRawLaser(CarmenRecord& record, int index) {
   for (std::size_t i = 0; i < m; ++i) l.remissions[i] = number(10 + n + i, "a remission value");
   std::size_t k = 10 + n + m;
   l.timestamp = number(k, "the ipc timestamp");
-  l.host = token(k + 1);
+  l.host = rawToken(k + 1);
   l.logger_timestamp = tokens_.size() > k + 2 ? number(k + 2, "the logger timestamp") : 0.0;
   for (double v : {l.angle_min, l.fov, l.angle_increment, l.max_range, l.timestamp}) {
     if (!std::isfinite(v)) fail(l.message + ": expected finite angles, range limit and time");
@@ -520,7 +523,7 @@ void CarmenReader::parseOdometry(CarmenRecord& record) {
   o.rv = number(5, "rv");
   o.acceleration = number(6, "the acceleration");
   o.timestamp = number(7, "the ipc timestamp");
-  o.host = token(8);
+  o.host = rawToken(8);
   o.logger_timestamp = tokens_.size() > 9 ? number(9, "the logger timestamp") : 0.0;
   for (double v : {o.pose.x, o.pose.y, o.pose.theta, o.tv, o.rv, o.timestamp}) {
     if (!std::isfinite(v)) fail("ODOM: expected finite pose, velocities and timestamp");

@@ -164,7 +164,8 @@ class CarmenReader {
   double number(std::size_t index, const char* what) const;
   std::size_t count(std::size_t index, const char* what) const;
   int smallInt(std::size_t index, const char* what) const;
-  std::string token(std::size_t index) const;
+  std::string token(std::size_t index) const;  // shortened and sanitised, for messages
+  std::string rawToken(std::size_t index) const;
   void fail(const std::string& message) const;
   void warn(const std::string& message);
   void checkTime(const std::string& stream, double t, bool& backwards);
