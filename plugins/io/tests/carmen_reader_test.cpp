@@ -274,6 +274,13 @@ TEST_F(CarmenReaderTest, TruncatedLastLineIsReported) {
   CarmenReader s(write("t2.log", text), opt);
   EXPECT_EQ(readAll(s).size(), 1u);
   EXPECT_EQ(s.stats().malformed, 1u);
+  // A last line without newline whose tokens add up is kept, with a warning.
+  std::vector<std::string> warnings;
+  opt.on_warning = [&](const ReaderWarning& w) { warnings.push_back(w.message); };
+  CarmenReader k(write("t3.log", odom(0, 0.5) + "ODOM 1 2 3 0 0 0 1.5 host 1."), opt);
+  EXPECT_EQ(readAll(k).size(), 2u);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("no newline"), std::string::npos);
 }
 
 TEST_F(CarmenReaderTest, NanAndInfRangesAreKeptAsNoReturn) {

@@ -294,6 +294,10 @@ bool CarmenReader::next(CarmenRecord& record) {
     }
     if (!produced) continue;
     record.line = line_number_;
+    if (last_line_unterminated_) {
+      // The tokens added up, but the last number may still have been cut short.
+      warn("last line has no newline (file truncated?); its record is kept");
+    }
     if (record.kind == CarmenRecord::Kind::kLaser) {
       auto& l = record.laser;
       if (l.ranges.empty()) {
