@@ -95,8 +95,14 @@ std::string compress(const std::string& plain, const std::string& how) {
               BZ_OK);
     return std::string(out.data(), n);
   }
-  std::vector<char> out(LZ4F_compressFrameBound(plain.size(), nullptr));
-  std::size_t n = LZ4F_compressFrame(out.data(), out.size(), plain.data(), plain.size(), nullptr);
+  // The frame parameters rosbag's roslz4 writes: independent 1 MB blocks, content checksum.
+  LZ4F_preferences_t prefs;
+  std::memset(&prefs, 0, sizeof prefs);
+  prefs.frameInfo.blockSizeID = LZ4F_max1MB;
+  prefs.frameInfo.blockMode = LZ4F_blockIndependent;
+  prefs.frameInfo.contentChecksumFlag = LZ4F_contentChecksumEnabled;
+  std::vector<char> out(LZ4F_compressFrameBound(plain.size(), &prefs));
+  std::size_t n = LZ4F_compressFrame(out.data(), out.size(), plain.data(), plain.size(), &prefs);
   EXPECT_FALSE(LZ4F_isError(n));
   return std::string(out.data(), n);
 }
