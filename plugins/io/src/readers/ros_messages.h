@@ -1,0 +1,69 @@
+#pragma once
+// Deserializers for the ROS1 messages the io plugin consumes (little-endian ROS serialization).
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "readers/rosbag_reader.h"
+
+namespace plugslam {
+namespace io {
+
+/// std_msgs/Header.
+struct RosHeader {
+  std::uint32_t seq{0};  ///< sequence number
+  RosTime stamp;         ///< acquisition time
+  std::string frame_id;  ///< coordinate frame
+};
+
+/// sensor_msgs/LaserScan, with float32 fields widened to double.
+struct LaserScanMsg {
+  RosHeader header;                 ///< stamp = time of the first beam
+  double angle_min{0.0};            ///< first beam angle (rad)
+  double angle_max{0.0};            ///< last beam angle (rad)
+  double angle_increment{0.0};      ///< angle between beams (rad)
+  double time_increment{0.0};       ///< time between beams (s)
+  double scan_time{0.0};            ///< time between scans (s)
+  double range_min{0.0};            ///< minimum valid range (m)
+  double range_max{0.0};            ///< maximum valid range (m)
+  std::vector<double> ranges;       ///< metres; NaN/inf or outside [range_min, range_max] invalid
+  std::vector<double> intensities;  ///< device-specific, may be empty
+};
+
+/// nav_msgs/Odometry.
+struct OdometryMsg {
+  RosHeader header;                           ///< pose frame (e.g. odom)
+  std::string child_frame_id;                 ///< twist frame (e.g. base_link)
+  std::array<double, 3> position{};           ///< pose.pose.position x y z
+  std::array<double, 4> orientation{};        ///< pose.pose.orientation x y z w
+  std::array<double, 36> pose_covariance{};   ///< row-major 6x6 (x y z rotx roty rotz)
+  std::array<double, 3> linear{};             ///< twist.twist.linear
+  std::array<double, 3> angular{};            ///< twist.twist.angular
+  std::array<double, 36> twist_covariance{};  ///< row-major 6x6
+  /// Heading (rotation about z) of the orientation quaternion.
+  double yaw() const;
+};
+
+/// The type name and md5sum ROS uses for LaserScan.
+inline constexpr const char* kLaserScanType = "sensor_msgs/LaserScan";
+/// md5sum of sensor_msgs/LaserScan's definition.
+inline constexpr const char* kLaserScanMd5 = "90c7ef2dc6895d81024acba2ac42f369";
+/// The type name ROS uses for Odometry.
+inline constexpr const char* kOdometryType = "nav_msgs/Odometry";
+/// md5sum of nav_msgs/Odometry's definition.
+inline constexpr const char* kOdometryMd5 = "cd5e73d190d741a2f92e81eda573aca7";
+
+/// Deserializes a LaserScan; ParseError (no file, line 0, byte offset in the message) if short.
+void decodeLaserScan(const std::uint8_t* data, std::size_t size, LaserScanMsg& out);
+/// Deserializes an Odometry; ParseError (no file, line 0, byte offset in the message) if short.
+void decodeOdometry(const std::uint8_t* data, std::size_t size, OdometryMsg& out);
+
+/// Checks the connection's type and md5sum, then decodes; ParseError names the bag and offsets.
+void decodeLaserScan(const RosbagReader& bag, const RosbagMessage& message, LaserScanMsg& out);
+/// Checks the connection's type and md5sum, then decodes; ParseError names the bag and offsets.
+void decodeOdometry(const RosbagReader& bag, const RosbagMessage& message, OdometryMsg& out);
+
+}  // namespace io
+}  // namespace plugslam
