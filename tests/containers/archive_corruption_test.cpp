@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstring>
+#include <random>
 #include <sstream>
 
 #include "plugslam/archive.h"
@@ -131,14 +132,14 @@ TEST(BinaryCorruption, HugeAnnouncedLengthDoesNotAllocate) {
 
 TEST(BinaryCorruption, CraftedCountsAreCheckedAgainstTheInput) {
   const std::string huge = varint(std::uint64_t{1} << 60);
-  EXPECT_THROW(decodeBinary(withHeader("\x07" + huge)), ParseError);        // doubles blob
-  EXPECT_THROW(decodeBinary(withHeader("\x06" + huge)), ParseError);        // string
-  EXPECT_THROW(decodeBinary(withHeader("\x08" + huge)), ParseError);        // array
+  EXPECT_THROW(decodeBinary(withHeader("\x07" + huge)), ParseError);  // doubles blob
+  EXPECT_THROW(decodeBinary(withHeader("\x06" + huge)), ParseError);  // string
+  EXPECT_THROW(decodeBinary(withHeader("\x08" + huge)), ParseError);  // array
   EXPECT_THROW(decodeBinary(withHeader(std::string("\x09\xff\xff\xff\xff", 5))), ParseError);
-  EXPECT_THROW(decodeBinary(withHeader(std::string(11, '\xff'))), ParseError);  // bad tag
+  EXPECT_THROW(decodeBinary(withHeader(std::string(11, '\xff'))), ParseError);           // bad tag
   EXPECT_THROW(decodeBinary(withHeader("\x04" + std::string(11, '\xff'))), ParseError);  // varint
-  EXPECT_THROW(decodeBinary(withHeader(std::string("\x01\x01", 2))), ParseError);  // trailing
-  EXPECT_THROW(decodeBinary(withHeader("")), ParseError);                       // no value
+  EXPECT_THROW(decodeBinary(withHeader(std::string("\x01\x01", 2))), ParseError);        // trailing
+  EXPECT_THROW(decodeBinary(withHeader("")), ParseError);                                // no value
 }
 
 TEST(BinaryCorruption, DeepNestingIsRefusedWithoutExhaustingTheStack) {
@@ -163,6 +164,42 @@ TEST(BinaryCorruption, WrongValueTypeNamesTheField) {
     EXPECT_NE(msg.find("'x.value'"), std::string::npos) << msg;
     EXPECT_NE(msg.find("expected a double, found a string"), std::string::npos) << msg;
   }
+}
+
+// Mutations behind a recomputed checksum reach the structural parser and the loaders: each must
+// load or raise ParseError, nothing else (the sanitizer build checks there is no UB either).
+TEST(BinaryCorruption, RandomMutationsWithValidChecksum) {
+  const std::string bytes = encodeBinary(sample());
+  const std::string payload = bytes.substr(20);
+  std::mt19937 rng(1234);
+  int loaded = 0, refused = 0;
+  for (int round = 0; round < 3000; ++round) {
+    std::string p = payload;
+    const int edits = 1 + static_cast<int>(rng() % 4);
+    for (int e = 0; e < edits; ++e) {
+      const std::size_t at = rng() % p.size();
+      switch (rng() % 3) {
+        case 0:
+          p[at] = static_cast<char>(rng() & 0xff);
+          break;
+        case 1:
+          p.erase(at, 1 + rng() % 8);
+          break;
+        default:
+          p.insert(at, 1, static_cast<char>(rng() & 0xff));
+          break;
+      }
+      if (p.empty()) p = "\x01";
+    }
+    try {
+      decodeBinary(withHeader(p));
+      ++loaded;
+    } catch (const ParseError&) {
+      ++refused;
+    }
+  }
+  EXPECT_GT(refused, 0);
+  EXPECT_EQ(loaded + refused, 3000);
 }
 
 }  // namespace

@@ -24,9 +24,8 @@ struct Scan {
   std::int32_t seq = 0;
   std::map<std::string, std::vector<std::string>> tags;
   bool operator==(const Scan& o) const {
-    return ranges == o.ranges && angle_min == o.angle_min &&
-           angle_increment == o.angle_increment && frame == o.frame && seq == o.seq &&
-           tags == o.tags;
+    return ranges == o.ranges && angle_min == o.angle_min && angle_increment == o.angle_increment &&
+           frame == o.frame && seq == o.seq && tags == o.tags;
   }
 };
 
@@ -97,8 +96,9 @@ TEST_P(ArchiveRoundTrip, Scalars) {
                          std::numeric_limits<std::int32_t>::max()}) {
     EXPECT_EQ(roundTrip(f, v), v);
   }
-  for (std::int64_t v : {std::int64_t{0}, std::int64_t{-5}, std::numeric_limits<std::int64_t>::min(),
-                         std::numeric_limits<std::int64_t>::max()}) {
+  for (std::int64_t v :
+       {std::int64_t{0}, std::int64_t{-5}, std::numeric_limits<std::int64_t>::min(),
+        std::numeric_limits<std::int64_t>::max()}) {
     EXPECT_EQ(roundTrip(f, v), v);
   }
   for (std::uint64_t v : {std::uint64_t{0}, std::uint64_t{127}, std::uint64_t{128},
@@ -106,10 +106,10 @@ TEST_P(ArchiveRoundTrip, Scalars) {
     EXPECT_EQ(roundTrip(f, v), v);
   }
   EXPECT_EQ(roundTrip(f, std::uint32_t{4000000000u}), 4000000000u);
-  for (double v : {0.0, -0.0, 0.1, 1.0 / 3.0, -2.5e-300, 1.7976931348623157e308,
-                   std::numeric_limits<double>::denorm_min(), M_PI,
-                   std::numeric_limits<double>::infinity(),
-                   -std::numeric_limits<double>::infinity()}) {
+  for (double v :
+       {0.0, -0.0, 0.1, 1.0 / 3.0, -2.5e-300, 1.7976931348623157e308,
+        std::numeric_limits<double>::denorm_min(), M_PI, std::numeric_limits<double>::infinity(),
+        -std::numeric_limits<double>::infinity()}) {
     EXPECT_TRUE(sameBits(roundTrip(f, v), v)) << v;
   }
   EXPECT_TRUE(std::isnan(roundTrip(f, std::numeric_limits<double>::quiet_NaN())));
@@ -232,7 +232,8 @@ PropertyContainer everyBuiltIn() {
   i2.rotate(1.2).pretranslate(Eigen::Vector2d(3, 4));
   c.set<Eigen::Isometry2d>("isometry2d", i2);
   Eigen::Isometry3d i3 = Eigen::Isometry3d::Identity();
-  i3.rotate(Eigen::AngleAxisd(-0.4, Eigen::Vector3d::UnitZ())).pretranslate(Eigen::Vector3d(1, 2, 3));
+  i3.rotate(Eigen::AngleAxisd(-0.4, Eigen::Vector3d::UnitZ()))
+      .pretranslate(Eigen::Vector3d(1, 2, 3));
   c.set<Eigen::Isometry3d>("isometry3d", i3);
   c.set<std::vector<Eigen::Vector2d>>("points2d", {{0.5, 1.5}, {2.5, 3.5}});
   c.set<std::vector<Eigen::Vector3d>>("points3d", {{0.5, 1.5, 2.5}});
@@ -275,13 +276,13 @@ void expectEqualContainers(const PropertyContainer& a, const PropertyContainer& 
         equalAs<std::vector<double>>(a, b, n) || equalAs<std::vector<std::int64_t>>(a, b, n) ||
         equalAs<std::vector<std::string>>(a, b, n) ||
         equalAs<std::map<std::string, double>>(a, b, n) ||
-        equalAs<std::map<std::string, std::string>>(a, b, n) ||
-        equalAs<Eigen::Vector2d>(a, b, n) || equalAs<Eigen::Vector3d>(a, b, n) ||
-        equalAs<Eigen::Vector4d>(a, b, n) || equalAs<Eigen::Matrix2d>(a, b, n) ||
-        equalAs<Eigen::Matrix3d>(a, b, n) || equalAs<Eigen::Matrix4d>(a, b, n) ||
-        equalAs<Eigen::Matrix<double, 6, 6>>(a, b, n) || equalAs<Eigen::VectorXd>(a, b, n) ||
-        equalAs<Eigen::MatrixXd>(a, b, n) || equalAs<Eigen::Isometry2d>(a, b, n) ||
-        equalAs<Eigen::Isometry3d>(a, b, n) || equalAs<std::vector<Eigen::Vector2d>>(a, b, n) ||
+        equalAs<std::map<std::string, std::string>>(a, b, n) || equalAs<Eigen::Vector2d>(a, b, n) ||
+        equalAs<Eigen::Vector3d>(a, b, n) || equalAs<Eigen::Vector4d>(a, b, n) ||
+        equalAs<Eigen::Matrix2d>(a, b, n) || equalAs<Eigen::Matrix3d>(a, b, n) ||
+        equalAs<Eigen::Matrix4d>(a, b, n) || equalAs<Eigen::Matrix<double, 6, 6>>(a, b, n) ||
+        equalAs<Eigen::VectorXd>(a, b, n) || equalAs<Eigen::MatrixXd>(a, b, n) ||
+        equalAs<Eigen::Isometry2d>(a, b, n) || equalAs<Eigen::Isometry3d>(a, b, n) ||
+        equalAs<std::vector<Eigen::Vector2d>>(a, b, n) ||
         equalAs<std::vector<Eigen::Vector3d>>(a, b, n) || equalAs<PropertyContainer>(a, b, n) ||
         equalAs<testplugin::Scan>(a, b, n);
     EXPECT_TRUE(checked) << "no comparison for property '" << n << "' of type "
@@ -450,8 +451,7 @@ data:
   scan:
     type: double
 )";
-  const ParseError e =
-      parseErrorOf([&] { decode<PropertyContainer>(ArchiveFormat::kText, yaml); });
+  const ParseError e = parseErrorOf([&] { decode<PropertyContainer>(ArchiveFormat::kText, yaml); });
   const std::string msg = e.what();
   EXPECT_NE(msg.find("missing field 'value'"), std::string::npos) << msg;
   EXPECT_NE(msg.find("'scan'"), std::string::npos) << msg;
@@ -485,8 +485,7 @@ TEST(TextArchive, MalformedInputRaisesParseErrorWithLine) {
   EXPECT_THROW(decode<double>(ArchiveFormat::kText, ""), ParseError);
   EXPECT_THROW(decode<double>(ArchiveFormat::kText, "- just\n- a list\n"), ParseError);
   EXPECT_THROW(decode<double>(ArchiveFormat::kText, "data: 1\n"), ParseError);
-  EXPECT_THROW(decode<double>(ArchiveFormat::kText, "plugslam_archive: 2\ndata: 1\n"),
-               ParseError);
+  EXPECT_THROW(decode<double>(ArchiveFormat::kText, "plugslam_archive: 2\ndata: 1\n"), ParseError);
   EXPECT_THROW(decode<double>(ArchiveFormat::kText, "plugslam_archive: 1\n"), ParseError);
   EXPECT_THROW(decode<std::int64_t>(ArchiveFormat::kText, "plugslam_archive: 1\ndata: 1.5\n"),
                ParseError);
@@ -499,12 +498,12 @@ TEST(TextArchive, MalformedInputRaisesParseErrorWithLine) {
                ParseError);
   EXPECT_THROW(decode<std::string>(ArchiveFormat::kText, "plugslam_archive: 1\ndata: [a]\n"),
                ParseError);
-  EXPECT_THROW(decode<std::vector<double>>(ArchiveFormat::kText,
-                                           "plugslam_archive: 1\ndata: {a: 1}\n"),
-               ParseError);
-  EXPECT_THROW(decode<PropertyContainer>(ArchiveFormat::kText,
-                                         "plugslam_archive: 1\ndata: {a: 1, a: 2}\n"),
-               ParseError);
+  EXPECT_THROW(
+      decode<std::vector<double>>(ArchiveFormat::kText, "plugslam_archive: 1\ndata: {a: 1}\n"),
+      ParseError);
+  EXPECT_THROW(
+      decode<PropertyContainer>(ArchiveFormat::kText, "plugslam_archive: 1\ndata: {a: 1, a: 2}\n"),
+      ParseError);
   EXPECT_THROW(decode<PropertyContainer>(ArchiveFormat::kText,
                                          "plugslam_archive: 1\ndata: {a: {type: nosuch, value: "
                                          "1}}\n"),
@@ -584,8 +583,8 @@ TEST(BinaryArchive, HundredThousandPointsRoundTrip) {
   EXPECT_GE(bytes.size(), raw);
   EXPECT_LT(bytes.size(), raw + 200) << "the blobs should carry almost no overhead";
   const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
-  std::cout << "[ info ] 100k+100k points: " << bytes.size() << " bytes, save "
-            << ms(t1 - t0) << " ms, load " << ms(t2 - t1) << " ms\n";
+  std::cout << "[ info ] 100k+100k points: " << bytes.size() << " bytes, save " << ms(t1 - t0)
+            << " ms, load " << ms(t2 - t1) << " ms\n";
 }
 
 TEST(TextArchive, TenThousandPointsRoundTrip) {

@@ -20,8 +20,8 @@ class AtomicFile : public ::testing::Test {
  protected:
   void SetUp() override {
     const std::string name = std::string("plugslam_atomic_") +
-                             ::testing::UnitTest::GetInstance()->current_test_info()->name() +
-                             "_" + std::to_string(::getpid());
+                             ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+                             std::to_string(::getpid());
     dir_ = fs::temp_directory_path() / name;
     fs::remove_all(dir_);
     fs::create_directories(dir_);

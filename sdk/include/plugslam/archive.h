@@ -297,7 +297,8 @@ void callLoad(InArchive& ar, T& value) {
 template <class T, class = void>
 struct HasSave : std::false_type {};
 template <class T>
-struct HasSave<T, std::void_t<decltype(save(std::declval<OutArchive&>(), std::declval<const T&>()))>>
+struct HasSave<T,
+               std::void_t<decltype(save(std::declval<OutArchive&>(), std::declval<const T&>()))>>
     : std::true_type {};
 template <class T, class = void>
 struct HasLoad : std::false_type {};
@@ -309,7 +310,7 @@ struct HasLoad<T, std::void_t<decltype(load(std::declval<InArchive&>(), std::dec
 /// True when T has save() and load() overloads. Containers of T report true when T is declared
 /// serializable by its overloads (the element check happens when they are instantiated).
 template <class T>
-constexpr bool kIsSerializable = detail::HasSave<T>::value && detail::HasLoad<T>::value;
+constexpr bool kIsSerializable = detail::HasSave<T>::value&& detail::HasLoad<T>::value;
 
 template <class T>
 OutArchive& OutArchive::field(const std::string& name, const T& value) {

@@ -41,11 +41,11 @@ class ValueTypes {
                   "a value type needs save(OutArchive&, const T&) and load(InArchive&, T&)");
     static_assert(std::is_default_constructible_v<T>,
                   "a value type must be default-constructible to be loaded");
-    addEntry(ValueTypeInfo{
-        tag, display_name.empty() ? tag : display_name, owner, std::type_index(typeid(T)),
-        [](const std::string& name) -> std::unique_ptr<PropertyBase> {
-          return std::make_unique<Property<T>>(name);
-        }});
+    addEntry(ValueTypeInfo{tag, display_name.empty() ? tag : display_name, owner,
+                           std::type_index(typeid(T)),
+                           [](const std::string& name) -> std::unique_ptr<PropertyBase> {
+                             return std::make_unique<Property<T>>(name);
+                           }});
   }
 
   /// Registers a prepared entry (what add<T> builds); same rules as add<T>.

@@ -75,7 +75,8 @@ ValueTypes::ValueTypes() {
 
 void ValueTypes::addEntry(ValueTypeInfo info) {
   if (info.tag.empty() || info.tag.find_first_of(" \t\r\n") != std::string::npos) {
-    throw InputError("invalid value-type tag '" + info.tag + "': expected a non-empty name "
+    throw InputError("invalid value-type tag '" + info.tag +
+                     "': expected a non-empty name "
                      "without spaces, like 'laser2d.Scan'");
   }
   if (info.owner.empty()) throw InputError("value type '" + info.tag + "' needs an owner");
@@ -134,7 +135,7 @@ std::string ValueTypes::unknownTagMessage(const std::string& tag) {
 }
 
 std::unique_ptr<PropertyBase> ValueTypes::make(const std::string& tag,
-                                                const std::string& name) const {
+                                               const std::string& name) const {
   std::function<std::unique_ptr<PropertyBase>(const std::string&)> factory;
   {
     std::lock_guard<std::mutex> lock(mutex_);

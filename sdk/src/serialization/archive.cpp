@@ -26,7 +26,7 @@ ArchiveFormat formatForPath(const std::string& path) {
     return true;
   };
   return endsWith(".yaml") || endsWith(".yml") || endsWith(".json") ? ArchiveFormat::kText
-                                                                      : ArchiveFormat::kBinary;
+                                                                    : ArchiveFormat::kBinary;
 }
 
 const char* formatName(ArchiveFormat format) {
@@ -58,8 +58,7 @@ void loadArchiveFile(const std::string& path, const std::function<void(InArchive
   if (!in) throw InputError("cannot open '" + path + "' for reading: " + std::strerror(errno));
   char magic[4] = {0, 0, 0, 0};
   in.read(magic, 4);
-  const bool binary =
-      in.gcount() == 4 && std::memcmp(magic, serialization::kBinaryMagic, 4) == 0;
+  const bool binary = in.gcount() == 4 && std::memcmp(magic, serialization::kBinaryMagic, 4) == 0;
   in.clear();
   in.seekg(0);
   auto ar = makeInArchive(in, binary ? ArchiveFormat::kBinary : ArchiveFormat::kText, path);
@@ -74,7 +73,8 @@ void load(InArchive& ar, bool& value) { value = ar.readBool(); }
 void save(OutArchive& ar, std::int32_t value) { ar.writeInt(value); }
 void load(InArchive& ar, std::int32_t& value) {
   const std::int64_t v = ar.readInt();
-  if (v < std::numeric_limits<std::int32_t>::min() || v > std::numeric_limits<std::int32_t>::max()) {
+  if (v < std::numeric_limits<std::int32_t>::min() ||
+      v > std::numeric_limits<std::int32_t>::max()) {
     ar.fail("integer " + std::to_string(v) + " does not fit a 32-bit signed integer");
   }
   value = static_cast<std::int32_t>(v);
@@ -140,8 +140,7 @@ void loadPoints(InArchive& ar, std::vector<Eigen::Matrix<double, D, 1>>& points)
   });
   if (!direct) {
     ar.fail("expected " + std::to_string(D) + " coordinates per point, found " +
-            std::to_string(flat.size()) + " numbers (not a multiple of " + std::to_string(D) +
-            ")");
+            std::to_string(flat.size()) + " numbers (not a multiple of " + std::to_string(D) + ")");
   }
 }
 

@@ -82,8 +82,8 @@ int openTemp(const std::string& path, std::string& temp) {
     const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd >= 0) return fd;
     if (errno != EEXIST) {
-      throw InputError("cannot write '" + path + "': cannot create a file in '" +
-                       folderOf(path) + "': " + systemError(errno));
+      throw InputError("cannot write '" + path + "': cannot create a file in '" + folderOf(path) +
+                       "': " + systemError(errno));
     }
   }
   throw InputError("cannot write '" + path + "': no free temp file name in '" + folderOf(path) +

@@ -73,7 +73,8 @@ void putLE(std::string& buf, std::uint64_t v, int bytes) {
 
 std::uint64_t getLE(const char* p, int bytes) {
   std::uint64_t v = 0;
-  for (int i = 0; i < bytes; ++i) v |= static_cast<std::uint64_t>(static_cast<std::uint8_t>(p[i])) << (8 * i);
+  for (int i = 0; i < bytes; ++i)
+    v |= static_cast<std::uint64_t>(static_cast<std::uint8_t>(p[i])) << (8 * i);
   return v;
 }
 
@@ -118,7 +119,8 @@ class BinaryOut final : public OutArchive {
     if (!f.object) misuse("endObject() closes an array");
     if (f.key_pending) misuse("key() without a value before endObject()");
     if (f.count > std::numeric_limits<std::uint32_t>::max()) misuse("more than 2^32 fields");
-    for (int i = 0; i < 4; ++i) buf_[f.count_pos + i] = static_cast<char>((f.count >> (8 * i)) & 0xff);
+    for (int i = 0; i < 4; ++i)
+      buf_[f.count_pos + i] = static_cast<char>((f.count >> (8 * i)) & 0xff);
     frames_.pop_back();
   }
 
@@ -433,7 +435,8 @@ class BinaryIn final : public InArchive {
     std::string have;
     for (const auto& k : keys) have += (have.empty() ? "" : ", ") + k;
     return "missing field '" + name + "'" +
-           (have.empty() ? std::string(" (the object is empty)") : " (fields present: " + have + ")");
+           (have.empty() ? std::string(" (the object is empty)")
+                         : " (fields present: " + have + ")");
   }
 
   std::string path() const {
@@ -445,9 +448,9 @@ class BinaryIn final : public InArchive {
   }
 
   [[noreturn]] void failAt(std::size_t pos, const std::string& message) const {
-    throw ParseError(source_, 0,
-                     "binary archive, at " + path() + " (payload byte " + std::to_string(pos) +
-                         "): " + message);
+    throw ParseError(
+        source_, 0,
+        "binary archive, at " + path() + " (payload byte " + std::to_string(pos) + "): " + message);
   }
 
   [[noreturn]] void headerFail(const std::string& message) const {
@@ -463,8 +466,8 @@ class BinaryIn final : public InArchive {
       headerFail("not a plugslam binary archive (the first bytes are not \"PLSB\")");
     }
     if (got < kHeaderSize) {
-      headerFail("truncated header: " + std::to_string(got) + " of " +
-                 std::to_string(kHeaderSize) + " bytes");
+      headerFail("truncated header: " + std::to_string(got) + " of " + std::to_string(kHeaderSize) +
+                 " bytes");
     }
     const auto version = static_cast<std::uint32_t>(getLE(header + 4, 4));
     if (version != kBinaryVersion) {

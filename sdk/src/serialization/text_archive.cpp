@@ -76,8 +76,8 @@ class TextOut final : public OutArchive {
  public:
   explicit TextOut(std::ostream& out) : out_(out) {
     em_.SetIndent(2);
-    em_ << YAML::BeginMap << YAML::Key << kVersionKey << YAML::Value << kTextVersion
-        << YAML::Key << kDataKey << YAML::Value;
+    em_ << YAML::BeginMap << YAML::Key << kVersionKey << YAML::Value << kTextVersion << YAML::Key
+        << kDataKey << YAML::Value;
   }
 
   void beginObject() override {
@@ -150,8 +150,9 @@ class TextOut final : public OutArchive {
   void writeString(const std::string& value) override {
     beforeValue();
     if (!validUtf8(value)) {
-      throw Error("the text archive needs UTF-8 strings; a string value is not valid UTF-8 "
-                  "(use the binary format)");
+      throw Error(
+          "the text archive needs UTF-8 strings; a string value is not valid UTF-8 "
+          "(use the binary format)");
     }
     // Quoted so a string that looks like a number, bool or null stays a string for readers
     // that do not know the schema.
@@ -249,9 +250,9 @@ class TextIn final : public InArchive {
     }
     const YAML::Node version = doc[kVersionKey];
     if (!version || !version.IsScalar()) {
-      throw ParseError(source_, lineOf(doc),
-                       std::string("text archive: missing '") + kVersionKey +
-                           "' (not a plugslam text archive)");
+      throw ParseError(
+          source_, lineOf(doc),
+          std::string("text archive: missing '") + kVersionKey + "' (not a plugslam text archive)");
     }
     if (version.Scalar() != std::to_string(kTextVersion)) {
       throw ParseError(source_, lineOf(version),
@@ -476,11 +477,11 @@ class TextIn final : public InArchive {
 
   double parseDouble(const std::string& s) const {
     if (s == ".nan" || s == ".NaN" || s == ".NAN") return std::numeric_limits<double>::quiet_NaN();
-    if (s == ".inf" || s == ".Inf" || s == ".INF" || s == "+.inf" || s == "+.Inf" ||
-        s == "+.INF") {
+    if (s == ".inf" || s == ".Inf" || s == ".INF" || s == "+.inf" || s == "+.Inf" || s == "+.INF") {
       return std::numeric_limits<double>::infinity();
     }
-    if (s == "-.inf" || s == "-.Inf" || s == "-.INF") return -std::numeric_limits<double>::infinity();
+    if (s == "-.inf" || s == "-.Inf" || s == "-.INF")
+      return -std::numeric_limits<double>::infinity();
     const char* b = s.data();
     const char* e = b + s.size();
     if (b != e && *b == '+') ++b;
