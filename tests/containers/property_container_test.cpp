@@ -32,6 +32,11 @@ TEST(PropertyContainer, TypedAccessByName) {
   EXPECT_TRUE(c.holds<std::string>("frame"));
   EXPECT_FALSE(c.holds<double>("frame"));
   EXPECT_EQ(c.names(), (std::vector<std::string>{"range", "frame", "points"}));
+
+  c.set("literal", "abc");  // a string literal is stored as std::string, not const char*
+  EXPECT_TRUE(c.holds<std::string>("literal"));
+  c.set("pose", Eigen::Isometry2d::Identity() * Eigen::Translation2d(1.0, 2.0));  // T deduced
+  EXPECT_TRUE(c.holds<Eigen::Isometry2d>("pose"));
 }
 
 TEST(PropertyContainer, FindReturnsNullWhenAbsent) {

@@ -307,8 +307,8 @@ struct HasLoad<T, std::void_t<decltype(load(std::declval<InArchive&>(), std::dec
     : std::true_type {};
 }  // namespace detail
 
-/// True when T has save() and load() overloads. Containers of T report true when T is declared
-/// serializable by its overloads (the element check happens when they are instantiated).
+/// True when T has save() and load() overloads. For std::vector<T> and std::map<std::string, T>
+/// only the outer overload is checked; a T without overloads fails when they are instantiated.
 template <class T>
 constexpr bool kIsSerializable = detail::HasSave<T>::value&& detail::HasLoad<T>::value;
 

@@ -78,7 +78,7 @@ class PropertyContainer {
   /// The value of `name`; PropertyNotFound if absent, PropertyTypeMismatch if it is not a T.
   template <class T>
   const T& get(const std::string& name) const {
-    return checked<T>(const_cast<PropertyBase&>(at(name))).value();
+    return checked<T>(at(name)).value();
   }
   /// The value of `name`, or nullptr when absent; PropertyTypeMismatch if it is not a T.
   template <class T>
@@ -90,7 +90,7 @@ class PropertyContainer {
   template <class T>
   const T* find(const std::string& name) const {
     const PropertyBase* p = property(name);
-    return p ? &checked<T>(const_cast<PropertyBase&>(*p)).value() : nullptr;
+    return p ? &checked<T>(*p).value() : nullptr;
   }
   /// Inserts `name` at the end or assigns the existing value (which must be a T:
   /// PropertyTypeMismatch otherwise). Returns the stored value.
@@ -98,6 +98,10 @@ class PropertyContainer {
   T& set(const std::string& name, T value) {
     if (PropertyBase* p = property(name)) return checked<T>(*p).value() = std::move(value);
     return insertNew<T>(name, std::move(value));
+  }
+  /// Stores a string literal as a std::string (not as a const char*).
+  std::string& set(const std::string& name, const char* value) {
+    return set<std::string>(name, std::string(value));
   }
   /// Constructs a T from `args` under `name`: appended when new, replacing the existing value in
   /// place otherwise (which must be a T: PropertyTypeMismatch). Returns the stored value.
@@ -156,6 +160,11 @@ class PropertyContainer {
   Property<T>& checked(PropertyBase& p) const {
     if (p.type() != std::type_index(typeid(T))) throwMismatch(p, std::type_index(typeid(T)));
     return static_cast<Property<T>&>(p);
+  }
+  template <class T>
+  const Property<T>& checked(const PropertyBase& p) const {
+    if (p.type() != std::type_index(typeid(T))) throwMismatch(p, std::type_index(typeid(T)));
+    return static_cast<const Property<T>&>(p);
   }
   template <class T, class... Args>
   T& insertNew(const std::string& name, Args&&... args) {

@@ -9,7 +9,6 @@
 #include <optional>
 #include <string>
 #include <typeindex>
-#include <unordered_map>
 #include <vector>
 
 #include "plugslam/property.h"

@@ -74,7 +74,7 @@ bool validUtf8(const std::string& s) {
 
 class TextOut final : public OutArchive {
  public:
-  explicit TextOut(std::ostream& out) : out_(out) {
+  explicit TextOut(std::ostream& out) : out_(out), em_(out) {
     em_.SetIndent(2);
     em_ << YAML::BeginMap << YAML::Key << kVersionKey << YAML::Value << kTextVersion << YAML::Key
         << kDataKey << YAML::Value;
@@ -173,7 +173,7 @@ class TextOut final : public OutArchive {
     em_ << YAML::EndMap;
     finished_ = true;
     if (!em_.good()) throw Error("cannot write the text archive: " + em_.GetLastError());
-    out_ << em_.c_str() << '\n';
+    out_ << '\n';
     out_.flush();
     if (!out_) throw Error("cannot write the text archive: the output stream failed");
   }
