@@ -1,0 +1,161 @@
+#include "plugslam/atomic_file.h"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "plugslam/archive.h"
+#include "plugslam/property_container.h"
+
+namespace fs = std::filesystem;
+
+namespace plugslam {
+namespace {
+
+class AtomicFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const std::string name = std::string("plugslam_atomic_") +
+                             ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+                             std::to_string(::getpid());
+    dir_ = fs::temp_directory_path() / name;
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::vector<std::string> entries() const {
+    std::vector<std::string> out;
+    for (const auto& e : fs::directory_iterator(dir_)) out.push_back(e.path().filename());
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+
+  static std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(AtomicFile, WritesAndLeavesNoTempFile) {
+  const std::string target = (dir_ / "out.txt").string();
+  writeFileAtomically(target, [](std::ostream& out) { out << "first"; });
+  EXPECT_EQ(slurp(target), "first");
+  writeFileAtomically(target, [](std::ostream& out) { out << "second, longer content"; });
+  EXPECT_EQ(slurp(target), "second, longer content");
+  EXPECT_EQ(entries(), std::vector<std::string>{"out.txt"});
+}
+
+TEST_F(AtomicFile, NewFileGetsOrdinaryPermissions) {
+  const std::string target = (dir_ / "perm.txt").string();
+  writeFileAtomically(target, [](std::ostream& out) { out << "x"; });
+  const mode_t mask = ::umask(022);
+  ::umask(mask);
+  const auto perms = fs::status(target).permissions();
+  EXPECT_EQ(static_cast<mode_t>(perms) & 0777, 0666 & ~mask);
+}
+
+TEST_F(AtomicFile, AFailingWriterLeavesTheOldTargetUntouched) {
+  const std::string target = (dir_ / "keep.txt").string();
+  writeFileAtomically(target, [](std::ostream& out) { out << "old content"; });
+  EXPECT_THROW(writeFileAtomically(target,
+                                   [](std::ostream& out) {
+                                     out << std::string(200000, 'x');  // beyond the buffer
+                                     throw std::runtime_error("writer failed half way");
+                                   }),
+               std::runtime_error);
+  EXPECT_EQ(slurp(target), "old content");
+  EXPECT_EQ(entries(), std::vector<std::string>{"keep.txt"});
+}
+
+TEST_F(AtomicFile, AFailingWriterCreatesNoTarget) {
+  const std::string target = (dir_ / "never.txt").string();
+  EXPECT_THROW(writeFileAtomically(target, [](std::ostream&) { throw InputError("no"); }),
+               InputError);
+  EXPECT_TRUE(entries().empty());
+}
+
+TEST_F(AtomicFile, ACrashMidWriteNeverExposesAHalfWrittenTarget) {
+  const std::string target = (dir_ / "crash.bin").string();
+  writeFileAtomically(target, [](std::ostream& out) { out << "complete"; });
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    try {
+      writeFileAtomically(target, [](std::ostream& out) {
+        out << std::string(300000, 'y');
+        out.flush();
+        ::_exit(3);  // simulated crash: no unwinding, no cleanup
+      });
+    } catch (...) {
+    }
+    ::_exit(4);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_EQ(WEXITSTATUS(status), 3);
+  EXPECT_EQ(slurp(target), "complete");
+  // The crash leaves only the temp file, named after the target, which a user can delete.
+  for (const auto& e : entries()) {
+    EXPECT_TRUE(e == "crash.bin" || e.rfind("crash.bin.tmp-", 0) == 0) << e;
+  }
+}
+
+TEST_F(AtomicFile, UnwritableFolderIsAnInputError) {
+  try {
+    writeFileAtomically((dir_ / "missing" / "f.txt").string(), [](std::ostream& out) { out << 1; });
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("missing"), std::string::npos) << e.what();
+  }
+}
+
+TEST_F(AtomicFile, ArchiveFilesRoundTripWithFormatDetection) {
+  PropertyContainer c;
+  c.set<double>("x", 0.1);
+  c.set<std::vector<Eigen::Vector3d>>("cloud", {{1, 2, 3}, {4, 5, 6}});
+  for (const char* name : {"c.bin", "c.yaml"}) {
+    const std::string path = (dir_ / name).string();
+    saveFile(path, c, formatForPath(path));
+    PropertyContainer back;
+    loadFile(path, back);
+    EXPECT_EQ(back.get<double>("x"), 0.1);
+    EXPECT_TRUE(back.get<std::vector<Eigen::Vector3d>>("cloud") ==
+                c.get<std::vector<Eigen::Vector3d>>("cloud"));
+  }
+  EXPECT_EQ(slurp(dir_ / "c.bin").substr(0, 4), "PLSB");
+  EXPECT_EQ(slurp(dir_ / "c.yaml").rfind("plugslam_archive: 1", 0), 0u);
+  EXPECT_EQ(entries(), (std::vector<std::string>{"c.bin", "c.yaml"}));
+  EXPECT_THROW(loadFile((dir_ / "absent.bin").string(), c), InputError);
+
+  // A failing save (unregistered type) leaves the previous file intact.
+  struct NoTag {
+    double v = 0;
+  };
+  PropertyContainer bad = c;
+  bad.set<NoTag>("untagged", NoTag{});
+  const std::string before = slurp(dir_ / "c.bin");
+  EXPECT_THROW(saveFile((dir_ / "c.bin").string(), bad, ArchiveFormat::kBinary), Error);
+  EXPECT_EQ(slurp(dir_ / "c.bin"), before);
+  EXPECT_EQ(entries(), (std::vector<std::string>{"c.bin", "c.yaml"}));
+}
+
+TEST(ArchiveFormatForPath, ChoosesByExtension) {
+  EXPECT_EQ(formatForPath("a/b.yaml"), ArchiveFormat::kText);
+  EXPECT_EQ(formatForPath("B.YML"), ArchiveFormat::kText);
+  EXPECT_EQ(formatForPath("x.json"), ArchiveFormat::kText);
+  EXPECT_EQ(formatForPath("x.bin"), ArchiveFormat::kBinary);
+  EXPECT_EQ(formatForPath("session"), ArchiveFormat::kBinary);
+}
+
+}  // namespace
+}  // namespace plugslam
