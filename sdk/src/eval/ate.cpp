@@ -50,8 +50,9 @@ SimilarityTransform alignPoints(const std::vector<Eigen::Vector3d>& ref,
   if (alignment == Alignment::None) return out;
   const std::size_t needed = alignment == Alignment::SE2 ? 2 : 3;
   if (ref.size() < needed) {
-    throw InputError(eval_detail::format("%s alignment needs at least %zu associated poses, got %zu",
-                                         toString(alignment).c_str(), needed, ref.size()));
+    throw InputError(
+        eval_detail::format("%s alignment needs at least %zu associated poses, got %zu",
+                            toString(alignment).c_str(), needed, ref.size()));
   }
   const int dim = alignment == Alignment::SE2 ? 2 : 3;
   const auto n = static_cast<Eigen::Index>(ref.size());

@@ -1,11 +1,10 @@
 #include "plugslam/eval/crispness.h"
 
-#include <nanoflann.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <nanoflann.hpp>
 #include <thread>
 
 #include "eval/text_file.h"
@@ -130,10 +129,9 @@ CrispnessResult computeCrispness(const std::vector<PosedScan>& scans,
       if (r.found()) nearest[i] = std::sqrt(r.worstDist());
     }
   };
-  const std::size_t threads =
-      std::max<std::size_t>(1, std::min<std::size_t>(static_cast<std::size_t>(
-                                                         std::max(1, options.threads)),
-                                                     total / 1024 + 1));
+  const std::size_t threads = std::max<std::size_t>(
+      1, std::min<std::size_t>(static_cast<std::size_t>(std::max(1, options.threads)),
+                               total / 1024 + 1));
   if (threads == 1) {
     work(0, total);
   } else {

@@ -37,9 +37,9 @@ std::vector<Relation> readRelations(const std::string& path) {
   static const char* kNames[] = {"t1", "t2", "x", "y", "z", "roll", "pitch", "yaw"};
   for (const eval_detail::TextLine& line : eval_detail::readDataLines(path)) {
     if (line.tokens.size() != 8) {
-      throw ParseError(path, line.number,
-                       format("expected 8 columns (t1 t2 x y z roll pitch yaw), got %zu",
-                              line.tokens.size()));
+      throw ParseError(
+          path, line.number,
+          format("expected 8 columns (t1 t2 x y z roll pitch yaw), got %zu", line.tokens.size()));
     }
     double v[8];
     for (std::size_t i = 0; i < 8; ++i) v[i] = eval_detail::parseNumber(path, line, i, kNames[i]);
@@ -74,9 +74,8 @@ std::vector<Relation> relationsFromTrajectory(const Trajectory& reference, doubl
     for (std::size_t j = i + 1; j < reference.size(); ++j) {
       const StampedPose& b = reference[j];
       const bool consecutive = j == i + 1;
-      if (!consecutive &&
-          (max_distance <= 0.0 ||
-           (b.pose.translation() - a.pose.translation()).squaredNorm() > max_sq)) {
+      if (!consecutive && (max_distance <= 0.0 ||
+                           (b.pose.translation() - a.pose.translation()).squaredNorm() > max_sq)) {
         continue;
       }
       relations.push_back(Relation{a.t, b.t, a.pose.inverse() * b.pose});

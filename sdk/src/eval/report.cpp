@@ -82,27 +82,25 @@ std::string statsTable(const ErrorStats& t, const ErrorStats& r) {
 std::string toMarkdown(const AteResult& r) {
   std::string s = format("### ATE (alignment: %s", toString(r.alignment).c_str());
   if (r.alignment == Alignment::Sim3) s += format(", scale %.6f", r.transform.scale);
-  s += format(", %zu of %zu estimate poses associated)\n\n", r.translation.count,
-              r.estimate_poses);
+  s += format(", %zu of %zu estimate poses associated)\n\n", r.translation.count, r.estimate_poses);
   return s + statsTable(r.translation, r.rotation_deg);
 }
 
 std::string toMarkdown(const RpeResult& r) {
-  std::string s = format("### RPE (delta %.9g %s, %zu pairs)\n\n", r.delta,
-                         toString(r.unit).c_str(), r.pairs);
+  std::string s =
+      format("### RPE (delta %.9g %s, %zu pairs)\n\n", r.delta, toString(r.unit).c_str(), r.pairs);
   return s + statsTable(r.translation, r.rotation_deg);
 }
 
 std::string toMarkdown(const RelationResult& r) {
-  std::string s = format("### Relation metric (%zu of %zu relations used)\n\n", r.used,
-                         r.relations);
+  std::string s =
+      format("### Relation metric (%zu of %zu relations used)\n\n", r.used, r.relations);
   s += "| error | mean | std |\n|---|---|---|\n";
   s += format("| translation (m) | %.6f | %.6f |\n", r.translation.mean, r.translation.std);
-  s += format("| translation² (m²) | %.6f | %.6f |\n", r.translation_sq.mean,
-              r.translation_sq.std);
+  s += format("| translation² (m²) | %.6f | %.6f |\n", r.translation_sq.mean, r.translation_sq.std);
   s += format("| rotation (deg) | %.6f | %.6f |\n", r.rotation_deg.mean, r.rotation_deg.std);
-  s += format("| rotation² (deg²) | %.6f | %.6f |\n", r.rotation_sq_deg.mean,
-              r.rotation_sq_deg.std);
+  s +=
+      format("| rotation² (deg²) | %.6f | %.6f |\n", r.rotation_sq_deg.mean, r.rotation_sq_deg.std);
   return s;
 }
 

@@ -49,14 +49,14 @@ double parseNumber(const std::string& path, const TextLine& line, std::size_t co
   errno = 0;
   const double v = std::strtod(begin, &end);
   if (end == begin || *end != '\0') {
-    throw ParseError(path, line.number,
-                     format("column %zu (%s): expected a number, got '%s'", column + 1, what,
-                            token.c_str()));
+    throw ParseError(
+        path, line.number,
+        format("column %zu (%s): expected a number, got '%s'", column + 1, what, token.c_str()));
   }
   if (!std::isfinite(v)) {
     throw ParseError(path, line.number,
-                     format("column %zu (%s): expected a finite number, got '%s'", column + 1,
-                            what, token.c_str()));
+                     format("column %zu (%s): expected a finite number, got '%s'", column + 1, what,
+                            token.c_str()));
   }
   return v;
 }
@@ -64,8 +64,8 @@ double parseNumber(const std::string& path, const TextLine& line, std::size_t co
 void writeFileAtomically(const std::string& path, const std::string& text) {
   namespace fs = std::filesystem;
   const fs::path target(path);
-  const fs::path tmp = target.parent_path() /
-                       (target.filename().string() + ".tmp." + std::to_string(::getpid()));
+  const fs::path tmp =
+      target.parent_path() / (target.filename().string() + ".tmp." + std::to_string(::getpid()));
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) {

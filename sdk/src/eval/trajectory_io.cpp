@@ -36,8 +36,7 @@ Eigen::Quaterniond checkedQuaternion(const std::string& path, int line, double q
   Eigen::Quaterniond q(qw, qx, qy, qz);
   const double n = q.norm();
   if (std::abs(n - 1.0) > kQuaternionNormTolerance) {
-    throw ParseError(path, line,
-                     format("quaternion (qx qy qz qw) has norm %.6g, expected 1", n));
+    throw ParseError(path, line, format("quaternion (qx qy qz qw) has norm %.6g, expected 1", n));
   }
   q.normalize();
   return q;
@@ -46,17 +45,16 @@ Eigen::Quaterniond checkedQuaternion(const std::string& path, int line, double q
 void requireColumns(const std::string& path, const TextLine& line, std::size_t expected,
                     const char* layout) {
   if (line.tokens.size() != expected) {
-    throw ParseError(path, line.number,
-                     format("expected %zu columns (%s), got %zu", expected, layout,
-                            line.tokens.size()));
+    throw ParseError(
+        path, line.number,
+        format("expected %zu columns (%s), got %zu", expected, layout, line.tokens.size()));
   }
 }
 
 void requireIncreasing(const std::string& path, int line, double prev, double t, bool first) {
   if (first) return;
   if (t < prev) {
-    throw ParseError(path, line,
-                     format("timestamp %.9f goes backwards (previous %.9f)", t, prev));
+    throw ParseError(path, line, format("timestamp %.9f goes backwards (previous %.9f)", t, prev));
   }
   if (t == prev) throw ParseError(path, line, format("duplicate timestamp %.9f", t));
 }
@@ -81,8 +79,8 @@ std::string tumLine(const StampedPose& p) {
   const Eigen::Vector3d t = p.pose.translation();
   Eigen::Quaterniond q(p.pose.linear());
   q.normalize();
-  return format("%.9f %.10g %.10g %.10g %.10g %.10g %.10g %.10g\n", p.t, t.x(), t.y(), t.z(),
-                q.x(), q.y(), q.z(), q.w());
+  return format("%.9f %.10g %.10g %.10g %.10g %.10g %.10g %.10g\n", p.t, t.x(), t.y(), t.z(), q.x(),
+                q.y(), q.z(), q.w());
 }
 
 }  // namespace
@@ -170,9 +168,10 @@ Trajectory readKittiTrajectory(const std::string& path, const std::string& times
   if (!times_path.empty()) {
     times = readTimes(times_path);
     if (times.size() != lines.size()) {
-      throw InputError(format("'%s' has %zu timestamps but '%s' has %zu poses: expected one "
-                              "timestamp per pose",
-                              times_path.c_str(), times.size(), path.c_str(), lines.size()));
+      throw InputError(
+          format("'%s' has %zu timestamps but '%s' has %zu poses: expected one "
+                 "timestamp per pose",
+                 times_path.c_str(), times.size(), path.c_str(), lines.size()));
     }
   }
   Trajectory trajectory;
@@ -215,9 +214,9 @@ Trajectory readG2oTrajectory(const std::string& path) {
     }
     const double id_value = parseNumber(path, line, 1, "vertex id");
     if (id_value != std::floor(id_value) || id_value < 0) {
-      throw ParseError(path, line.number,
-                       "column 2 (vertex id): expected a non-negative integer, got '" +
-                           line.tokens[1] + "'");
+      throw ParseError(
+          path, line.number,
+          "column 2 (vertex id): expected a non-negative integer, got '" + line.tokens[1] + "'");
     }
     const auto id = static_cast<long long>(id_value);
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();

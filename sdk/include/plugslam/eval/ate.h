@@ -47,8 +47,8 @@ struct AteResult {
   SimilarityTransform transform;  ///< applied to the estimate
   std::size_t reference_poses = 0;
   std::size_t estimate_poses = 0;
-  ErrorStats translation;    ///< |p_ref - (s R p_est + t)| in metres
-  ErrorStats rotation_deg;   ///< angle of R_ref^T R R_est in degrees
+  ErrorStats translation;                  ///< |p_ref - (s R p_est + t)| in metres
+  ErrorStats rotation_deg;                 ///< angle of R_ref^T R R_est in degrees
   std::vector<double> translation_errors;  ///< one per associated pair, in time order
 };
 

@@ -25,9 +25,9 @@ struct CrispnessOptions {
 
 /// Crispness result; mean is in metres.
 struct CrispnessResult {
-  double mean = 0.0;              ///< mean nearest-neighbour distance over points that have one
-  std::size_t points = 0;         ///< points in all scans
-  std::size_t matched_points = 0; ///< points with a neighbour within the radius
+  double mean = 0.0;               ///< mean nearest-neighbour distance over points that have one
+  std::size_t points = 0;          ///< points in all scans
+  std::size_t matched_points = 0;  ///< points with a neighbour within the radius
   std::size_t scans = 0;
   int min_index_gap = 50;
   double radius = 0.3;

@@ -24,8 +24,8 @@ RpeUnit parseRpeUnit(const std::string& name);
 /// Options of computeRpe.
 struct RpeOptions {
   RpeUnit unit = RpeUnit::Frames;
-  double delta = 1.0;      ///< step in the unit above; frames must be a positive integer
-  bool all_pairs = true;   ///< every start pose; false: non-overlapping segments (evo default)
+  double delta = 1.0;     ///< step in the unit above; frames must be a positive integer
+  bool all_pairs = true;  ///< every start pose; false: non-overlapping segments (evo default)
   AssociationOptions association;
 };
 
