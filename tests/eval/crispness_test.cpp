@@ -122,5 +122,21 @@ TEST(CrispnessTest, PlanarPoseOfA3dPose) {
   EXPECT_TRUE(q.translation().isApprox(Eigen::Vector2d(1, 2)));
 }
 
+TEST(CrispnessTest, PlaceScansByTimestamp) {
+  Trajectory traj;
+  for (int i = 0; i < 3; ++i) {
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.translation() = Eigen::Vector3d(i, 0, 0);
+    traj.push_back(10.0 + i, p);
+  }
+  const std::vector<std::vector<Eigen::Vector2d>> pts = {{{1, 0}}, {{0, 1}}};
+  const std::vector<PosedScan> placed = placeScans(pts, {10.001, 12.0}, traj, 0.01);
+  ASSERT_EQ(placed.size(), 2u);
+  EXPECT_TRUE((placed[0].pose * placed[0].points[0]).isApprox(Eigen::Vector2d(1, 0)));
+  EXPECT_TRUE((placed[1].pose * placed[1].points[0]).isApprox(Eigen::Vector2d(2, 1)));
+  EXPECT_THROW(placeScans(pts, {10.0, 11.5}, traj, 0.01), InputError);
+  EXPECT_THROW(placeScans(pts, {10.0}, traj, 0.01), InputError);
+}
+
 }  // namespace
 }  // namespace plugslam

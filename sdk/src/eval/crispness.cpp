@@ -76,6 +76,29 @@ Eigen::Isometry2d planarPose(const Eigen::Isometry3d& pose) {
   return out;
 }
 
+std::vector<PosedScan> placeScans(const std::vector<std::vector<Eigen::Vector2d>>& points,
+                                  const std::vector<double>& stamps, const Trajectory& trajectory,
+                                  double max_time_diff) {
+  if (points.size() != stamps.size()) {
+    throw InputError(eval_detail::format("placeScans: %zu scans but %zu timestamps", points.size(),
+                                         stamps.size()));
+  }
+  std::vector<PosedScan> out(points.size());
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const auto i = trajectory.nearest(stamps[k], max_time_diff);
+    if (!i) {
+      throw InputError(eval_detail::format(
+          "scan %zu (t = %.9g) has no trajectory pose within %.9g s (trajectory spans [%.9g, "
+          "%.9g]): expected one pose per scan",
+          k, stamps[k], max_time_diff, trajectory.empty() ? 0.0 : trajectory.startTime(),
+          trajectory.empty() ? 0.0 : trajectory.endTime()));
+    }
+    out[k].points = points[k];
+    out[k].pose = planarPose(trajectory[*i].pose);
+  }
+  return out;
+}
+
 CrispnessResult computeCrispness(const std::vector<PosedScan>& scans,
                                  const CrispnessOptions& options) {
   if (!(options.radius > 0.0) || !std::isfinite(options.radius)) {

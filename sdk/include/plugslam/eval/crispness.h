@@ -4,6 +4,8 @@
 #include <cstddef>
 #include <vector>
 
+#include "plugslam/trajectory.h"
+
 namespace plugslam {
 inline namespace abi_v1 {
 
@@ -38,6 +40,13 @@ struct CrispnessResult {
 /// none). Throws InputError on a non-positive radius or gap, or non-finite points.
 CrispnessResult computeCrispness(const std::vector<PosedScan>& scans,
                                  const CrispnessOptions& options = {});
+
+/// Places scans (points in the robot frame, one timestamp each) at the trajectory pose nearest
+/// in time, projected to the plane. Throws InputError naming the first scan with no pose within
+/// max_time_diff, or if the two lists differ in length.
+std::vector<PosedScan> placeScans(const std::vector<std::vector<Eigen::Vector2d>>& points,
+                                  const std::vector<double>& stamps, const Trajectory& trajectory,
+                                  double max_time_diff);
 
 /// The planar part (x, y, yaw about z) of a 3D pose, to place 2D scans with a TUM trajectory.
 Eigen::Isometry2d planarPose(const Eigen::Isometry3d& pose);
