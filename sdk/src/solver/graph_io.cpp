@@ -1,0 +1,378 @@
+#include "plugslam/solver/graph_io.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <unordered_map>
+#include <vector>
+
+#include "plugslam/errors.h"
+#include "plugslam/solver/pose_factors.h"
+
+namespace plugslam {
+inline namespace abi_v1 {
+
+namespace {
+
+struct VertexRecord {
+  int64_t id;
+  int line;
+  std::vector<double> values;
+};
+struct EdgeRecord {
+  int64_t from, to;
+  int line;
+  std::vector<double> values;  // measurement then information entries
+};
+
+class LineParser {
+ public:
+  LineParser(const std::string& file, int line, const std::string& text)
+      : file_(file), line_(line), text_(text) {}
+
+  bool next(std::string& token) {
+    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+    if (pos_ >= text_.size()) return false;
+    const size_t start = pos_;
+    while (pos_ < text_.size() && !std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+    token.assign(text_, start, pos_ - start);
+    return true;
+  }
+  int64_t id(const char* what) {
+    std::string t;
+    if (!next(t)) fail(std::string("expected ") + what + " (an integer id), found end of line");
+    errno = 0;
+    char* end = nullptr;
+    const long long v = std::strtoll(t.c_str(), &end, 10);
+    if (end == t.c_str() || *end != '\0') fail(std::string("expected ") + what + " (an integer id), found '" + t + "'");
+    if (errno == ERANGE) fail(std::string(what) + " '" + t + "' is out of range");
+    return v;
+  }
+  double number(const char* what, int index, int count) {
+    std::string t;
+    if (!next(t)) {
+      fail(std::string("expected ") + std::to_string(count) + " numbers for " + what + ", found " +
+           std::to_string(index) + " (truncated line?)");
+    }
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    if (end == t.c_str() || *end != '\0') fail(std::string("expected a number in ") + what + ", found '" + t + "'");
+    if (!std::isfinite(v)) fail(std::string("non-finite value '") + t + "' in " + what);
+    return v;
+  }
+  void end() {
+    std::string t;
+    if (next(t)) fail("unexpected extra value '" + t + "' at end of record");
+  }
+  [[noreturn]] void fail(const std::string& message) const { throw ParseError(file_, line_, message); }
+
+ private:
+  const std::string& file_;
+  int line_;
+  const std::string& text_;
+  size_t pos_ = 0;
+};
+
+bool looksLikeTag(const std::string& t) {
+  if (t.empty()) return false;
+  for (char c : t) {
+    const bool ok = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') ||
+                    c == '_' || c == ':' || c == '-';
+    if (!ok) return false;
+  }
+  return (t[0] >= 'A' && t[0] <= 'Z');
+}
+
+// Fills a symmetric n x n matrix from its upper triangle in row-major order.
+template <int N>
+Eigen::Matrix<double, N, N> upperToMatrix(const double* v) {
+  Eigen::Matrix<double, N, N> m;
+  int k = 0;
+  for (int r = 0; r < N; ++r) {
+    for (int c = r; c < N; ++c) {
+      m(r, c) = m(c, r) = v[k++];
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+bool isPositiveDefinite(const Eigen::MatrixXd& m) {
+  Eigen::LLT<Eigen::MatrixXd> llt(m);
+  if (llt.info() != Eigen::Success) return false;
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(m, Eigen::EigenvaluesOnly);
+  return es.eigenvalues().minCoeff() > 0.0;
+}
+
+Eigen::MatrixXd nearestPositiveDefinite(const Eigen::MatrixXd& m, double min_ratio) {
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(0.5 * (m + m.transpose()));
+  Eigen::VectorXd ev = es.eigenvalues();
+  const double floor =
+      std::max(min_ratio * ev.cwiseAbs().maxCoeff(), std::numeric_limits<double>::min());
+  for (int i = 0; i < ev.size(); ++i) ev[i] = std::max(ev[i], floor);
+  return es.eigenvectors() * ev.asDiagonal() * es.eigenvectors().transpose();
+}
+
+GraphFileInfo readGraphFile(const std::string& path, FactorGraph& graph,
+                            const ReadGraphOptions& options) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("cannot open graph file '" + path + "'");
+  return readGraph(in, path, graph, options);
+}
+
+GraphFileInfo readGraph(std::istream& in, const std::string& name, FactorGraph& graph,
+                        const ReadGraphOptions& options) {
+  if (graph.numVariables() != 0 || graph.numFactors() != 0) {
+    throw InputError("readGraph needs an empty graph");
+  }
+  GraphFileInfo info;
+  std::vector<VertexRecord> vertices;
+  std::vector<EdgeRecord> edges;
+  std::vector<std::pair<int64_t, int>> fixes;
+  bool toro = false, g2o = false;
+  int dim_line = 0;
+  auto setDim = [&](int d, LineParser& p, int line) {
+    if (info.dimension == 0) {
+      info.dimension = d;
+      dim_line = line;
+    } else if (info.dimension != d) {
+      p.fail("a " + std::to_string(d) + "D record in a " + std::to_string(info.dimension) +
+             "D graph (first record of that kind at line " + std::to_string(dim_line) + ")");
+    }
+  };
+  std::string text, tag;
+  int line = 0;
+  while (std::getline(in, text)) {
+    ++line;
+    if (!text.empty() && text.back() == '\r') text.pop_back();
+    for (unsigned char c : text) {
+      if (c < 0x20 && c != '\t') throw ParseError(name, line, "binary data in a text graph file");
+    }
+    LineParser p(name, line, text);
+    if (!p.next(tag) || tag[0] == '#') continue;
+    if (tag == "VERTEX_SE2" || tag == "VERTEX2" || tag == "VERTEX") {
+      (tag == "VERTEX_SE2" ? g2o : toro) = true;
+      setDim(2, p, line);
+      VertexRecord v{p.id("vertex id"), line, {}};
+      for (int k = 0; k < 3; ++k) v.values.push_back(p.number(tag.c_str(), k, 3));
+      p.end();
+      vertices.push_back(std::move(v));
+    } else if (tag == "VERTEX_SE3:QUAT") {
+      g2o = true;
+      setDim(3, p, line);
+      VertexRecord v{p.id("vertex id"), line, {}};
+      for (int k = 0; k < 7; ++k) v.values.push_back(p.number(tag.c_str(), k, 7));
+      p.end();
+      const double qn = Eigen::Vector4d(v.values[3], v.values[4], v.values[5], v.values[6]).norm();
+      if (qn < 1e-6) p.fail("quaternion of vertex " + std::to_string(v.id) + " has zero norm");
+      vertices.push_back(std::move(v));
+    } else if (tag == "EDGE_SE2" || tag == "EDGE2" || tag == "EDGE") {
+      const bool is_toro = tag != "EDGE_SE2";
+      (is_toro ? toro : g2o) = true;
+      setDim(2, p, line);
+      EdgeRecord e{p.id("first vertex id"), 0, line, {}};
+      e.to = p.id("second vertex id");
+      double v[9];
+      for (int k = 0; k < 9; ++k) v[k] = p.number(tag.c_str(), k, 9);
+      p.end();
+      if (is_toro) {
+        // TORO: xx xy yy tt xt yt -> g2o upper triangle xx xy xt yy yt tt.
+        const double g[9] = {v[0], v[1], v[2], v[3], v[4], v[7], v[5], v[8], v[6]};
+        e.values.assign(g, g + 9);
+      } else {
+        e.values.assign(v, v + 9);
+      }
+      edges.push_back(std::move(e));
+    } else if (tag == "EDGE_SE3:QUAT") {
+      g2o = true;
+      setDim(3, p, line);
+      EdgeRecord e{p.id("first vertex id"), 0, line, {}};
+      e.to = p.id("second vertex id");
+      for (int k = 0; k < 28; ++k) e.values.push_back(p.number(tag.c_str(), k, 28));
+      p.end();
+      const double qn =
+          Eigen::Vector4d(e.values[3], e.values[4], e.values[5], e.values[6]).norm();
+      if (qn < 1e-6) p.fail("edge quaternion has zero norm");
+      edges.push_back(std::move(e));
+    } else if (tag == "FIX") {
+      int64_t id = p.id("vertex id to fix");
+      fixes.emplace_back(id, line);
+      std::string more;
+      while (p.next(more)) {
+        LineParser q(name, line, more);
+        fixes.emplace_back(q.id("vertex id to fix"), line);
+      }
+    } else if (looksLikeTag(tag)) {
+      ++info.skipped_records;
+    } else {
+      throw ParseError(name, line, "unknown record '" + tag.substr(0, 40) +
+                                       "'; expected VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, "
+                                       "EDGE_SE3:QUAT, FIX, VERTEX2 or EDGE2");
+    }
+  }
+  if (in.bad()) throw ParseError(name, line, "read error");
+  if (edges.empty() && vertices.empty()) {
+    throw ParseError(name, 0, "no vertex or edge records found");
+  }
+  info.format = toro && !g2o ? "toro" : "g2o";
+  info.vertices = vertices.size();
+  info.edges = edges.size();
+  info.has_vertices = !vertices.empty();
+  const int d = info.dimension;
+
+  for (const auto& v : vertices) {
+    if (graph.findVariable(v.id)) {
+      throw ParseError(name, v.line, "duplicate vertex id " + std::to_string(v.id));
+    }
+    if (d == 2) {
+      graph.addVariable<VariableSE2>(v.id, se2(v.values[0], v.values[1], v.values[2]));
+    } else {
+      graph.addVariable<VariableSE3>(
+          v.id, se3(Eigen::Vector3d(v.values[0], v.values[1], v.values[2]),
+                    Eigen::Quaterniond(v.values[6], v.values[3], v.values[4], v.values[5])));
+    }
+  }
+  if (vertices.empty()) {
+    // Edge-only file: one placeholder per id, in id order (the odometry chain order).
+    std::vector<int64_t> ids;
+    for (const auto& e : edges) {
+      ids.push_back(e.from);
+      ids.push_back(e.to);
+    }
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    for (int64_t id : ids) {
+      if (d == 2) {
+        graph.addVariable<VariableSE2>(id, SE2::Identity());
+      } else {
+        graph.addVariable<VariableSE3>(id, SE3::Identity());
+      }
+    }
+  }
+  for (const auto& e : edges) {
+    Variable* a = graph.findVariable(e.from);
+    Variable* b = graph.findVariable(e.to);
+    if (!a || !b) {
+      throw ParseError(name, e.line, "edge refers to vertex " +
+                                         std::to_string(!a ? e.from : e.to) +
+                                         ", which the file does not declare");
+    }
+    if (a == b) throw ParseError(name, e.line, "edge from vertex " + std::to_string(e.from) + " to itself");
+    const double* v = e.values.data();
+    if (d == 2) {
+      Eigen::Matrix3d inf = upperToMatrix<3>(v + 3);
+      if (!isPositiveDefinite(inf)) {
+        ++info.non_pd_information;
+        if (options.project_information) {
+          inf = nearestPositiveDefinite(inf);
+          ++info.projected_information;
+        }
+      }
+      graph.emplaceFactor<BetweenFactorSE2>(static_cast<VariableSE2*>(a),
+                                            static_cast<VariableSE2*>(b), se2(v[0], v[1], v[2]),
+                                            inf);
+    } else {
+      Eigen::Matrix<double, 6, 6> inf = upperToMatrix<6>(v + 7);
+      if (!isPositiveDefinite(inf)) {
+        ++info.non_pd_information;
+        if (options.project_information) {
+          inf = nearestPositiveDefinite(inf);
+          ++info.projected_information;
+        }
+      }
+      graph.emplaceFactor<BetweenFactorSE3>(
+          static_cast<VariableSE3*>(a), static_cast<VariableSE3*>(b),
+          se3(Eigen::Vector3d(v[0], v[1], v[2]), Eigen::Quaterniond(v[6], v[3], v[4], v[5])),
+          inf);
+    }
+  }
+  for (const auto& [id, fline] : fixes) {
+    Variable* v = graph.findVariable(id);
+    if (!v) throw ParseError(name, fline, "FIX of vertex " + std::to_string(id) + ", which does not exist");
+    if (!v->fixed()) ++info.fixed;
+    v->setFixed(true);
+  }
+  return info;
+}
+
+size_t writeGraph(std::ostream& out, const FactorGraph& graph) {
+  char buf[128];
+  auto num = [&](double x) {
+    std::snprintf(buf, sizeof(buf), " %.17g", x);
+    out << buf;
+  };
+  for (Variable* v : graph.variables()) {
+    if (auto* p = dynamic_cast<VariableSE2*>(v)) {
+      const Eigen::Vector3d x = toVector(p->estimate());
+      out << "VERTEX_SE2 " << v->id();
+      for (int k = 0; k < 3; ++k) num(x[k]);
+      out << '\n';
+    } else if (auto* p3 = dynamic_cast<VariableSE3*>(v)) {
+      const Eigen::Vector3d t = p3->estimate().translation();
+      const Eigen::Quaterniond q = quaternionOf(p3->estimate());
+      out << "VERTEX_SE3:QUAT " << v->id();
+      for (int k = 0; k < 3; ++k) num(t[k]);
+      num(q.x());
+      num(q.y());
+      num(q.z());
+      num(q.w());
+      out << '\n';
+    }
+  }
+  for (Variable* v : graph.variables()) {
+    if (v->fixed()) out << "FIX " << v->id() << '\n';
+  }
+  size_t skipped = 0;
+  for (const auto& f : graph.factors()) {
+    if (auto* e = dynamic_cast<const BetweenFactorSE2*>(f.get())) {
+      const Eigen::Vector3d m = toVector(e->measurement());
+      out << "EDGE_SE2 " << e->variable(0)->id() << ' ' << e->variable(1)->id();
+      for (int k = 0; k < 3; ++k) num(m[k]);
+      for (int r = 0; r < 3; ++r)
+        for (int c = r; c < 3; ++c) num(e->information()(r, c));
+      out << '\n';
+    } else if (auto* e3 = dynamic_cast<const BetweenFactorSE3*>(f.get())) {
+      const Eigen::Vector3d t = e3->measurement().translation();
+      const Eigen::Quaterniond q = quaternionOf(e3->measurement());
+      out << "EDGE_SE3:QUAT " << e3->variable(0)->id() << ' ' << e3->variable(1)->id();
+      for (int k = 0; k < 3; ++k) num(t[k]);
+      num(q.x());
+      num(q.y());
+      num(q.z());
+      num(q.w());
+      for (int r = 0; r < 6; ++r)
+        for (int c = r; c < 6; ++c) num(e3->information()(r, c));
+      out << '\n';
+    } else {
+      ++skipped;
+    }
+  }
+  return skipped;
+}
+
+size_t writeGraphFile(const std::string& path, const FactorGraph& graph) {
+  const std::string tmp = path + ".tmp";
+  size_t skipped = 0;
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError("cannot write graph file '" + tmp + "'");
+    skipped = writeGraph(out, graph);
+    out.flush();
+    if (!out) throw InputError("error writing graph file '" + tmp + "'");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw InputError("cannot move '" + tmp + "' to '" + path + "'");
+  }
+  return skipped;
+}
+
+}  // namespace abi_v1
+}  // namespace plugslam

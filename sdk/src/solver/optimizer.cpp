@@ -1,0 +1,451 @@
+#include "plugslam/solver/optimizer.h"
+
+#include <cholmod.h>
+#include <spdlog/spdlog.h>
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace plugslam {
+inline namespace abi_v1 {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+}  // namespace
+
+const char* toString(StopReason r) {
+  switch (r) {
+    case StopReason::kConverged: return "converged";
+    case StopReason::kMaxIterations: return "max_iterations";
+    case StopReason::kNoProgress: return "no_progress";
+    case StopReason::kSolverFailure: return "solver_failure";
+    case StopReason::kNothingToOptimize: return "nothing_to_optimize";
+  }
+  return "unknown";
+}
+
+struct Optimizer::Impl {
+  Impl() { cholmod_start(&common); }
+  ~Impl() { freeCholmod(); cholmod_finish(&common); }
+
+  void freeCholmod() {
+    if (factor) cholmod_free_factor(&factor, &common);
+    if (matrix) {
+      matrix->x = nullptr;  // values belongs to Impl
+      matrix->xtype = CHOLMOD_PATTERN;
+      cholmod_free_sparse(&matrix, &common);
+    }
+    if (rhs) cholmod_free_dense(&rhs, &common);
+    if (sol) cholmod_free_dense(&sol, &common);
+    if (work_y) cholmod_free_dense(&work_y, &common);
+    if (work_e) cholmod_free_dense(&work_e, &common);
+  }
+
+  // Structure of the current problem.
+  std::vector<Variable*> active;      // free variables in system order
+  std::vector<int> block_offset;      // scalar offset of each block
+  std::vector<int> block_dim;
+  std::vector<BlockSlot> slots;       // all factors' slots, concatenated
+  std::vector<int> slot_start;        // per factor
+  std::vector<int> b_offsets;         // all factors' variable offsets, concatenated
+  std::vector<int> b_start;           // per factor
+  std::vector<int> diag_pos;          // value index of each diagonal entry
+  std::vector<double> diag_backup;
+  int n = 0;
+  bool dense = false;
+  Factorization factorization = Factorization::kSupernodal;
+  Factorization analyzed_with = Factorization::kSupernodal;
+
+  // Sparse storage.
+  std::vector<int> colptr, rowind;
+  std::vector<double> values;
+  cholmod_common common;
+  cholmod_sparse* matrix = nullptr;
+  cholmod_factor* factor = nullptr;
+  cholmod_dense *rhs = nullptr, *sol = nullptr, *work_y = nullptr, *work_e = nullptr;
+
+  // Dense storage.
+  Eigen::MatrixXd hd;
+  Eigen::LDLT<Eigen::MatrixXd, Eigen::Upper> ldlt;
+
+  Eigen::VectorXd b, dx;
+
+  void build(FactorGraph& graph, const OptimizerOptions& opt, OptimizeResult& result);
+  void buildSparsePattern(const std::vector<std::vector<int>>& above);
+  double linearize(const FactorGraph& graph);
+  bool solve(double lambda);
+};
+
+void Optimizer::Impl::build(FactorGraph& graph, const OptimizerOptions& opt,
+                            OptimizeResult& result) {
+  const auto& factors = graph.factors();
+  for (Variable* v : graph.variables()) v->setSystemOffset(-1);
+  // Gauge: relative-only problems are fixed at their first variable.
+  Variable* implicit_fixed = nullptr;
+  if (opt.gauge == GaugeMode::kAuto && !graph.variables().empty()) {
+    bool any_fixed = false, any_unary = false;
+    for (Variable* v : graph.variables()) any_fixed |= v->fixed();
+    for (const auto& f : factors) any_unary |= f->numVariables() == 1;
+    if (!any_fixed && !any_unary) implicit_fixed = graph.variables().front();
+  }
+  auto isFree = [&](Variable* v) { return !v->fixed() && v != implicit_fixed; };
+  // Mark variables used by a factor (-2), then number them in graph order.
+  for (const auto& f : factors) {
+    for (int i = 0; i < f->numVariables(); ++i) {
+      Variable* v = f->variable(i);
+      if (isFree(v)) v->setSystemOffset(-2);
+    }
+  }
+  active.clear();
+  block_offset.clear();
+  block_dim.clear();
+  n = 0;
+  for (Variable* v : graph.variables()) {
+    if (v->systemOffset() != -2) continue;
+    v->setSystemOffset(n);
+    active.push_back(v);
+    block_offset.push_back(n);
+    block_dim.push_back(v->dim());
+    n += v->dim();
+  }
+  result.system_size = n;
+  dense = n <= opt.dense_threshold;
+  result.dense = dense;
+  std::vector<int> block_of_scalar(n);
+  for (size_t k = 0; k < active.size(); ++k) {
+    for (int j = 0; j < block_dim[k]; ++j) block_of_scalar[block_offset[k] + j] = int(k);
+  }
+
+  // Sparse pattern: block rows above the diagonal of each block column.
+  std::vector<std::vector<int>> above;
+  if (!dense) {
+    above.assign(active.size(), {});
+    for (const auto& f : factors) {
+      const int m = f->numVariables();
+      for (int a = 0; a < m; ++a) {
+        const int oa = f->variable(a)->systemOffset();
+        if (oa < 0) continue;
+        for (int c = a + 1; c < m; ++c) {
+          const int oc = f->variable(c)->systemOffset();
+          if (oc < 0) continue;
+          const int ba = block_of_scalar[oa], bc = block_of_scalar[oc];
+          above[std::max(ba, bc)].push_back(std::min(ba, bc));
+        }
+      }
+    }
+    for (auto& col : above) {
+      std::sort(col.begin(), col.end());
+      col.erase(std::unique(col.begin(), col.end()), col.end());
+    }
+    buildSparsePattern(above);
+  } else {
+    if (hd.rows() != n) hd.resize(n, n);
+    diag_pos.resize(n);
+    for (int k = 0; k < n; ++k) diag_pos[k] = k * n + k;
+  }
+  diag_backup.resize(n);
+  if (b.size() != n) {
+    b.resize(n);
+    dx.resize(n);
+  }
+
+  // Scatter slots of every factor.
+  slots.clear();
+  slot_start.clear();
+  b_offsets.clear();
+  b_start.clear();
+  auto blockSlot = [&](int row_block, int col_block) {
+    // Block (row_block <= col_block) of the upper triangle.
+    BlockSlot s;
+    if (dense) {
+      s.offset = block_offset[col_block] * n + block_offset[row_block];
+      s.stride = n;
+      return s;
+    }
+    const int c0 = block_offset[col_block];
+    const int len = colptr[c0 + 1] - colptr[c0];
+    int prefix = 0;
+    if (row_block == col_block) {
+      prefix = len - block_dim[col_block];
+    } else {
+      for (int r : above[col_block]) {
+        if (r == row_block) break;
+        prefix += block_dim[r];
+      }
+    }
+    s.offset = colptr[c0] + prefix;
+    s.stride = len;
+    return s;
+  };
+  for (const auto& f : factors) {
+    const int m = f->numVariables();
+    slot_start.push_back(int(slots.size()));
+    b_start.push_back(int(b_offsets.size()));
+    for (int a = 0; a < m; ++a) {
+      const int oa = f->variable(a)->systemOffset();
+      b_offsets.push_back(oa);
+      for (int c = a; c < m; ++c) {
+        const int oc = f->variable(c)->systemOffset();
+        if (oa < 0 || oc < 0) {
+          slots.push_back(BlockSlot{});
+          continue;
+        }
+        const int ba = block_of_scalar[oa], bc = block_of_scalar[oc];
+        BlockSlot s = blockSlot(std::min(ba, bc), std::max(ba, bc));
+        s.transposed = ba > bc;
+        slots.push_back(s);
+      }
+    }
+  }
+}
+
+void Optimizer::Impl::buildSparsePattern(const std::vector<std::vector<int>>& above) {
+  const int nb = int(above.size());
+  std::vector<int> new_colptr, new_rowind;
+  new_colptr.reserve(n + 1);
+  new_colptr.push_back(0);
+  for (int c = 0; c < nb; ++c) {
+    for (int j = 0; j < block_dim[c]; ++j) {
+      for (int r : above[c]) {
+        for (int i = 0; i < block_dim[r]; ++i) new_rowind.push_back(block_offset[r] + i);
+      }
+      // Full diagonal block: CHOLMOD ignores the lower part (stype > 0) and the column stride
+      // stays constant within the block column.
+      for (int i = 0; i < block_dim[c]; ++i) new_rowind.push_back(block_offset[c] + i);
+      new_colptr.push_back(int(new_rowind.size()));
+    }
+  }
+  diag_pos.resize(n);
+  for (int c = 0; c < nb; ++c) {
+    for (int j = 0; j < block_dim[c]; ++j) {
+      const int col = block_offset[c] + j;
+      diag_pos[col] = new_colptr[col + 1] - block_dim[c] + j;
+    }
+  }
+  const bool same = factor && new_colptr == colptr && new_rowind == rowind &&
+                    analyzed_with == factorization;
+  if (same) return;
+  freeCholmod();
+  colptr.swap(new_colptr);
+  rowind.swap(new_rowind);
+  const size_t nnz = rowind.size();
+  values.assign(nnz, 0.0);
+  matrix = cholmod_allocate_sparse(n, n, nnz, 1, 1, 1, CHOLMOD_PATTERN, &common);
+  std::copy(colptr.begin(), colptr.end(), static_cast<int*>(matrix->p));
+  std::copy(rowind.begin(), rowind.end(), static_cast<int*>(matrix->i));
+  matrix->x = values.data();  // values owns the numbers; detached again before free
+  matrix->xtype = CHOLMOD_REAL;
+
+  // Fill-reducing ordering on the block graph (n_blocks nodes instead of n scalars).
+  std::vector<int> bp(nb + 1, 0), bi;
+  for (int c = 0; c < nb; ++c) {
+    for (int r : above[c]) bi.push_back(r);
+    bi.push_back(c);
+    bp[c + 1] = int(bi.size());
+  }
+  cholmod_sparse block_pattern{};
+  block_pattern.nrow = nb;
+  block_pattern.ncol = nb;
+  block_pattern.nzmax = bi.size();
+  block_pattern.p = bp.data();
+  block_pattern.i = bi.data();
+  block_pattern.stype = 1;
+  block_pattern.itype = CHOLMOD_INT;
+  block_pattern.xtype = CHOLMOD_PATTERN;
+  block_pattern.dtype = CHOLMOD_DOUBLE;
+  block_pattern.sorted = 1;
+  block_pattern.packed = 1;
+  std::vector<int> block_perm(nb);
+  std::vector<int> perm;
+  perm.reserve(n);
+  if (nb > 0 && cholmod_amd(&block_pattern, nullptr, 0, block_perm.data(), &common)) {
+    for (int k = 0; k < nb; ++k) {
+      const int blk = block_perm[k];
+      for (int j = 0; j < block_dim[blk]; ++j) perm.push_back(block_offset[blk] + j);
+    }
+  } else {
+    for (int k = 0; k < n; ++k) perm.push_back(k);
+  }
+  common.supernodal = factorization == Factorization::kSupernodal   ? CHOLMOD_SUPERNODAL
+                      : factorization == Factorization::kSimplicial ? CHOLMOD_SIMPLICIAL
+                                                                    : CHOLMOD_AUTO;
+  factor = cholmod_analyze_p(matrix, perm.data(), nullptr, 0, &common);
+  analyzed_with = factorization;
+  rhs = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &common);
+}
+
+double Optimizer::Impl::linearize(const FactorGraph& graph) {
+  double* h = dense ? hd.data() : values.data();
+  if (dense) {
+    hd.setZero();
+  } else {
+    std::fill(values.begin(), values.end(), 0.0);
+  }
+  b.setZero();
+  const auto& factors = graph.factors();
+  double cost = 0.0;
+  for (size_t k = 0; k < factors.size(); ++k) {
+    cost += factors[k]->linearize(h, b.data(), slots.data() + slot_start[k],
+                                  b_offsets.data() + b_start[k]);
+  }
+  for (int k = 0; k < n; ++k) diag_backup[k] = h[diag_pos[k]];
+  return cost;
+}
+
+bool Optimizer::Impl::solve(double lambda) {
+  double* h = dense ? hd.data() : values.data();
+  for (int k = 0; k < n; ++k) h[diag_pos[k]] = diag_backup[k] + lambda;
+  if (dense) {
+    ldlt.compute(hd);
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return false;
+    const auto& d = ldlt.vectorD();
+    if (!(d.minCoeff() > 1e-14 * std::max(1.0, d.maxCoeff()))) return false;
+    dx = ldlt.solve(-b);
+  } else {
+    matrix->x = values.data();
+    common.quick_return_if_not_posdef = 1;
+    if (!cholmod_factorize(matrix, factor, &common)) return false;
+    if (common.status == CHOLMOD_NOT_POSDEF || factor->minor < factor->n) return false;
+    double* r = static_cast<double*>(rhs->x);
+    for (int k = 0; k < n; ++k) r[k] = -b[k];
+    if (!cholmod_solve2(CHOLMOD_A, factor, rhs, nullptr, &sol, nullptr, &work_y, &work_e,
+                        &common)) {
+      return false;
+    }
+    const double* s = static_cast<const double*>(sol->x);
+    for (int k = 0; k < n; ++k) dx[k] = s[k];
+  }
+  return dx.allFinite();
+}
+
+Optimizer::Optimizer(const OptimizerOptions& options)
+    : options_(options), impl_(std::make_unique<Impl>()) {}
+
+Optimizer::~Optimizer() = default;
+
+OptimizeResult Optimizer::optimize(FactorGraph& graph) {
+  const auto t_start = Clock::now();
+  OptimizeResult result;
+  Impl& im = *impl_;
+  const bool lm = options_.algorithm == Algorithm::kLevenbergMarquardt;
+  im.factorization = options_.factorization;
+  im.build(graph, options_, result);
+  result.time_setup = secondsSince(t_start);
+  result.initial_chi2 = result.final_chi2 = graph.robustChi2();
+  if (im.n == 0 || graph.numFactors() == 0) {
+    result.reason = StopReason::kNothingToOptimize;
+    result.time_total = secondsSince(t_start);
+    return result;
+  }
+
+  double chi = result.initial_chi2;
+  double lambda = 0.0, nu = 2.0;
+  result.reason = StopReason::kMaxIterations;
+  for (int it = 0; it < options_.max_iterations; ++it) {
+    IterationStats st;
+    st.iteration = it;
+    st.chi2_before = chi;
+    auto t0 = Clock::now();
+    const double lin_chi = im.linearize(graph);
+    (void)lin_chi;
+    st.time_linearize = secondsSince(t0);
+    if (lm && it == 0) {
+      double max_diag = 0.0;
+      for (double d : im.diag_backup) max_diag = std::max(max_diag, std::abs(d));
+      lambda = options_.lm_initial_tau * std::max(max_diag, 1e-12);
+    }
+    bool done = false;
+    for (;;) {
+      t0 = Clock::now();
+      const bool solved = im.solve(lm ? lambda : 0.0);
+      st.time_solve += secondsSince(t0);
+      t0 = Clock::now();
+      if (!solved) {
+        ++result.singular_systems;
+        if (!lm) {
+          result.reason = StopReason::kSolverFailure;
+          st.accepted = false;
+          done = true;
+          break;
+        }
+        ++st.rejected_steps;
+        lambda *= nu;
+        nu *= 2.0;
+        if (st.rejected_steps > options_.lm_max_rejections) {
+          result.reason = StopReason::kNoProgress;
+          st.accepted = false;
+          done = true;
+          break;
+        }
+        continue;
+      }
+      for (Variable* v : im.active) v->saveEstimate();
+      for (Variable* v : im.active) v->oplus(im.dx.data() + v->systemOffset());
+      const double new_chi = graph.robustChi2();
+      const double step = im.dx.cwiseAbs().maxCoeff();
+      bool accept = std::isfinite(new_chi);
+      if (lm && accept) {
+        const double predicted = im.dx.dot(lambda * im.dx - im.b);
+        const double rho = (chi - new_chi) / predicted;
+        accept = predicted > 0.0 && rho > 0.0;
+        if (accept) {
+          const double t = 2.0 * rho - 1.0;
+          lambda *= std::max(1.0 / 3.0, 1.0 - t * t * t);
+          nu = 2.0;
+        }
+      }
+      st.time_update += secondsSince(t0);
+      if (accept) {
+        st.step_norm = step;
+        st.lambda = lm ? lambda : 0.0;
+        const double rel = (chi - new_chi) / std::max(chi, std::numeric_limits<double>::min());
+        chi = new_chi;
+        st.chi2 = chi;
+        if (chi < options_.absolute_chi2 || (rel >= 0.0 && rel < options_.relative_decrease) ||
+            step < options_.step_norm) {
+          result.reason = StopReason::kConverged;
+          done = true;
+        }
+        break;
+      }
+      for (Variable* v : im.active) v->restoreEstimate();
+      if (!lm) {
+        // GN produced a non-finite cost: keep the last good estimate.
+        result.reason = StopReason::kSolverFailure;
+        st.accepted = false;
+        done = true;
+        break;
+      }
+      ++st.rejected_steps;
+      lambda *= nu;
+      nu *= 2.0;
+      if (st.rejected_steps > options_.lm_max_rejections || step < options_.step_norm) {
+        result.reason = step < options_.step_norm ? StopReason::kConverged : StopReason::kNoProgress;
+        st.accepted = false;
+        done = true;
+        break;
+      }
+    }
+    if (!st.accepted) st.chi2 = chi;
+    result.iterations = it + 1;
+    result.stats.push_back(st);
+    if (options_.verbose) {
+      spdlog::info("iteration {} chi2 {:.6g} step {:.3g} lambda {:.3g} lin {:.4f}s solve {:.4f}s",
+                   it, st.chi2, st.step_norm, st.lambda, st.time_linearize, st.time_solve);
+    }
+    if (callback_) callback_(st);
+    if (done) break;
+  }
+  result.final_chi2 = chi;
+  result.time_total = secondsSince(t_start);
+  return result;
+}
+
+}  // namespace abi_v1
+}  // namespace plugslam
