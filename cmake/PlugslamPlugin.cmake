@@ -1,13 +1,16 @@
-# plugslam_add_plugin(NAME SOURCES a.cpp ... [LIBRARIES lib ...])
+# plugslam_add_plugin(NAME SOURCES a.cpp ... [LIBRARIES lib ...] [OUTPUT_DIR dir] [NO_INSTALL])
 # Builds lib<NAME>.so as a plugslam plugin: linked to the SDK, named so the host finds it
 # (plugslam_<NAME>.so), placed in the plugin folder of the build tree and installed with the host.
 # Works in-tree and, through the installed package config, in an outside project.
 function(plugslam_add_plugin name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;LIBRARIES;INCLUDE_DIRS" ${ARGN})
+  cmake_parse_arguments(ARG "NO_INSTALL" "OUTPUT_DIR;TARGET" "SOURCES;LIBRARIES;INCLUDE_DIRS" ${ARGN})
   if(NOT ARG_SOURCES)
     message(FATAL_ERROR "plugslam_add_plugin(${name}): SOURCES is required")
   endif()
   set(target plugslam_plugin_${name})
+  if(ARG_TARGET)
+    set(target ${ARG_TARGET})
+  endif()
   add_library(${target} MODULE ${ARG_SOURCES})
   if(TARGET plugslam::sdk)
     target_link_libraries(${target} PRIVATE plugslam::sdk ${ARG_LIBRARIES})
@@ -18,13 +21,20 @@ function(plugslam_add_plugin name)
     target_include_directories(${target} PRIVATE ${ARG_INCLUDE_DIRS})
   endif()
   target_compile_definitions(${target} PRIVATE PLUGSLAM_PLUGIN_NAME="${name}")
-  set_target_properties(${target} PROPERTIES
-    PREFIX "" OUTPUT_NAME "plugslam_${name}"
-    CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON)
-  if(DEFINED PLUGSLAM_BUILD_PLUGIN_DIR)
+  # Without this, GCC marks template statics STB_GNU_UNIQUE and dlclose() can never unmap the
+  # plugin, which would make reloading a rebuilt plugin silently keep the old code.
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    target_compile_options(${target} PRIVATE -fno-gnu-unique)
+  endif()
+  # Default visibility: SDK types must resolve to the SDK's one definition (typeinfo, vtables);
+  # RTLD_LOCAL already keeps a plugin's symbols out of other plugins' way.
+  set_target_properties(${target} PROPERTIES PREFIX "" OUTPUT_NAME "plugslam_${name}")
+  if(ARG_OUTPUT_DIR)
+    set_target_properties(${target} PROPERTIES LIBRARY_OUTPUT_DIRECTORY "${ARG_OUTPUT_DIR}")
+  elseif(DEFINED PLUGSLAM_BUILD_PLUGIN_DIR)
     set_target_properties(${target} PROPERTIES LIBRARY_OUTPUT_DIRECTORY "${PLUGSLAM_BUILD_PLUGIN_DIR}")
   endif()
-  if(DEFINED PLUGSLAM_PLUGIN_INSTALL_DIR)
+  if(DEFINED PLUGSLAM_PLUGIN_INSTALL_DIR AND NOT ARG_NO_INSTALL)
     install(TARGETS ${target} LIBRARY DESTINATION "${PLUGSLAM_PLUGIN_INSTALL_DIR}")
   endif()
 endfunction()

@@ -1,6 +1,6 @@
 # plugslam_add_test(NAME SOURCES ... [LIBRARIES ...] [LABELS unit|integration|e2e])
-# One GoogleTest executable registered with CTest. Tests get PLUGSLAM_DATA (real datasets, may be
-# absent: tests skip with a reason), PLUGSLAM_BUILD_DIR and PLUGSLAM_SOURCE_DIR in their environment.
+# One GoogleTest executable registered with CTest. Tests find real datasets through PLUGSLAM_DATA
+# (may be absent: they skip with a reason) and the build tree through tests/support/test_paths.h.
 if(DEFINED ENV{PLUGSLAM_DATA})
   set(PLUGSLAM_DATA_DIR "$ENV{PLUGSLAM_DATA}")
 else()
@@ -18,8 +18,15 @@ function(plugslam_add_test name)
   if(NOT ARG_LABELS)
     set(ARG_LABELS unit)
   endif()
+  # The build and source folders are compiled in (tests/support/test_paths.h); the data folder
+  # also comes from the environment, so a user can point PLUGSLAM_DATA elsewhere.
+  target_include_directories(${name} PRIVATE "${PROJECT_SOURCE_DIR}/tests/support")
+  target_compile_definitions(${name} PRIVATE
+    PLUGSLAM_TEST_DATA_DIR="${PLUGSLAM_DATA_DIR}"
+    PLUGSLAM_TEST_BUILD_DIR="${CMAKE_BINARY_DIR}"
+    PLUGSLAM_TEST_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  # gtest_discover_tests splits list-valued properties, so ENVIRONMENT carries one variable.
   gtest_discover_tests(${name}
-    PROPERTIES LABELS "${ARG_LABELS}"
-    ENVIRONMENT "PLUGSLAM_DATA=${PLUGSLAM_DATA_DIR};PLUGSLAM_BUILD_DIR=${CMAKE_BINARY_DIR};PLUGSLAM_SOURCE_DIR=${PROJECT_SOURCE_DIR}"
+    PROPERTIES LABELS "${ARG_LABELS}" ENVIRONMENT "PLUGSLAM_DATA=${PLUGSLAM_DATA_DIR}"
     DISCOVERY_TIMEOUT 60)
 endfunction()

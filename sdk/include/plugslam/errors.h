@@ -59,6 +59,19 @@ class ValueError : public InputError {
   explicit ValueError(const std::string& what) : InputError(what) {}
 };
 
+/// A configurable's own validation failed on one of its parameters; `path` is relative to the
+/// module ("max_distance", "slices[1].measurement") so the builder can point at the YAML node.
+class ParamError : public ValueError {
+ public:
+  ParamError(const std::string& path, const std::string& message)
+      : ValueError(path + ": " + message), path_(path), message_(message) {}
+  const std::string& path() const { return path_; }
+  const std::string& message() const { return message_; }
+
+ private:
+  std::string path_, message_;
+};
+
 /// A property container has no entry of that name.
 class PropertyNotFound : public Error {
  public:

@@ -1,0 +1,22 @@
+#include "builtin_types.h"
+
+#include "plugslam/multi_tracker.h"
+#include "plugslam/pipeline.h"
+
+namespace plugslam {
+inline namespace abi_v1 {
+void registerBuiltinTypes(Registrar& registrar) {
+  registrar.add<Pipeline>("Pipeline", "the processing chain: preprocessors, tracker, graph");
+  registrar.add<MultiAligner<Space2D>>("MultiAligner2D",
+                                       "one least-squares solve on an SE2 pose, one slice per cue");
+  registrar.add<MultiAligner<Space3D>>("MultiAligner3D",
+                                       "one least-squares solve on an SE3 pose, one slice per cue");
+  registrar.add<MultiTracker<Space2D>>("MultiTracker2D",
+                                       "2D local map + slices: predict, align, merge, split");
+  registrar.add<MultiTracker<Space3D>>("MultiTracker3D",
+                                       "3D local map + slices: predict, align, merge, split");
+  registrar.add<DistanceSplitter>("DistanceSplitter",
+                                  "closes a local map on distance, angle, time or lost overlap");
+}
+}  // namespace abi_v1
+}  // namespace plugslam
