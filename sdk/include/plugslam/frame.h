@@ -1,0 +1,29 @@
+#pragma once
+// One synchronised time step as it flows through the pipeline (DESIGN.md, "Data flow").
+#include <Eigen/Geometry>
+#include <cstdint>
+
+#include "plugslam/property_container.h"
+
+namespace plugslam {
+inline namespace abi_v1 {
+
+/// Where the tracker put the robot at this frame (2D poses are embedded as rotations about z).
+struct FrameEstimate {
+  bool valid = false;                                     ///< a tracker ran on this frame
+  int64_t local_map = -1;                                 ///< id of the local map it belongs to
+  Eigen::Isometry3d in_map = Eigen::Isometry3d::Identity();  ///< pose in the local map's frame
+  Eigen::Isometry3d world = Eigen::Isometry3d::Identity();   ///< pose in the world, at the time
+};
+
+/// All readings of one time step, then their preprocessed cues and the pose estimate.
+struct Frame {
+  uint64_t seq = 0;               ///< 0-based index in the run
+  double stamp = 0;               ///< seconds
+  PropertyContainer raw;          ///< readings by sensor name, filled by the Source
+  PropertyContainer measurement;  ///< one entry per cue, filled by the PreProcessors
+  FrameEstimate estimate;         ///< filled by the tracker
+};
+
+}  // namespace abi_v1
+}  // namespace plugslam

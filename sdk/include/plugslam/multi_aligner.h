@@ -1,0 +1,55 @@
+#pragma once
+// The Multi-Aligner (seed, section IV-B): one iterative least-squares solve on the robot's
+// relative pose, to which every slice adds the factors of its cue. Data association is redone
+// at each outer iteration; each inner iteration is a damped Gauss-Newton step.
+#include "plugslam/aligner_slice.h"
+
+namespace plugslam {
+inline namespace abi_v1 {
+
+/// Outcome of one alignment.
+template <class S>
+struct AlignResult {
+  typename S::Pose pose;         ///< estimate of the robot in the scene frame
+  typename S::Matrix H;          ///< information of the estimate (J^T W J at the solution)
+  double chi2 = 0;               ///< final robustified error
+  size_t inliers = 0;            ///< inlier factors at the solution
+  size_t factors = 0;            ///< factors at the solution
+  int iterations = 0;            ///< Gauss-Newton steps taken
+  bool converged = false;        ///< the step fell below the threshold
+  bool valid = false;            ///< enough constraints for a well-posed solution
+  /// inliers / factors, 0 without factors.
+  double inlierRatio() const { return factors ? double(inliers) / factors : 0.0; }
+};
+
+/// Aligns a measurement to a scene with any number of slices ("sdk.MultiAligner2D/3D").
+template <class S>
+class MultiAligner : public Configurable {
+ public:
+  static constexpr const char* kKind = S::kDim == 2 ? "Aligner2D" : "Aligner3D";
+  using Pose = typename S::Pose;
+  MultiAligner();
+  ~MultiAligner() override;
+
+  SlotList<AlignerSlice<S>> slices{this, "slices", "one per cue; all factors go in one solve"};
+  Param<int> outer_iterations{this, "outer_iterations", 10, "",
+                              "data association rounds", Range{1, 1000}};
+  Param<int> inner_iterations{this, "inner_iterations", 3, "",
+                              "Gauss-Newton steps per association round", Range{1, 100}};
+  Param<double> convergence{this, "convergence", 1e-5, "",
+                            "stop when the step's norm falls below this", Range{0, 1}};
+  Param<double> damping{this, "damping", 1e-6, "",
+                        "Levenberg damping added to the diagonal", Range{0, 1e6}};
+  Param<int> min_inliers{this, "min_inliers", 10, "",
+                         "fewer inliers than this makes the result invalid", Range{0, 1e9}};
+
+  /// Aligns the frame's cues to the scene, starting from context.guess.
+  AlignResult<S> align(const Frame& frame, const PropertyContainer& scene,
+                       const AlignContext<S>& context);
+};
+
+extern template class MultiAligner<Space2D>;
+extern template class MultiAligner<Space3D>;
+
+}  // namespace abi_v1
+}  // namespace plugslam

@@ -1,0 +1,67 @@
+#pragma once
+// The Multi-Tracker (seed, section IV-B): one local map (a scene container with one entry per
+// cue), a Multi-Aligner, tracker slices that merge each cue, an optional motion model and a
+// splitter. compute() reads like the seed: predict, align, merge, split.
+#include <memory>
+#include <optional>
+
+#include "plugslam/motion_model.h"
+#include "plugslam/multi_aligner.h"
+#include "plugslam/splitter.h"
+#include "plugslam/tracker.h"
+#include "plugslam/tracker_slice.h"
+
+namespace plugslam {
+inline namespace abi_v1 {
+
+/// Tracks frames against a local map made of any number of cues ("sdk.MultiTracker2D/3D").
+template <class S>
+class MultiTracker : public Tracker {
+ public:
+  using Pose = typename S::Pose;
+  MultiTracker();
+  ~MultiTracker() override;
+
+  Slot<MultiAligner<S>> aligner{this, "aligner", std::string("sdk.MultiAligner") + S::kSuffix,
+                                "solves for the robot pose against the local map"};
+  SlotList<TrackerSlice<S>> slices{this, "slices", "merge each cue into the local map"};
+  Slot<Splitter> splitter{this, "splitter", "sdk.DistanceSplitter",
+                          "decides when a local map closes"};
+  Slot<MotionModel<S>> motion{this, "motion", "",
+                              "predicts motion between frames (default: constant velocity)"};
+  Param<bool> constant_velocity{this, "constant_velocity", true, "",
+                                "without a motion model, predict the last motion again"};
+  Param<std::vector<double>> fallback_sigma{
+      this, "fallback_sigma", S::kDim == 2 ? std::vector<double>{0.1, 0.1, 0.05}
+                                           : std::vector<double>{0.1, 0.1, 0.1, 0.05, 0.05, 0.05},
+      "m, rad", "std. dev. of an edge whose alignment failed (per tangent coordinate)"};
+
+  void configure() override;
+  int dimension() const override { return S::kDim; }
+  void track(Frame& frame) override;
+  std::vector<std::shared_ptr<LocalMap>> takeClosed() override;
+  std::shared_ptr<const LocalMap> current() const override { return map_; }
+  void setCurrentOrigin(const Eigen::Isometry3d& origin) override;
+  /// The robot's pose in the current local map.
+  const Pose& pose() const { return pose_; }
+  /// Starts over: no local map, no motion history.
+  void reset();
+
+ private:
+  Pose predict(const Frame& frame);
+  void merge(const Frame& frame);
+  void startLocalMap(const Frame& frame, const typename S::Matrix& information);
+
+  std::shared_ptr<LocalMap> map_;
+  std::vector<std::shared_ptr<LocalMap>> closed_;
+  Pose pose_ = Pose::Identity();         // robot in the current local map
+  Pose last_motion_ = Pose::Identity();  // for the constant-velocity prediction
+  size_t frames_in_map_ = 0;
+  int64_t next_id_ = 0;
+};
+
+extern template class MultiTracker<Space2D>;
+extern template class MultiTracker<Space3D>;
+
+}  // namespace abi_v1
+}  // namespace plugslam

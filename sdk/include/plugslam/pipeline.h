@@ -1,0 +1,64 @@
+#pragma once
+// The processing chain of one run: preprocessors, the tracker, and (issue 5) the graph
+// back-end. It knows nothing of how many cues there are.
+#include <map>
+
+#include "plugslam/configurable.h"
+#include "plugslam/errors.h"
+#include "plugslam/frame.h"
+#include "plugslam/preprocessor.h"
+#include "plugslam/sink.h"
+#include "plugslam/timings.h"
+#include "plugslam/tracker.h"
+
+namespace plugslam {
+inline namespace abi_v1 {
+
+/// The core processing chain ("sdk.Pipeline").
+class Pipeline : public Configurable {
+ public:
+  static constexpr const char* kKind = "Pipeline";
+  Pipeline();
+  ~Pipeline() override;
+
+  SlotList<PreProcessor> preprocessors{this, "preprocessors",
+                                       "raw reading -> measurement cue, one per sensor"};
+  Slot<Tracker> tracker{this, "tracker", "", "tracks frames against a local map (optional)"};
+
+  /// Runs every stage on one frame. A module's exception is rethrown as ModuleError naming it.
+  virtual void process(Frame& frame);
+  /// The run's result so far: trajectory with current corrections, local maps.
+  virtual RunResult result() const;
+  /// Time spent per module so far.
+  Timings& timings() { return timings_; }
+
+ protected:
+  /// Runs `step` as module `m`, timing it and wrapping its exceptions in ModuleError.
+  template <class F>
+  auto guarded(Configurable& m, F&& step) -> decltype(step()) {
+    ScopedTimer timer(timings_, m.name());
+    try {
+      return step();
+    } catch (const ModuleError&) {
+      throw;
+    } catch (const std::exception& e) {
+      throwModuleError(m, e.what());
+    }
+  }
+  [[noreturn]] static void throwModuleError(const Configurable& m, const std::string& what);
+
+  /// One tracked frame, kept to rebuild the trajectory after corrections.
+  struct TrackedFrame {
+    double stamp;
+    int64_t local_map;
+    Eigen::Isometry3d in_map;
+  };
+  std::vector<TrackedFrame> tracked_;
+  std::map<int64_t, std::shared_ptr<LocalMap>> local_maps_;
+
+ private:
+  Timings timings_;
+};
+
+}  // namespace abi_v1
+}  // namespace plugslam

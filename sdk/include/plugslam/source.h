@@ -1,0 +1,23 @@
+#pragma once
+// Source: where frames come from (dataset readers, simulators).
+#include <cstdint>
+
+#include "plugslam/configurable.h"
+#include "plugslam/frame.h"
+
+namespace plugslam {
+inline namespace abi_v1 {
+
+/// Produces one synchronised raw frame per call.
+class Source : public Configurable {
+ public:
+  static constexpr const char* kKind = "Source";
+  ~Source() override;
+  /// Fills `frame.raw` and `frame.stamp` with the next time step; false at the end of the data.
+  virtual bool next(Frame& frame) = 0;
+  /// Number of frames when known in advance (for progress), or -1.
+  virtual int64_t sizeHint() const { return -1; }
+};
+
+}  // namespace abi_v1
+}  // namespace plugslam

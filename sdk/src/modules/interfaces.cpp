@@ -1,0 +1,13 @@
+// Out-of-line destructors: they anchor each interface's vtable and type_info in the SDK, so
+// dynamic_cast from plugin objects to SDK interfaces is resolved against one definition.
+#include "plugslam/pipeline.h"
+#include "plugslam/sink.h"
+#include "plugslam/source.h"
+
+namespace plugslam {
+inline namespace abi_v1 {
+Source::~Source() = default;
+PreProcessor::~PreProcessor() = default;
+Sink::~Sink() = default;
+}  // namespace abi_v1
+}  // namespace plugslam
