@@ -11,6 +11,7 @@ namespace plugslam::runtime {
 void addPluginsCommand(CLI::App& root, int& exit_code);
 void addDescribeCommand(CLI::App& root, int& exit_code);
 void addConfigCommand(CLI::App& root, int& exit_code);
+void addReferenceCommand(CLI::App& root, int& exit_code);
 void addValidateCommand(CLI::App& root, int& exit_code);
 void addRunCommand(CLI::App& root, int& exit_code);
 

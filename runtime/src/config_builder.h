@@ -1,0 +1,67 @@
+#pragma once
+// Builds module trees from YAML through the registry. Every error names the file, line and
+// column, the path in the pipeline ("pipeline.tracker.aligner.slices[1].max_distance") and what
+// was expected; unknown keys are errors, near misses get a "did you mean".
+#include <yaml-cpp/yaml.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "plugin_manager.h"
+#include "plugslam/configurable.h"
+#include "plugslam/registry.h"
+
+namespace plugslam::runtime {
+
+/// A YAML document with the command line's --set overrides applied.
+struct ConfigDocument {
+  std::string file;  ///< shown in error messages
+  YAML::Node root;
+  std::map<std::string, std::string> overrides;  ///< pipeline path -> "--set path=value"
+};
+
+/// Reads a YAML file; syntax errors become ConfigError with line and column.
+ConfigDocument loadConfigFile(const std::string& file);
+/// Parses YAML text (tests, the shell); `name` is used as the file name in errors.
+ConfigDocument loadConfigText(const std::string& text, const std::string& name);
+/// Applies "path=value" (value parsed as YAML) to the document; the path must be well formed.
+void applyOverride(ConfigDocument& doc, const std::string& assignment);
+/// Splits "a.b[2].c" into {"a", "b", "[2]", "c"}; throws InputError when malformed.
+std::vector<std::string> splitPath(const std::string& path);
+
+/// Builds and configures modules from YAML.
+class ConfigBuilder {
+ public:
+  ConfigBuilder(const ConfigDocument& doc, PluginManager& plugins,
+                Registry& registry = Registry::instance());
+
+  /// Loads the plugins listed under `key` (a list of names or paths) of the root map.
+  void loadPlugins(const std::string& key = "plugins");
+  /// Configures `obj` from the map `node` located at `path` (its params, slots, then configure()).
+  void configure(Configurable& obj, const YAML::Node& node, const std::string& path);
+  /// Configures the root object from the whole document, skipping the listed root keys.
+  void configureRoot(Configurable& root, const std::vector<std::string>& skip_keys = {});
+  /// Creates one module for `slot` from `node` (a type name or a map with `type:`).
+  std::shared_ptr<Configurable> create(const SlotBase& slot, const YAML::Node& node,
+                                       const std::string& path);
+
+  /// Throws a ConfigError located at `node` (or at the --set that produced `path`).
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& path,
+                         const std::string& message) const;
+
+ private:
+  std::string resolveType(const SlotBase& slot, const std::string& type, const YAML::Node& at,
+                          const std::string& path);
+  void fillSlot(SlotBase& slot, const YAML::Node& node, const std::string& path);
+  const ConfigDocument& doc_;
+  PluginManager& plugins_;
+  Registry& registry_;
+  std::map<std::string, std::string> names_;  // explicit instance name -> where first used
+};
+
+/// Dumps a configurable's current values (and nested modules) as YAML.
+YAML::Node dumpConfig(const Configurable& obj, bool with_type = true);
+
+}  // namespace plugslam::runtime

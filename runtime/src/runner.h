@@ -1,0 +1,36 @@
+#pragma once
+// Runs a built pipeline over its source and writes run.json.
+#include <functional>
+#include <string>
+
+#include "plugslam/timings.h"
+#include "run_config.h"
+
+namespace plugslam::runtime {
+
+/// What a run did, as written to run.json.
+struct RunReport {
+  uint64_t frames = 0;
+  double wall_s = 0;
+  double hz = 0;
+  std::vector<TimingEntry> modules;
+  std::string stopped_by;  ///< "end of data", "max_frames", ...
+};
+
+/// Options of one run.
+struct RunOptions {
+  std::string out_dir;
+  /// Called after each frame (progress display); may be empty.
+  std::function<void(uint64_t frame, int64_t total, double elapsed_s)> progress;
+};
+
+/// Runs source -> pipeline -> sinks to the end of the data (or max_frames); writes run.json.
+RunReport runPipeline(RunConfig& run, const RunOptions& options);
+
+/// run.json's content.
+std::string runReportJson(const RunReport& report);
+
+/// Writes `content` to `path` atomically (temp file in the same folder, then rename).
+void writeTextFileAtomic(const std::string& path, const std::string& content);
+
+}  // namespace plugslam::runtime

@@ -1,0 +1,143 @@
+// The plugslam CLI as a user runs it: output, exit codes (0 ok, 1 runtime failure, 2 bad input).
+#include <gtest/gtest.h>
+
+#include "test_paths.h"
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string buildDir() { return plugslam::testing::buildDir(); }
+
+struct Result {
+  int code;
+  std::string out;
+};
+
+Result run(const std::string& args, const std::string& env = "") {
+  std::string cmd = env + " " + buildDir() + "/bin/plugslam " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  int status = pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("plugslam_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+  std::string config(const std::string& extra = "") {
+    return write("run.yaml", "plugins: [" + buildDir() + "/tests/plugins/plugslam_fixture.so]\n" +
+                                 "source: {type: fixture.CountingSource, frames: 20}\n"
+                                 "pipeline:\n  preprocessors:\n    - {type: fixture.Scale, factor: 0.5}\n"
+                                 "outputs: [fixture.SumWriter]\n" + extra);
+  }
+  fs::path dir_;
+};
+
+void expectHas(const std::string& s, const std::string& part) {
+  EXPECT_NE(s.find(part), std::string::npos) << "'" << part << "' not in:\n" << s;
+}
+
+}  // namespace
+
+TEST_F(Cli, VersionAndHelp) {
+  auto r = run("--version");
+  EXPECT_EQ(r.code, 0);
+  expectHas(r.out, "plugslam 0.1.0 (plugin ABI 1.0)");
+  r = run("--help");
+  EXPECT_EQ(r.code, 0);
+  for (auto c : {"plugins", "describe", "config", "validate", "run", "reference"}) expectHas(r.out, c);
+  r = run("frobnicate");
+  EXPECT_EQ(r.code, 2);
+}
+
+TEST_F(Cli, PluginsListsTypesAndRefusals) {
+  auto r = run("plugins", "PLUGSLAM_PLUGIN_PATH=" + buildDir() + "/tests/plugins/bad:" + buildDir() +
+                              "/tests/plugins");
+  EXPECT_EQ(r.code, 0) << r.out;
+  expectHas(r.out, "sdk.Pipeline");
+  expectHas(r.out, "fixture.CountingSource");
+  expectHas(r.out, "refused: plugin 'wrongabi'");
+  expectHas(r.out, "refused: plugin 'wrongfingerprint'");
+}
+
+TEST_F(Cli, DescribeAndDefaults) {
+  auto r = run("describe fixture.Scale", "PLUGSLAM_PLUGIN_PATH=" + buildDir() + "/tests/plugins");
+  EXPECT_EQ(r.code, 0) << r.out;
+  expectHas(r.out, "fixture.Scale (PreProcessor, plugin fixture)");
+  expectHas(r.out, "factor");
+  expectHas(r.out, "default 2");
+  r = run("describe sdk.Pipelin");
+  EXPECT_EQ(r.code, 2);
+  expectHas(r.out, "did you mean 'sdk.Pipeline'?");
+  r = run("config --defaults fixture.CountingSource",
+          "PLUGSLAM_PLUGIN_PATH=" + buildDir() + "/tests/plugins");
+  EXPECT_EQ(r.code, 0) << r.out;
+  expectHas(r.out, "type: fixture.CountingSource");
+  expectHas(r.out, "frames: 10");
+}
+
+TEST_F(Cli, ValidateGoodAndBroken) {
+  auto good = config();
+  auto r = run("validate " + good);
+  EXPECT_EQ(r.code, 0) << r.out;
+  expectHas(r.out, "OK");
+  auto bad = write("bad.yaml", "plugins: [" + buildDir() +
+                                   "/tests/plugins/plugslam_fixture.so]\n"
+                                   "source: {type: fixture.CountingSource, frams: 3}\n");
+  r = run("validate " + bad);
+  EXPECT_EQ(r.code, 2);
+  expectHas(r.out, bad + ":2:40: source.frams: unknown key 'frams'");
+  expectHas(r.out, "did you mean 'frames'?");
+  r = run("validate " + good + " --set pipeline.preprocessors[0].factor=abc");
+  EXPECT_EQ(r.code, 2);
+  expectHas(r.out, "--set pipeline.preprocessors[0].factor=abc: pipeline.preprocessors[0].factor: expected a number");
+  r = run("validate " + (dir_ / "missing.yaml").string());
+  EXPECT_EQ(r.code, 2);
+  expectHas(r.out, "cannot open config file");
+}
+
+TEST_F(Cli, RunWritesOutputsAndRunJson) {
+  auto cfg = config();
+  auto out = (dir_ / "out").string();
+  auto r = run("run " + cfg + " -o " + out + " --set source.frames=8 -q");
+  EXPECT_EQ(r.code, 0) << r.out;
+  std::ifstream sum(out + "/sum.txt");
+  int frames = 0;
+  double total = 0;
+  sum >> frames >> total;
+  EXPECT_EQ(frames, 8);
+  EXPECT_DOUBLE_EQ(total, 0.5 * (0 + 1 + 2 + 3 + 4 + 5 + 6 + 7));
+  std::ifstream json(out + "/run.json");
+  std::stringstream ss;
+  ss << json.rdbuf();
+  expectHas(ss.str(), "\"frames\": 8");
+  expectHas(ss.str(), "\"pipeline.preprocessors[0]\"");
+}
+
+TEST_F(Cli, RuntimeFailureNamesTheModuleAndExitsOne) {
+  auto cfg = config();
+  auto r = run("run " + cfg + " -o " + (dir_ / "out").string() + " --set source.fail_at=3");
+  EXPECT_EQ(r.code, 1) << r.out;
+  expectHas(r.out, "module 'source' (fixture.CountingSource) failed: fixture failure at frame 3");
+}

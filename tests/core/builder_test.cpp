@@ -1,0 +1,176 @@
+// The YAML builder's contract: every error names file:line:column, the pipeline path and what
+// was expected; near misses get a "did you mean".
+#include <gtest/gtest.h>
+
+#include "config_builder.h"
+#include "plugslam/errors.h"
+#include "plugslam/registry.h"
+
+using namespace plugslam;
+using namespace plugslam::runtime;
+
+namespace {
+
+class Knob : public Configurable {
+ public:
+  static constexpr const char* kKind = "Knob";
+  Param<double> max_distance{this, "max_distance", 0.5, "m", "max association distance",
+                             Range{0.0, 10.0}};
+  Param<std::string> measurement{this, "measurement", "front", "", "measurement entry"};
+};
+class Dial : public Knob {};
+class Lever : public Knob {
+ public:
+  void configure() override {
+    if (measurement() == "forbidden") throw ParamError("measurement", "may not be 'forbidden'");
+  }
+};
+class Other : public Configurable {
+ public:
+  static constexpr const char* kKind = "Other";
+};
+class Aligner : public Configurable {
+ public:
+  static constexpr const char* kKind = "Aligner";
+  Param<int> iterations{this, "iterations", 10, "", "iterations", Range{1, 100}};
+  SlotList<Knob> slices{this, "slices", "one per cue"};
+};
+class Root : public Configurable {
+ public:
+  Slot<Aligner> aligner{this, "aligner", "btest.Aligner", "the aligner"};
+  Slot<Knob> extra{this, "extra", "", "optional knob"};
+  Param<std::vector<std::string>> plugins{this, "plugins", {}, "", "plugins"};
+};
+
+void ensureRegistered() {
+  static bool done = [] {
+    Registrar r(Registry::instance(), "btest", nullptr);
+    r.add<Dial>("Dial", "a dial");
+    r.add<Lever>("Lever", "a lever");
+    r.add<Aligner>("Aligner", "an aligner");
+    r.add<Other>("Other", "not a knob");
+    return true;
+  }();
+  (void)done;
+}
+
+std::string buildError(const std::string& yaml, const std::vector<std::string>& sets = {}) {
+  ensureRegistered();
+  auto doc = loadConfigText(yaml, "cfg.yaml");
+  for (auto& s : sets) applyOverride(doc, s);
+  PluginManager plugins;
+  ConfigBuilder builder(doc, plugins);
+  Root root;
+  try {
+    builder.configureRoot(root);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+void expectContains(const std::string& s, const std::string& part) {
+  EXPECT_NE(s.find(part), std::string::npos) << "'" << part << "' not in: " << s;
+}
+
+const char* kGood = R"(aligner:
+  iterations: 5
+  slices:
+    - {type: btest.Dial, measurement: front, max_distance: 0.3}
+    - {type: btest.Lever, measurement: rear, max_distance: 0.7}
+)";
+
+}  // namespace
+
+TEST(Builder, BuildsNestedModulesAndDefaults) {
+  ensureRegistered();
+  auto doc = loadConfigText(kGood, "cfg.yaml");
+  PluginManager plugins;
+  ConfigBuilder builder(doc, plugins);
+  Root root;
+  builder.configureRoot(root);
+  ASSERT_TRUE(root.aligner);
+  EXPECT_EQ(root.aligner->typeName(), "btest.Aligner");  // default type, no `type:` given
+  EXPECT_EQ(root.aligner->iterations(), 5);
+  ASSERT_EQ(root.aligner->slices.size(), 2u);
+  EXPECT_DOUBLE_EQ(root.aligner->slices[1].max_distance(), 0.7);
+  EXPECT_EQ(root.aligner->slices[1].name(), "aligner.slices[1]");
+  EXPECT_FALSE(root.extra);
+  auto dumped = dumpConfig(*root.aligner);
+  EXPECT_EQ(dumped["slices"][0]["type"].as<std::string>(), "btest.Dial");
+}
+
+TEST(Builder, UnknownKeyIsLocatedAndSuggested) {
+  std::string e = buildError("aligner:\n  slices:\n    - {type: btest.Dial, max_distnce: 0.3}\n");
+  expectContains(e, "cfg.yaml:3:26: aligner.slices[0].max_distnce: unknown key 'max_distnce'");
+  expectContains(e, "did you mean 'max_distance'?");
+}
+
+TEST(Builder, WrongTypeIsLocated) {
+  std::string e = buildError(std::string(kGood) + "extra: {type: btest.Dial, max_distance: far}\n");
+  expectContains(e, "cfg.yaml:6:41: extra.max_distance: expected a number, got 'far'");
+}
+
+TEST(Builder, OutOfRangeIsLocated) {
+  std::string e = buildError("aligner:\n  slices:\n    - type: btest.Dial\n      max_distance: 12\n");
+  expectContains(e, "cfg.yaml:4:21: aligner.slices[0].max_distance: value 12 is out of range [0, 10]");
+}
+
+TEST(Builder, UnknownTypeSuggests) {
+  std::string e = buildError("aligner:\n  slices:\n    - {type: btest.Dail}\n");
+  expectContains(e, "cfg.yaml:3:14: aligner.slices[0].type: unknown type 'btest.Dail'");
+  expectContains(e, "did you mean 'btest.Dial'?");
+}
+
+TEST(Builder, MissingPluginIsNamed) {
+  std::string e = buildError("extra: nosuchplugin.Thing\n");
+  expectContains(e, "cfg.yaml:1:8: extra: type 'nosuchplugin.Thing' needs plugin 'nosuchplugin'");
+  expectContains(e, "not found");
+}
+
+TEST(Builder, DuplicateKeyAndDuplicateNameAreErrors) {
+  std::string e = buildError("aligner:\n  iterations: 3\n  iterations: 4\n");
+  expectContains(e, "cfg.yaml:3:3: aligner.iterations: duplicate key 'iterations' (first given at line 2)");
+  e = buildError(
+      "aligner:\n  slices:\n    - {type: btest.Dial, name: front}\n    - {type: btest.Dial, name: front}\n");
+  expectContains(e, "cfg.yaml:4:32: aligner.slices[1].name: duplicate module name 'front' (first used at cfg.yaml:3:32)");
+}
+
+TEST(Builder, WrongKindIsExplained) {
+  std::string e = buildError("extra: btest.Other\n");
+  expectContains(e, "'btest.Other' is a Other, but 'extra' expects a Knob");
+}
+
+TEST(Builder, ModuleValidationPointsAtTheParameter) {
+  std::string e = buildError("extra:\n  type: btest.Lever\n  measurement: forbidden\n");
+  expectContains(e, "cfg.yaml:3:16: extra.measurement: may not be 'forbidden'");
+}
+
+TEST(Builder, YamlSyntaxErrorIsLocated) {
+  std::string e;
+  try {
+    loadConfigText("aligner:\n  slices: [a, b\n", "cfg.yaml");
+  } catch (const ConfigError& err) {
+    e = err.what();
+  }
+  expectContains(e, "cfg.yaml:");
+  expectContains(e, "invalid YAML");
+}
+
+TEST(Builder, SetOverridesAndIsCheckedLikeYaml) {
+  EXPECT_EQ(buildError(kGood, {"aligner.slices[1].max_distance=0.9"}), "");
+  std::string e = buildError(kGood, {"aligner.slices[1].max_distance=99"});
+  expectContains(e, "--set aligner.slices[1].max_distance=99: aligner.slices[1].max_distance: value 99 is out of range");
+  e = buildError(kGood, {"aligner.iteratons=3"});
+  expectContains(e, "did you mean 'iterations'?");
+  EXPECT_THROW(buildError(kGood, {"aligner.slices[7].max_distance=1"}), ConfigError);
+  EXPECT_THROW(buildError(kGood, {"no_equals_sign"}), InputError);
+  EXPECT_THROW(buildError(kGood, {"a..b=1"}), InputError);
+}
+
+TEST(Builder, SplitPath) {
+  EXPECT_EQ(splitPath("pipeline.aligner.slices[1].max_distance"),
+            (std::vector<std::string>{"pipeline", "aligner", "slices", "[1]", "max_distance"}));
+  EXPECT_THROW(splitPath("a[x]"), InputError);
+  EXPECT_THROW(splitPath("a[1"), InputError);
+}
