@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Installs what is needed, builds, and runs the whole test suite with ctest.
+#   scripts/test.sh               Release build in build/
+#   scripts/test.sh --sanitize    ASan+UBSan build in build-sanitize/
+#   scripts/test.sh -L unit       extra arguments go to ctest (here: only unit tests)
+# Tests that need real data read it from $PLUGSLAM_DATA (default ../shared/data) and skip,
+# saying why, when it is absent.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+cmake_args=()
+ctest_args=()
+export PLUGSLAM_BUILD_DIR="$root/build"
+for a in "$@"; do
+  case "$a" in
+    --sanitize)
+      export PLUGSLAM_BUILD_DIR="$root/build-sanitize"
+      cmake_args+=(-DPLUGSLAM_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo)
+      export ASAN_OPTIONS="detect_leaks=1:abort_on_error=0"
+      export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1" ;;
+    *) ctest_args+=("$a") ;;
+  esac
+done
+"$root/scripts/install-deps.sh"
+"$root/scripts/build.sh" "${cmake_args[@]}"
+: "${PLUGSLAM_DATA:=$root/../shared/data}"
+export PLUGSLAM_DATA
+cd "$PLUGSLAM_BUILD_DIR"
+ctest --output-on-failure -j 2 --timeout 900 "${ctest_args[@]}"
