@@ -10,6 +10,7 @@
 
 #include "plugslam/errors.h"
 #include "plugslam/plugin.h"
+#include "plugslam/value_types.h"
 
 namespace plugslam::runtime {
 
@@ -52,7 +53,10 @@ PluginManager::PluginManager(Registry& registry) : registry_(registry) {}
 
 PluginManager::~PluginManager() {
   // Types go, libraries stay mapped while objects made by them live (their deleters hold them).
-  for (auto& [name, p] : plugins_) registry_.removePlugin(name);
+  for (auto& [name, p] : plugins_) {
+    registry_.removePlugin(name);
+    ValueTypes::instance().removeOwner(name);
+  }
 }
 
 void PluginManager::addSearchDir(const std::string& dir) {
@@ -192,6 +196,7 @@ const PluginInfo& PluginManager::load(const std::string& name_or_path) {
   int rc = d->register_types ? d->register_types(&registrar, err, sizeof(err)) : 1;
   if (rc != 0) {
     registry_.removePlugin(name);
+    ValueTypes::instance().removeOwner(name);
     throw PluginError(who + " failed to register its types: " +
                       (err[0] ? std::string(err) : std::string("no register function")));
   }
@@ -222,6 +227,7 @@ void PluginManager::unload(const std::string& name) {
   auto it = plugins_.find(name);
   if (it == plugins_.end()) throw InputError("plugin '" + name + "' is not loaded");
   registry_.removePlugin(name);
+  ValueTypes::instance().removeOwner(name);
   plugins_.erase(it);
 }
 

@@ -1,5 +1,6 @@
 // Round trips through both archive back-ends.
 #include "plugslam/archive.h"
+#include "plugslam/sensor_data.h"
 
 #include <gtest/gtest.h>
 
@@ -242,6 +243,16 @@ PropertyContainer everyBuiltIn() {
   inner.emplace<PropertyContainer>("deeper").set<std::string>("s", "x");
   c.set<PropertyContainer>("container", inner);
   c.emplace<PropertyContainer>("empty container");
+  LaserScan scan;
+  scan.stamp = 12.5;
+  scan.angle_min = -1.5;
+  scan.angle_increment = 0.01;
+  scan.range_min = 0.1;
+  scan.range_max = 30;
+  scan.ranges = {1.0, 2.5, std::numeric_limits<double>::infinity(), 0.0};
+  scan.mount = i2;
+  c.set<LaserScan>("LaserScan", scan);
+  c.set<Odometry2D>("Odometry2D", Odometry2D{3.25, i2});
   return c;
 }
 
@@ -259,6 +270,18 @@ bool equalAs(const PropertyContainer& a, const PropertyContainer& b, const std::
     EXPECT_EQ(a.get<T>(n).rows(), b.get<T>(n).rows()) << n;
     EXPECT_EQ(a.get<T>(n).cols(), b.get<T>(n).cols()) << n;
     EXPECT_TRUE(a.get<T>(n) == b.get<T>(n)) << n;
+  } else if constexpr (std::is_same_v<T, LaserScan>) {
+    const auto &x = a.get<T>(n), &y = b.get<T>(n);
+    EXPECT_EQ(x.stamp, y.stamp);
+    EXPECT_EQ(x.angle_min, y.angle_min);
+    EXPECT_EQ(x.angle_increment, y.angle_increment);
+    EXPECT_EQ(x.range_min, y.range_min);
+    EXPECT_EQ(x.range_max, y.range_max);
+    EXPECT_EQ(x.ranges, y.ranges);
+    EXPECT_EQ(x.mount.matrix(), y.mount.matrix());
+  } else if constexpr (std::is_same_v<T, Odometry2D>) {
+    EXPECT_EQ(a.get<T>(n).stamp, b.get<T>(n).stamp);
+    EXPECT_EQ(a.get<T>(n).pose.matrix(), b.get<T>(n).pose.matrix());
   } else {
     EXPECT_TRUE(a.get<T>(n) == b.get<T>(n)) << n;
   }
@@ -284,7 +307,8 @@ void expectEqualContainers(const PropertyContainer& a, const PropertyContainer& 
         equalAs<Eigen::Isometry2d>(a, b, n) || equalAs<Eigen::Isometry3d>(a, b, n) ||
         equalAs<std::vector<Eigen::Vector2d>>(a, b, n) ||
         equalAs<std::vector<Eigen::Vector3d>>(a, b, n) || equalAs<PropertyContainer>(a, b, n) ||
-        equalAs<testplugin::Scan>(a, b, n);
+        equalAs<testplugin::Scan>(a, b, n) || equalAs<LaserScan>(a, b, n) ||
+        equalAs<Odometry2D>(a, b, n);
     EXPECT_TRUE(checked) << "no comparison for property '" << n << "' of type "
                          << a.at(n).typeName();
   }

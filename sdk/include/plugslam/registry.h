@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "plugslam/configurable.h"
+#include "plugslam/value_types.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
@@ -64,6 +65,12 @@ class Registrar {
   template <class T>
   void add(const std::string& type, const std::string& doc) {
     addFactory(type, T::kKind, doc, []() -> Configurable* { return new T(); });
+  }
+  /// Registers a serializable value type T (with save/load overloads) as "<plugin>.<tag>", so
+  /// containers holding it can be saved and loaded again.
+  template <class T>
+  void addValueType(const std::string& tag, const std::string& display_name = "") {
+    ValueTypes::instance().add<T>(plugin_ + "." + tag, plugin_, display_name);
   }
   /// Name of the plugin being registered.
   const std::string& plugin() const { return plugin_; }

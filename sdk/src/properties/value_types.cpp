@@ -1,5 +1,7 @@
 #include "plugslam/value_types.h"
 
+#include "plugslam/sensor_data.h"
+
 #include <cxxabi.h>
 
 #include <algorithm>
@@ -71,6 +73,8 @@ ValueTypes::ValueTypes() {
   add<std::vector<Eigen::Vector2d>>("points2d", sdk, "std::vector<Eigen::Vector2d>");
   add<std::vector<Eigen::Vector3d>>("points3d", sdk, "std::vector<Eigen::Vector3d>");
   add<PropertyContainer>("container", sdk, "plugslam::PropertyContainer");
+  add<LaserScan>("LaserScan", sdk, "plugslam::LaserScan");
+  add<Odometry2D>("Odometry2D", sdk, "plugslam::Odometry2D");
 }
 
 void ValueTypes::addEntry(ValueTypeInfo info) {
