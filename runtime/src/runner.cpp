@@ -6,10 +6,13 @@
 
 #include <boost/filesystem.hpp>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 
 #include "plugslam/errors.h"
+#include "plugslam/eval/ate.h"
+#include "plugslam/eval/rpe.h"
 
 namespace plugslam::runtime {
 
@@ -34,6 +37,12 @@ void writeTextFileAtomic(const std::string& path, const std::string& content) {
   }
 }
 
+namespace {
+std::string jsonNumber(const std::optional<double>& v) {
+  return v && std::isfinite(*v) ? fmt::format("{:.6f}", *v) : "null";
+}
+}  // namespace
+
 std::string runReportJson(const RunReport& r) {
   std::string modules;
   for (const auto& m : r.modules) {
@@ -43,8 +52,28 @@ std::string runReportJson(const RunReport& r) {
   }
   return fmt::format(
       "{{\n  \"frames\": {},\n  \"wall_time_s\": {:.6f},\n  \"hz\": {:.3f},\n  \"stopped_by\": "
-      "\"{}\",\n  \"modules\": {{{}\n  }}\n}}\n",
-      r.frames, r.wall_s, r.hz, r.stopped_by, modules);
+      "\"{}\",\n  \"tracked_frames\": {},\n  \"local_maps\": {},\n  \"tracking_failures\": {},\n"
+      "  \"ground_truth\": {{\"ate_rmse_m\": {}, \"ate_max_m\": {}, \"rpe_1m_rmse_m\": {}}},\n"
+      "  \"modules\": {{{}\n  }}\n}}\n",
+      r.frames, r.wall_s, r.hz, r.stopped_by, r.tracked, r.local_maps, r.tracking_failures,
+      jsonNumber(r.ate_rmse), jsonNumber(r.ate_max), jsonNumber(r.rpe_rmse), modules);
+}
+
+static void scoreAgainstGroundTruth(const RunResult& result, int dimension, RunReport& report) {
+  if (result.ground_truth.size() < 2 || result.trajectory.size() < 2) return;
+  try {
+    AteOptions ate;
+    ate.alignment = dimension == 2 ? Alignment::SE2 : Alignment::SE3;
+    AteResult a = computeAte(result.ground_truth, result.trajectory, ate);
+    report.ate_rmse = a.translation.rmse;
+    report.ate_max = a.translation.max;
+    RpeOptions rpe;
+    rpe.unit = RpeUnit::Meters;
+    rpe.delta = 1.0;
+    report.rpe_rmse = computeRpe(result.ground_truth, result.trajectory, rpe).translation.rmse;
+  } catch (const InputError& e) {
+    spdlog::warn("cannot score against ground truth: {}", e.what());
+  }
 }
 
 RunReport runPipeline(RunConfig& run, const RunOptions& options) {
@@ -94,6 +123,12 @@ RunReport runPipeline(RunConfig& run, const RunOptions& options) {
   }
   RunResult result = pipeline.result();
   for (auto& sink : run.outputs) sink->end(result);
+  report.tracked = result.trajectory.size();
+  if (pipeline.tracker) {
+    report.local_maps = pipeline.tracker->stats().local_maps;
+    report.tracking_failures = pipeline.tracker->stats().failed;
+  }
+  scoreAgainstGroundTruth(result, pipeline.tracker ? pipeline.tracker->dimension() : 3, report);
   report.wall_s = elapsed();
   report.hz = report.wall_s > 0 ? report.frames / report.wall_s : 0;
   report.modules = io_timings.entries();

@@ -1,6 +1,7 @@
 #pragma once
 // Runs a built pipeline over its source and writes run.json.
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "plugslam/timings.h"
@@ -15,6 +16,11 @@ struct RunReport {
   double hz = 0;
   std::vector<TimingEntry> modules;
   std::string stopped_by;  ///< "end of data", "max_frames", ...
+  uint64_t tracked = 0;    ///< frames with a pose estimate
+  uint64_t local_maps = 0;
+  uint64_t tracking_failures = 0;
+  /// Against the source's ground truth, when it has one (SE2/SE3-aligned ATE, RPE over 1 m).
+  std::optional<double> ate_rmse, ate_max, rpe_rmse;
 };
 
 /// Options of one run.

@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <boost/filesystem.hpp>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 
@@ -75,6 +76,9 @@ void addRunCommand(CLI::App& root, int& exit_code) {
     if (tty) std::fprintf(stderr, "\n");
     std::cout << fmt::format("{} frames in {:.3f} s ({:.1f} Hz); outputs in {}\n", report.frames,
                              report.wall_s, report.hz, out_dir);
+    if (report.ate_rmse)
+      std::cout << fmt::format("against ground truth: ATE rmse {:.4f} m (max {:.4f} m), RPE(1 m) rmse {:.4f} m\n",
+                               *report.ate_rmse, *report.ate_max, report.rpe_rmse.value_or(NAN));
     exit_code = kOk;
   });
 }

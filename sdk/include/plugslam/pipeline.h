@@ -54,6 +54,7 @@ class Pipeline : public Configurable {
     Eigen::Isometry3d in_map;
   };
   std::vector<TrackedFrame> tracked_;
+  std::vector<StampedPose> ground_truth_;
   std::map<int64_t, std::shared_ptr<LocalMap>> local_maps_;
 
  private:

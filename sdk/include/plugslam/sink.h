@@ -18,6 +18,8 @@ struct RunResult {
   Trajectory trajectory;
   /// The local maps with their final (corrected) origins, in creation order.
   std::vector<std::shared_ptr<const LocalMap>> local_maps;
+  /// Ground truth, when the source provides it (raw entry "ground_truth", Isometry2d or 3d).
+  Trajectory ground_truth;
 };
 
 /// Receives each processed frame and the final result.

@@ -1,6 +1,7 @@
 #include "plugslam/pipeline.h"
 
 #include "plugslam/errors.h"
+#include "plugslam/pose_space.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
@@ -9,6 +10,11 @@ Pipeline::Pipeline() = default;
 Pipeline::~Pipeline() = default;
 
 void Pipeline::process(Frame& frame) {
+  // Ground truth is recorded as it comes, so any pipeline can be scored against it.
+  if (const auto* gt2 = frame.raw.find<Eigen::Isometry2d>("ground_truth"))
+    ground_truth_.push_back({frame.stamp, Space2D::to3D(*gt2)});
+  else if (const auto* gt3 = frame.raw.find<Eigen::Isometry3d>("ground_truth"))
+    ground_truth_.push_back({frame.stamp, *gt3});
   for (auto& p : preprocessors) guarded(*p, [&] { return p->process(frame); });
   if (!tracker) return;
   guarded(*tracker, [&] { tracker->track(frame); });
@@ -30,6 +36,12 @@ RunResult Pipeline::result() const {
     auto it = local_maps_.find(f.local_map);
     if (it == local_maps_.end()) continue;
     r.trajectory.push_back(f.stamp, it->second->origin * f.in_map);
+  }
+  last = -std::numeric_limits<double>::infinity();
+  for (const auto& g : ground_truth_) {
+    if (!(g.t > last)) continue;
+    last = g.t;
+    r.ground_truth.push_back(g.t, g.pose);
   }
   return r;
 }
