@@ -49,6 +49,7 @@ int runCli(int argc, char** argv) {
   addReferenceCommand(app, exit_code);
   addValidateCommand(app, exit_code);
   addRunCommand(app, exit_code);
+  addEvalCommand(app, exit_code);
 
   app.parse_complete_callback([&] {
     auto console = spdlog::stderr_color_mt("plugslam");

@@ -141,3 +141,35 @@ TEST_F(Cli, RuntimeFailureNamesTheModuleAndExitsOne) {
   EXPECT_EQ(r.code, 1) << r.out;
   expectHas(r.out, "module 'source' (fixture.CountingSource) failed: fixture failure at frame 3");
 }
+
+namespace {
+std::string tum(double t0, double dx, int n) {
+  std::string s = "# t x y z qx qy qz qw\n";
+  for (int i = 0; i < n; ++i) s += std::to_string(t0 + i) + " " + std::to_string(i * dx) + " 0 0 0 0 0 1\n";
+  return s;
+}
+}  // namespace
+
+TEST_F(Cli, EvalAteRpeRelations) {
+  auto ref = write("ref.tum", tum(0, 1.0, 20));
+  auto est = write("est.tum", tum(0, 1.1, 20));
+  auto r = run("eval ate " + ref + " " + ref);
+  EXPECT_EQ(r.code, 0) << r.out;
+  expectHas(r.out, "rmse");
+  r = run("eval ate " + ref + " " + est + " --align none --format json");
+  EXPECT_EQ(r.code, 0) << r.out;
+  expectHas(r.out, "\"rmse\"");
+  r = run("eval rpe " + ref + " " + est + " --unit frames --delta 1 --format json");
+  EXPECT_EQ(r.code, 0) << r.out;
+  expectHas(r.out, "0.1");  // every step is 0.1 m too long
+  r = run("eval relations " + est + " --reference " + ref + " --max-distance 2");
+  EXPECT_EQ(r.code, 0) << r.out;
+  auto late = write("late.tum", tum(1000, 1.0, 5));
+  r = run("eval ate " + ref + " " + late);
+  EXPECT_EQ(r.code, 2) << r.out;
+  expectHas(r.out, "no overlap");
+  auto bad = write("bad.tum", "0 1 2 3\n");
+  r = run("eval ate " + ref + " " + bad);
+  EXPECT_EQ(r.code, 2) << r.out;
+  expectHas(r.out, "bad.tum:1");
+}

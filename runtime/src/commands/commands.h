@@ -14,5 +14,6 @@ void addConfigCommand(CLI::App& root, int& exit_code);
 void addReferenceCommand(CLI::App& root, int& exit_code);
 void addValidateCommand(CLI::App& root, int& exit_code);
 void addRunCommand(CLI::App& root, int& exit_code);
+void addEvalCommand(CLI::App& root, int& exit_code);
 
 }  // namespace plugslam::runtime
