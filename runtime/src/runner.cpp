@@ -54,9 +54,14 @@ std::string runReportJson(const RunReport& r) {
       "{{\n  \"frames\": {},\n  \"wall_time_s\": {:.6f},\n  \"hz\": {:.3f},\n  \"stopped_by\": "
       "\"{}\",\n  \"tracked_frames\": {},\n  \"local_maps\": {},\n  \"tracking_failures\": {},\n"
       "  \"ground_truth\": {{\"ate_rmse_m\": {}, \"ate_max_m\": {}, \"rpe_1m_rmse_m\": {}}},\n"
+      "  \"graph\": {{\"nodes\": {}, \"edges\": {}, \"loop_candidates\": {}, \"loops_accepted\": {}, "
+      "\"loops_rejected\": {}, \"optimizations\": {}, \"optimization_time_s\": {:.6f}, "
+      "\"final_chi2\": {:.6f}}},\n"
       "  \"modules\": {{{}\n  }}\n}}\n",
       r.frames, r.wall_s, r.hz, r.stopped_by, r.tracked, r.local_maps, r.tracking_failures,
-      jsonNumber(r.ate_rmse), jsonNumber(r.ate_max), jsonNumber(r.rpe_rmse), modules);
+      jsonNumber(r.ate_rmse), jsonNumber(r.ate_max), jsonNumber(r.rpe_rmse), r.graph.nodes,
+      r.graph.edges, r.graph.candidates, r.graph.loops_accepted, r.graph.loops_rejected,
+      r.graph.optimizations, r.graph.optimization_time, r.graph.final_chi2, modules);
 }
 
 static void scoreAgainstGroundTruth(const RunResult& result, int dimension, RunReport& report) {
@@ -121,7 +126,9 @@ RunReport runPipeline(RunConfig& run, const RunOptions& options) {
     report.frames = seq + 1;
     if (options.progress) options.progress(report.frames, total, elapsed());
   }
+  pipeline.finish();
   RunResult result = pipeline.result();
+  if (pipeline.graph) report.graph = pipeline.graph->stats();
   for (auto& sink : run.outputs) sink->end(result);
   report.tracked = result.trajectory.size();
   if (pipeline.tracker) {

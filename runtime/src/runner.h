@@ -19,6 +19,7 @@ struct RunReport {
   uint64_t tracked = 0;    ///< frames with a pose estimate
   uint64_t local_maps = 0;
   uint64_t tracking_failures = 0;
+  GraphStats graph;  ///< loops accepted/rejected, optimization time
   /// Against the source's ground truth, when it has one (SE2/SE3-aligned ATE, RPE over 1 m).
   std::optional<double> ate_rmse, ate_max, rpe_rmse;
 };

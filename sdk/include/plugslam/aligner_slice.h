@@ -19,6 +19,7 @@ struct NormalEquations {
   double chi2 = 0;                           ///< sum of robustified squared errors
   size_t inliers = 0;                        ///< factors within the kernel's inlier band
   size_t factors = 0;                        ///< factors added
+  size_t candidates = 0;  ///< measurement elements the slices tried to associate (overlap base)
   void clear() { *this = NormalEquations(); }
 };
 

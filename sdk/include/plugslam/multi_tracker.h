@@ -50,6 +50,7 @@ class MultiTracker : public Tracker {
  private:
   Pose predict(const Frame& frame);
   void merge(const Frame& frame);
+  void writeEstimate(Frame& frame) const;
   void startLocalMap(const Frame& frame, const typename S::Matrix& information);
 
   std::shared_ptr<LocalMap> map_;

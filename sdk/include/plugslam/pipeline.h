@@ -6,6 +6,7 @@
 #include "plugslam/configurable.h"
 #include "plugslam/errors.h"
 #include "plugslam/frame.h"
+#include "plugslam/graph_slam.h"
 #include "plugslam/preprocessor.h"
 #include "plugslam/sink.h"
 #include "plugslam/timings.h"
@@ -24,9 +25,15 @@ class Pipeline : public Configurable {
   SlotList<PreProcessor> preprocessors{this, "preprocessors",
                                        "raw reading -> measurement cue, one per sensor"};
   Slot<Tracker> tracker{this, "tracker", "", "tracks frames against a local map (optional)"};
+  Slot<GraphBackend> graph{this, "graph", "",
+                           "pose graph of local maps, loop closing (optional; needs a tracker)"};
+
+  void configure() override;
 
   /// Runs every stage on one frame. A module's exception is rethrown as ModuleError naming it.
   virtual void process(Frame& frame);
+  /// Ends the run: waits for the back-end and applies its last correction.
+  virtual void finish();
   /// The run's result so far: trajectory with current corrections, local maps.
   virtual RunResult result() const;
   /// Time spent per module so far.

@@ -18,7 +18,10 @@ struct Space2D {
   using Matrix = Eigen::Matrix<double, 3, 3>;
   static constexpr const char* kSuffix = "2D";
   /// Right perturbation: T * exp(dx), dx = (x, y, theta).
-  static Pose boxplus(const Pose& t, const Vector& dx) { return t * se2(dx); }
+  static Pose boxplus(const Pose& t, const Vector& dx) { return normalized(t * se2(dx)); }
+  /// The same pose with an exactly orthonormal rotation. Isometry::inverse() assumes one, so
+  /// products of inverses (motion deltas) would otherwise amplify rounding frame after frame.
+  static Pose normalized(const Pose& t) { return se2(plugslam::toVector(t)); }
   /// Minimal coordinates of a pose.
   static Vector toVector(const Pose& t) { return plugslam::toVector(t); }
   /// Embeds the pose in 3D (rotation about z).
@@ -49,7 +52,13 @@ struct Space3D {
   using Matrix = Eigen::Matrix<double, 6, 6>;
   static constexpr const char* kSuffix = "3D";
   /// Right perturbation: T * exp(dx), dx = (t, rotation vector).
-  static Pose boxplus(const Pose& t, const Vector& dx) { return t * se3(dx); }
+  static Pose boxplus(const Pose& t, const Vector& dx) { return normalized(t * se3(dx)); }
+  /// The same pose with an exactly orthonormal rotation (see Space2D::normalized).
+  static Pose normalized(const Pose& t) {
+    Pose out = t;
+    out.linear() = Eigen::Quaterniond(t.linear()).normalized().toRotationMatrix();
+    return out;
+  }
   /// Minimal coordinates of a pose.
   static Vector toVector(const Pose& t) { return plugslam::toVector(t); }
   static Eigen::Isometry3d to3D(const Pose& t) { return t; }

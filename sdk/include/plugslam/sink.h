@@ -6,6 +6,7 @@
 
 #include "plugslam/configurable.h"
 #include "plugslam/frame.h"
+#include "plugslam/graph_slam.h"
 #include "plugslam/local_map.h"
 #include "plugslam/trajectory.h"
 
@@ -18,6 +19,8 @@ struct RunResult {
   Trajectory trajectory;
   /// The local maps with their final (corrected) origins, in creation order.
   std::vector<std::shared_ptr<const LocalMap>> local_maps;
+  /// The pose graph's edges between local maps (empty without a graph back-end).
+  std::vector<GraphEdge> edges;
   /// Ground truth, when the source provides it (raw entry "ground_truth", Isometry2d or 3d).
   Trajectory ground_truth;
 };

@@ -1,5 +1,6 @@
 #include "builtin_types.h"
 
+#include "plugslam/loop_closure.h"
 #include "plugslam/multi_tracker.h"
 #include "plugslam/pipeline.h"
 
@@ -15,6 +16,16 @@ void registerBuiltinTypes(Registrar& registrar) {
                                        "2D local map + slices: predict, align, merge, split");
   registrar.add<MultiTracker<Space3D>>("MultiTracker3D",
                                        "3D local map + slices: predict, align, merge, split");
+  registrar.add<GraphSlam<Space2D>>("GraphSlam2D",
+                                    "pose graph of 2D local maps, loop closing, global optimization");
+  registrar.add<GraphSlam<Space3D>>("GraphSlam3D",
+                                    "pose graph of 3D local maps, loop closing, global optimization");
+  registrar.add<ProximityDetector>("ProximityDetector",
+                                   "loop candidates near in the current estimate, gated by drift");
+  registrar.add<AlignmentValidator<Space2D>>(
+      "AlignmentValidator2D", "accepts a loop when the maps' scenes align with enough overlap");
+  registrar.add<AlignmentValidator<Space3D>>(
+      "AlignmentValidator3D", "accepts a loop when the maps' scenes align with enough overlap");
   registrar.add<DistanceSplitter>("DistanceSplitter",
                                   "closes a local map on distance, angle, time or lost overlap");
 }

@@ -61,6 +61,7 @@ AlignResult<S> MultiAligner<S>::align(const Frame& frame, const PropertyContaine
   result.chi2 = eq.chi2;
   result.inliers = eq.inliers;
   result.factors = eq.factors;
+  result.candidates = eq.candidates;
   // A solution needs enough inliers and a full-rank information matrix.
   Eigen::SelfAdjointEigenSolver<typename S::Matrix> eig(eq.H);
   result.valid = eq.inliers >= static_cast<size_t>(min_inliers()) &&

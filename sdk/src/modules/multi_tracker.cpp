@@ -54,6 +54,14 @@ void MultiTracker<S>::track(Frame& frame) {
     startLocalMap(frame, information);
   } else {
     AlignResult<S> aligned = aligner->align(frame, map_->scene, AlignContext<S>{previous, guess});
+    if (!aligned.valid && map_->scene.empty()) {
+      // The map was started by a frame that brought no data: seed it again from this one.
+      pose_ = guess;
+      last_motion_ = S::normalized(previous.inverse() * pose_);
+      merge(frame);
+      writeEstimate(frame);
+      return;
+    }
     if (aligned.valid) {
       pose_ = aligned.pose;
       information = aligned.H;
@@ -68,7 +76,7 @@ void MultiTracker<S>::track(Frame& frame) {
       spdlog::debug("frame {}: alignment failed ({} inliers of {} factors); new local map",
                     frame.seq, aligned.inliers, aligned.factors);
     }
-    last_motion_ = previous.inverse() * pose_;
+    last_motion_ = S::normalized(previous.inverse() * pose_);
     merge(frame);
     SplitQuery q;
     q.distance = S::distance(pose_);
@@ -86,6 +94,11 @@ void MultiTracker<S>::track(Frame& frame) {
     }
   }
   if (frames_in_map_ == 0) merge(frame);
+  writeEstimate(frame);
+}
+
+template <class S>
+void MultiTracker<S>::writeEstimate(Frame& frame) const {
   frame.estimate.valid = true;
   frame.estimate.local_map = map_->id;
   frame.estimate.in_map = S::to3D(pose_);
@@ -97,7 +110,7 @@ typename S::Pose MultiTracker<S>::predict(const Frame& frame) {
   std::optional<Pose> delta;
   if (motion) delta = motion->predict(frame);
   if (!delta) delta = constant_velocity() ? last_motion_ : Pose::Identity();
-  return pose_ * *delta;
+  return S::normalized(pose_ * *delta);
 }
 
 template <class S>

@@ -18,15 +18,35 @@ void Pipeline::process(Frame& frame) {
   for (auto& p : preprocessors) guarded(*p, [&] { return p->process(frame); });
   if (!tracker) return;
   guarded(*tracker, [&] { tracker->track(frame); });
-  for (auto& closed : tracker->takeClosed()) local_maps_[closed->id] = closed;
-  if (auto current = tracker->current())
-    local_maps_[current->id] = std::const_pointer_cast<LocalMap>(current);
+  auto closed = tracker->takeClosed();
+  if (auto current = tracker->current()) {
+    auto map = std::const_pointer_cast<LocalMap>(current);
+    if (local_maps_.emplace(map->id, map).second && graph)
+      guarded(*graph, [&] { graph->mapStarted(map); });
+  }
+  if (graph) {
+    for (auto& map : closed) guarded(*graph, [&] { graph->mapClosed(map); });
+    guarded(*graph, [&] { return graph->poll(); });
+  }
   if (frame.estimate.valid)
     tracked_.push_back({frame.stamp, frame.estimate.local_map, frame.estimate.in_map});
 }
 
+void Pipeline::configure() {
+  if (graph && !tracker) throw ParamError("graph", "a graph back-end needs a tracker");
+  if (graph && graph->dimension() != tracker->dimension())
+    throw ParamError("graph", "a " + std::to_string(graph->dimension()) +
+                                  "D back-end cannot take the local maps of a " +
+                                  std::to_string(tracker->dimension()) + "D tracker");
+}
+
+void Pipeline::finish() {
+  if (graph) guarded(*graph, [&] { graph->finish(); });
+}
+
 RunResult Pipeline::result() const {
   RunResult r;
+  if (graph) r.edges = graph->edges();
   for (const auto& [id, map] : local_maps_) r.local_maps.push_back(map);
   double last = -std::numeric_limits<double>::infinity();
   for (const auto& f : tracked_) {

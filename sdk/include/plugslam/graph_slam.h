@@ -1,0 +1,181 @@
+#pragma once
+// The graph back-end (seed, section III): local maps are pose-graph nodes, consecutive maps are
+// joined by the tracker's relative pose, loop detectors propose closures between maps, loop
+// validators check them by aligning the maps' scenes, and a global optimizer corrects every map
+// origin. Generic over 2D and 3D through the pose space, like the tracker.
+#include <Eigen/Core>
+#include <future>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "plugslam/configurable.h"
+#include "plugslam/local_map.h"
+#include "plugslam/pose_space.h"
+
+namespace plugslam {
+inline namespace abi_v1 {
+
+/// An edge of the pose graph between two local maps.
+struct GraphEdge {
+  int64_t from = 0;  ///< older map
+  int64_t to = 0;    ///< newer map
+  Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();  ///< origin of `to` in `from`'s frame
+  Eigen::MatrixXd information;  ///< tangent-space information (x, y, theta / x, y, z, rotation vector)
+  bool loop = false;            ///< a loop closure (else: consecutive maps)
+};
+
+/// What a loop detector sees of the graph: every node with its current origin.
+struct GraphView {
+  std::vector<std::shared_ptr<const LocalMap>> maps;  ///< by id (maps[i]->id == i)
+  std::vector<double> travelled;  ///< path length from map 0 to each map's origin [m]
+};
+
+/// Proposes older local maps that may show the same place as `query`.
+class LoopDetector : public Configurable {
+ public:
+  static constexpr const char* kKind = "LoopDetector";
+  ~LoopDetector() override;
+  /// Candidate map ids for `query` (which is view.maps[query.id]).
+  virtual std::vector<int64_t> detect(const GraphView& view, const LocalMap& query) = 0;
+};
+
+/// A checked loop closure.
+struct LoopClosure {
+  GraphEdge edge;        ///< from = candidate (older), to = query
+  double overlap = 0;    ///< fraction of the query explained by the candidate
+  double residual = 0;   ///< mean squared residual per inlier
+};
+
+/// Accepts or rejects a proposed closure by looking at the data.
+class LoopValidator : public Configurable {
+ public:
+  static constexpr const char* kKind = "LoopValidator";
+  ~LoopValidator() override;
+  /// Checks `query` against `candidate` starting from `guess` (query origin in the candidate's
+  /// frame). On success fills `closure` (its relative pose and information) and returns true;
+  /// otherwise sets `reason`.
+  virtual bool validate(const LocalMap& candidate, const LocalMap& query,
+                        const Eigen::Isometry3d& guess, LoopClosure& closure,
+                        std::string& reason) = 0;
+};
+
+/// Counters of the back-end.
+struct GraphStats {
+  uint64_t nodes = 0, edges = 0;
+  uint64_t candidates = 0;         ///< proposals by the detectors
+  uint64_t loops_accepted = 0;     ///< validated and kept by the optimizer
+  uint64_t loops_rejected = 0;     ///< refused by a validator or by the consistency check
+  uint64_t optimizations = 0;
+  double optimization_time = 0;    ///< seconds, summed
+  double final_chi2 = 0;
+};
+
+/// The dimension-agnostic face of the back-end that the pipeline drives.
+class GraphBackend : public Configurable {
+ public:
+  static constexpr const char* kKind = "GraphBackend";
+  ~GraphBackend() override;
+  /// 2 or 3.
+  virtual int dimension() const = 0;
+  /// A new local map started (its node and the edge from its predecessor are added).
+  virtual void mapStarted(const std::shared_ptr<LocalMap>& map) = 0;
+  /// A local map is complete: look for loops from it.
+  virtual void mapClosed(const std::shared_ptr<LocalMap>& map) = 0;
+  /// Applies finished back-end work to the maps' origins; true when origins moved.
+  virtual bool poll() = 0;
+  /// Waits for the back-end, optimizes once more and applies the result.
+  virtual void finish() = 0;
+  /// Every edge of the graph.
+  virtual std::vector<GraphEdge> edges() const = 0;
+  /// Counters so far.
+  virtual GraphStats stats() const = 0;
+};
+
+/// Pose-graph SLAM over local maps ("sdk.GraphSlam2D/3D"). Optimization runs on a back-end
+/// thread (results are applied at the next frame) unless `deterministic` is set.
+template <class S>
+class GraphSlam : public GraphBackend {
+ public:
+  using Pose = typename S::Pose;
+  GraphSlam();
+  ~GraphSlam() override;
+
+  SlotList<LoopDetector> loop_detectors{this, "loop_detectors", "propose loop candidates"};
+  SlotList<LoopValidator> validators{this, "validators",
+                                     "every validator must accept a candidate"};
+  Param<bool> deterministic{this, "deterministic", false, "",
+                            "optimize inline on the front-end thread (bit-identical replays)"};
+  Param<std::string> solver{this, "solver", "gn", "", "global optimizer", Choices{{"gn", "lm"}}};
+  Param<int> iterations{this, "iterations", 20, "", "max iterations per optimization",
+                        Range{1, 1000}};
+  Param<std::string> loop_kernel{this, "loop_kernel", "none", "",
+                                 "robust kernel on loop edges (the consistency check below "
+                                 "removes loops the others disagree with in any case)",
+                                 Choices{{"none", "huber", "cauchy", "tukey", "dcs"}}};
+  Param<double> loop_kernel_scale{this, "loop_kernel_scale", 1.0, "", "scale of the loop kernel",
+                                  Range{1e-6, 1e6}};
+  Param<double> information_scale{this, "information_scale", 1.0, "",
+                                  "scales the information of tracker and loop edges",
+                                  Range{1e-9, 1e9}};
+  Param<double> consistency_translation{
+      this, "consistency_translation", 0.3, "m",
+      "two loops agree when the cycle they close with the odometry errs less than this...",
+      Range{0, 1e6}};
+  Param<double> consistency_rotation{this, "consistency_rotation", 0.1, "rad",
+                                     "...and less than this in rotation", Range{0, 10}};
+  Param<double> consistency_drift{this, "consistency_drift", 0.02, "",
+                                  "plus this fraction of the odometry path inside the cycle",
+                                  Range{0, 10}};
+  Param<double> consistency_window{
+      this, "consistency_window", 30.0, "m",
+      "loops closed within this much travel are checked against each other; the largest "
+      "mutually consistent set is kept",
+      Range{0, 1e9}};
+
+  int dimension() const override { return S::kDim; }
+  void mapStarted(const std::shared_ptr<LocalMap>& map) override;
+  void mapClosed(const std::shared_ptr<LocalMap>& map) override;
+  bool poll() override;
+  void finish() override;
+  std::vector<GraphEdge> edges() const override;
+  GraphStats stats() const override;
+
+  /// Optimizes now (inline), whatever the mode; the action "optimize_now".
+  void optimizeNow();
+
+ private:
+  struct Job {
+    size_t nodes = 0;
+    std::vector<Pose> before, after;
+    std::vector<GraphEdge> edges;   // snapshot: the back-end thread never reads edges_
+    double seconds = 0, chi2 = 0;
+    bool ok = false;
+  };
+  Job makeJob() const;
+  void runJob(Job& job) const;
+  void applyJob(const Job& job);
+  void startJob();
+
+  bool consistent(const GraphEdge& a, const GraphEdge& b) const;
+  void selectConsistentLoops();
+
+  std::vector<std::shared_ptr<LocalMap>> maps_;
+  std::vector<double> travelled_;
+  std::vector<GraphEdge> edges_;  // odometry edges, then the active loops
+  struct Loop {
+    GraphEdge edge;
+    bool active = true;
+  };
+  std::vector<Loop> loops_;       // every validated loop, active or rejected by consistency
+  uint64_t validator_rejections_ = 0;
+  GraphStats stats_;
+  std::future<Job> running_;
+  bool pending_ = false;
+};
+
+extern template class GraphSlam<Space2D>;
+extern template class GraphSlam<Space3D>;
+
+}  // namespace abi_v1
+}  // namespace plugslam

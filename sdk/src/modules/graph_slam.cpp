@@ -1,0 +1,322 @@
+#include "plugslam/graph_slam.h"
+
+#include <spdlog/spdlog.h>
+
+#include <Eigen/Eigenvalues>
+#include <chrono>
+
+#include "plugslam/errors.h"
+#include "plugslam/solver/optimizer.h"
+#include "plugslam/solver/pose_factors.h"
+#include "plugslam/solver/robust_kernel.h"
+
+namespace plugslam {
+inline namespace abi_v1 {
+
+LoopDetector::~LoopDetector() = default;
+LoopValidator::~LoopValidator() = default;
+GraphBackend::~GraphBackend() = default;
+
+namespace {
+
+// The solver's variable and factor types of each pose space.
+template <class S>
+struct GraphTypes;
+template <>
+struct GraphTypes<Space2D> {
+  using Variable = VariableSE2;
+  using Between = BetweenFactorSE2;
+  // The tracker's information is over (x, y, theta) with a right perturbation, which is the
+  // first-order error of BetweenFactorSE2.
+  static Eigen::Matrix3d information(const Eigen::MatrixXd& h) { return h; }
+};
+template <>
+struct GraphTypes<Space3D> {
+  using Variable = VariableSE3;
+  using Between = BetweenFactorSE3;
+  // BetweenFactorSE3's rotation error is the quaternion's vector part (half the rotation
+  // vector), so the rotation block of the information scales by 2 on each side.
+  static Eigen::Matrix<double, 6, 6> information(const Eigen::MatrixXd& h) {
+    Eigen::Matrix<double, 6, 1> d;
+    d << 1, 1, 1, 2, 2, 2;
+    return d.asDiagonal() * Eigen::Matrix<double, 6, 6>(h) * d.asDiagonal();
+  }
+};
+
+// A symmetric positive-definite version of an information matrix (tiny eigenvalues lifted), so
+// a degenerate alignment cannot make the global system singular.
+Eigen::MatrixXd conditioned(const Eigen::MatrixXd& h, int dof) {
+  if (h.rows() != dof || h.cols() != dof || !h.allFinite())
+    return Eigen::MatrixXd::Identity(dof, dof);
+  Eigen::MatrixXd sym = 0.5 * (h + h.transpose());
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(sym);
+  Eigen::VectorXd ev = eig.eigenvalues();
+  double floor = std::max(1e-6, 1e-6 * ev.maxCoeff());
+  for (int i = 0; i < ev.size(); ++i) ev[i] = std::max(ev[i], floor);
+  return eig.eigenvectors() * ev.asDiagonal() * eig.eigenvectors().transpose();
+}
+
+}  // namespace
+
+template <class S>
+GraphSlam<S>::GraphSlam() {
+  addAction("optimize_now", "run the global optimization now and apply it",
+            [this](const std::vector<std::string>&) {
+              optimizeNow();
+              return "optimized " + std::to_string(maps_.size()) + " nodes, " +
+                     std::to_string(edges_.size()) + " edges";
+            });
+}
+
+template <class S>
+GraphSlam<S>::~GraphSlam() {
+  if (running_.valid()) running_.wait();
+}
+
+template <class S>
+GraphStats GraphSlam<S>::stats() const {
+  GraphStats s = stats_;
+  s.nodes = maps_.size();
+  s.edges = edges_.size();
+  s.loops_accepted = 0;
+  s.loops_rejected = validator_rejections_;
+  for (const auto& l : loops_) (l.active ? s.loops_accepted : s.loops_rejected) += 1;
+  s.edges += s.loops_accepted;
+  return s;
+}
+
+template <class S>
+std::vector<GraphEdge> GraphSlam<S>::edges() const {
+  std::vector<GraphEdge> out = edges_;
+  for (const auto& l : loops_)
+    if (l.active) out.push_back(l.edge);
+  return out;
+}
+
+template <class S>
+bool GraphSlam<S>::consistent(const GraphEdge& a, const GraphEdge& b) const {
+  // The cycle a.from -> a.to (loop a) -> b.to (estimate) -> b.from (loop b, inverted) ->
+  // a.from (estimate) is the identity when both loops are right; the estimate's legs are short
+  // when the loops close the same revisit, so their drift is small.
+  auto est = [&](int64_t x, int64_t y) { return maps_[x]->origin.inverse() * maps_[y]->origin; };
+  const Eigen::Isometry3d cycle =
+      a.relative * est(a.to, b.to) * b.relative.inverse() * est(b.from, a.from);
+  const double path = std::abs(travelled_[a.to] - travelled_[b.to]) +
+                      std::abs(travelled_[a.from] - travelled_[b.from]);
+  const double t_err = cycle.translation().norm();
+  const double r_err = Eigen::AngleAxisd(cycle.linear()).angle();
+  return t_err <= consistency_translation() + consistency_drift() * path &&
+         r_err <= consistency_rotation() + consistency_drift() * path;
+}
+
+template <class S>
+void GraphSlam<S>::selectConsistentLoops() {
+  // The loops closed recently (within the window of travel before the newest) are re-decided
+  // together: the largest set of mutually consistent ones is kept (pairwise consistency
+  // maximization, solved exactly: the window holds few loops).
+  const double newest = travelled_[loops_.back().edge.to];
+  std::vector<size_t> window;
+  for (size_t i = 0; i < loops_.size(); ++i)
+    if (newest - travelled_[loops_[i].edge.to] <= consistency_window()) window.push_back(i);
+  if (window.size() > 24) window.erase(window.begin(), window.end() - 24);
+  const size_t n = window.size();
+  std::vector<uint32_t> adj(n, 0);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j)
+      if (consistent(loops_[window[i]].edge, loops_[window[j]].edge)) {
+        adj[i] |= 1u << j;
+        adj[j] |= 1u << i;
+      }
+  uint32_t best = 0;
+  int best_size = 0;
+  // Branch and bound over subsets, largest first; ties keep the earlier loops.
+  std::function<void(uint32_t, uint32_t, int)> grow = [&](uint32_t clique, uint32_t cand, int size) {
+    if (size + __builtin_popcount(cand) <= best_size) return;
+    if (cand == 0) {
+      best = clique;
+      best_size = size;
+      return;
+    }
+    const int v = __builtin_ctz(cand);
+    grow(clique | (1u << v), cand & adj[v], size + 1);
+    grow(clique, cand & ~(1u << v), size);
+  };
+  grow(0, n >= 32 ? ~0u : ((1u << n) - 1), 0);
+  for (size_t i = 0; i < n; ++i) {
+    const bool keep = best & (1u << i);
+    Loop& l = loops_[window[i]];
+    if (l.active != keep)
+      spdlog::debug("loop {} -> {} {} by the consistency check", l.edge.to, l.edge.from,
+                    keep ? "restored" : "rejected");
+    l.active = keep;
+  }
+}
+
+template <class S>
+void GraphSlam<S>::mapStarted(const std::shared_ptr<LocalMap>& map) {
+  if (map->id != static_cast<int64_t>(maps_.size()))
+    throw Error("graph back-end: local map " + std::to_string(map->id) + " arrived out of order");
+  double travelled = 0;
+  if (map->previous >= 0) {
+    if (map->previous >= static_cast<int64_t>(maps_.size()))
+      throw Error("graph back-end: local map " + std::to_string(map->id) +
+                  " follows an unknown map " + std::to_string(map->previous));
+    travelled = travelled_[map->previous] + map->relative.translation().norm();
+    GraphEdge e;
+    e.from = map->previous;
+    e.to = map->id;
+    e.relative = map->relative;
+    e.information = information_scale() * conditioned(map->information, S::kDof);
+    edges_.push_back(std::move(e));
+  }
+  maps_.push_back(map);
+  travelled_.push_back(travelled);
+}
+
+template <class S>
+void GraphSlam<S>::mapClosed(const std::shared_ptr<LocalMap>& query) {
+  if (loop_detectors.empty() || validators.empty()) return;
+  GraphView view;
+  view.maps.assign(maps_.begin(), maps_.end());
+  view.travelled = travelled_;
+  std::vector<int64_t> seen;
+  bool accepted = false;
+  for (auto& detector : loop_detectors) {
+    for (int64_t id : detector->detect(view, *query)) {
+      if (id < 0 || id >= static_cast<int64_t>(maps_.size()) || id == query->id) continue;
+      if (std::find(seen.begin(), seen.end(), id) != seen.end()) continue;
+      seen.push_back(id);
+      ++stats_.candidates;
+      const LocalMap& candidate = *maps_[id];
+      const Eigen::Isometry3d guess = candidate.origin.inverse() * query->origin;
+      LoopClosure closure;
+      std::string reason;
+      bool ok = true;
+      for (auto& validator : validators) {
+        if (!validator->validate(candidate, *query, guess, closure, reason)) {
+          ok = false;
+          break;
+        }
+      }
+      if (!ok) {
+        ++validator_rejections_;
+        spdlog::debug("loop {} -> {} rejected: {}", query->id, id, reason);
+        continue;
+      }
+      closure.edge.from = id;
+      closure.edge.to = query->id;
+      closure.edge.loop = true;
+      closure.edge.information =
+          information_scale() * conditioned(closure.edge.information, S::kDof);
+      loops_.push_back(Loop{closure.edge, true});
+      accepted = true;
+      spdlog::debug("loop {} -> {} validated (overlap {:.2f})", query->id, id, closure.overlap);
+    }
+  }
+  if (accepted) selectConsistentLoops();
+  if (accepted) {
+    pending_ = true;
+    if (deterministic()) {
+      optimizeNow();
+    } else if (!running_.valid()) {
+      startJob();
+    }
+  }
+}
+
+template <class S>
+typename GraphSlam<S>::Job GraphSlam<S>::makeJob() const {
+  Job job;
+  job.nodes = maps_.size();
+  job.edges = edges();
+  job.before.reserve(job.nodes);
+  for (const auto& m : maps_) job.before.push_back(S::from3D(m->origin));
+  return job;
+}
+
+template <class S>
+void GraphSlam<S>::runJob(Job& job) const {
+  using T = GraphTypes<S>;
+  const auto start = std::chrono::steady_clock::now();
+  std::shared_ptr<const RobustKernel> kernel;
+  if (loop_kernel() != "none") kernel = makeRobustKernel(loop_kernel(), loop_kernel_scale());
+  OptimizerOptions options;
+  options.algorithm =
+      solver() == "lm" ? Algorithm::kLevenbergMarquardt : Algorithm::kGaussNewton;
+  options.max_iterations = iterations();
+  FactorGraph graph;
+  std::vector<typename T::Variable*> vars;
+  vars.reserve(job.nodes);
+  for (size_t i = 0; i < job.nodes; ++i)
+    vars.push_back(
+        &graph.addVariable<typename T::Variable>(static_cast<int64_t>(i), job.before[i]));
+  if (!vars.empty()) vars[0]->setFixed(true);
+  for (const GraphEdge& e : job.edges) {
+    auto& f = graph.emplaceFactor<typename T::Between>(vars[e.from], vars[e.to],
+                                                       S::from3D(e.relative),
+                                                       T::information(e.information));
+    if (e.loop && kernel) f.setRobustKernel(kernel);
+  }
+  Optimizer optimizer(options);
+  OptimizeResult r = optimizer.optimize(graph);
+  job.ok = r.ok();
+  job.chi2 = r.final_chi2;
+  for (auto* v : vars) job.after.push_back(v->estimate());
+  job.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+template <class S>
+void GraphSlam<S>::applyJob(const Job& job) {
+  ++stats_.optimizations;
+  stats_.optimization_time += job.seconds;
+  stats_.final_chi2 = job.chi2;
+  if (!job.ok || job.nodes == 0) {
+    spdlog::warn("global optimization failed; the map keeps its previous estimate");
+    return;
+  }
+  // Maps added while the job ran move with the last map the job knew.
+  const Eigen::Isometry3d correction =
+      S::to3D(job.after.back()) * S::to3D(job.before.back()).inverse();
+  for (size_t i = 0; i < maps_.size(); ++i)
+    maps_[i]->origin = i < job.nodes ? S::to3D(job.after[i]) : correction * maps_[i]->origin;
+}
+
+template <class S>
+void GraphSlam<S>::startJob() {
+  pending_ = false;
+  auto job = std::make_shared<Job>(makeJob());
+  running_ = std::async(std::launch::async, [this, job] {
+    runJob(*job);
+    return std::move(*job);
+  });
+}
+
+template <class S>
+bool GraphSlam<S>::poll() {
+  if (!running_.valid()) return false;
+  if (running_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return false;
+  applyJob(running_.get());
+  if (pending_) startJob();
+  return true;
+}
+
+template <class S>
+void GraphSlam<S>::optimizeNow() {
+  if (running_.valid()) applyJob(running_.get());
+  pending_ = false;
+  Job job = makeJob();
+  runJob(job);
+  applyJob(job);
+}
+
+template <class S>
+void GraphSlam<S>::finish() {
+  if (running_.valid()) applyJob(running_.get());
+  if (pending_ || stats_.optimizations > 0) optimizeNow();
+}
+
+template class GraphSlam<Space2D>;
+template class GraphSlam<Space3D>;
+
+}  // namespace abi_v1
+}  // namespace plugslam

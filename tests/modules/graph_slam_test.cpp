@@ -1,0 +1,233 @@
+// Graph SLAM over local maps: a synthetic loop is closed and its drift removed; a false
+// candidate is refused by validation.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "landmark_cue.h"
+#include "plugslam/loop_closure.h"
+#include "plugslam/registry.h"
+
+using namespace plugslam;
+using namespace plugslam::testing;
+
+namespace {
+
+Landmarks scatter(int n, double extent, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-extent, extent);
+  Landmarks w;
+  for (int i = 0; i < n; ++i) w.emplace_back(u(rng), u(rng));
+  return w;
+}
+
+std::shared_ptr<AlignmentValidator<Space2D>> makeValidator() {
+  registerLandmarkCue();
+  auto v = std::dynamic_pointer_cast<AlignmentValidator<Space2D>>(
+      Registry::instance().create("sdk.AlignmentValidator2D"));
+  v->aligner.assign(Registry::instance().create("sdk.MultiAligner2D"));
+  v->aligner->slices.assign(Registry::instance().create("lmtest.LandmarkSlice"));
+  v->configure();
+  return v;
+}
+
+// Local maps every 2 m around a 16 x 16 m square, each holding the landmarks within 6 m.
+struct LoopWorld {
+  Landmarks world = scatter(600, 14, 3);
+  std::vector<Eigen::Isometry2d> origins;
+  LoopWorld() {
+    const Eigen::Vector2d corners[4] = {{0, 0}, {16, 0}, {16, 16}, {0, 16}};
+    for (int side = 0; side < 4; ++side) {
+      const Eigen::Vector2d a = corners[side], b = corners[(side + 1) % 4];
+      const double heading = std::atan2((b - a).y(), (b - a).x());
+      for (int k = 0; k < 8; ++k) {
+        Eigen::Vector2d p = a + (b - a) * (k / 8.0) - Eigen::Vector2d(8, 8);
+        origins.push_back(se2(p.x(), p.y(), heading));
+      }
+    }
+    origins.push_back(origins.front());  // back at the start: the loop
+  }
+  std::shared_ptr<LocalMap> map(size_t k) const {
+    auto m = std::make_shared<LocalMap>();
+    m->id = static_cast<int64_t>(k);
+    m->scene.set<Landmarks>("landmarks", observe(world, origins[k], 6.0));
+    return m;
+  }
+};
+
+}  // namespace
+
+TEST(GraphSlam, ClosesASyntheticLoopAndRemovesTheDrift) {
+  LoopWorld lw;
+  auto graph = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
+      Registry::instance().create("sdk.GraphSlam2D"));
+  graph->deterministic = true;
+  graph->loop_detectors.assign(Registry::instance().create("sdk.ProximityDetector"));
+  graph->validators.assign(makeValidator());
+  graph->configure();
+
+  // Odometry between maps with a small heading bias: the estimate drifts around the loop.
+  const Eigen::Isometry2d bias = se2(0.0, 0.0, 0.006);
+  std::vector<std::shared_ptr<LocalMap>> maps;
+  Eigen::Isometry2d estimate = lw.origins[0];
+  for (size_t k = 0; k < lw.origins.size(); ++k) {
+    auto m = lw.map(k);
+    if (k > 0) {
+      Eigen::Isometry2d rel = lw.origins[k - 1].inverse() * lw.origins[k] * bias;
+      estimate = estimate * rel;
+      m->previous = static_cast<int64_t>(k - 1);
+      m->relative = Space2D::to3D(rel);
+      m->information = Eigen::Matrix3d::Identity() * 100.0;
+    }
+    m->origin = Space2D::to3D(estimate);
+    maps.push_back(m);
+    graph->mapStarted(m);
+    if (k > 0) graph->mapClosed(maps[k - 1]);
+  }
+  // Dead reckoning alone ends this far from the truth.
+  const double drift_before = (estimate.translation() - lw.origins.back().translation()).norm();
+  graph->mapClosed(maps.back());
+  graph->finish();
+  const double drift_after =
+      (Space2D::from3D(maps.back()->origin).translation() - lw.origins.back().translation()).norm();
+  EXPECT_GT(drift_before, 1.0);
+  EXPECT_LT(drift_after, 0.05);
+  const GraphStats s = graph->stats();
+  EXPECT_GE(s.loops_accepted, 1u);
+  EXPECT_GE(s.optimizations, 1u);
+  EXPECT_EQ(s.nodes, lw.origins.size());
+  bool has_loop = false;
+  for (const auto& e : graph->edges()) has_loop = has_loop || e.loop;
+  EXPECT_TRUE(has_loop);
+}
+
+TEST(GraphSlam, BackEndThreadGivesTheSameCorrection) {
+  LoopWorld lw;
+  auto graph = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
+      Registry::instance().create("sdk.GraphSlam2D"));
+  graph->loop_detectors.assign(Registry::instance().create("sdk.ProximityDetector"));
+  graph->validators.assign(makeValidator());
+  std::vector<std::shared_ptr<LocalMap>> maps;
+  Eigen::Isometry2d estimate = lw.origins[0];
+  for (size_t k = 0; k < lw.origins.size(); ++k) {
+    auto m = lw.map(k);
+    if (k > 0) {
+      Eigen::Isometry2d rel = lw.origins[k - 1].inverse() * lw.origins[k] * se2(0, 0, 0.006);
+      estimate = estimate * rel;
+      m->previous = static_cast<int64_t>(k - 1);
+      m->relative = Space2D::to3D(rel);
+      m->information = Eigen::Matrix3d::Identity() * 100.0;
+    }
+    m->origin = Space2D::to3D(estimate);
+    maps.push_back(m);
+    graph->mapStarted(m);
+    if (k > 0) graph->mapClosed(maps[k - 1]);
+    graph->poll();
+  }
+  graph->mapClosed(maps.back());
+  graph->finish();
+  EXPECT_LT((Space2D::from3D(maps.back()->origin).translation() - lw.origins.back().translation()).norm(),
+            0.05);
+}
+
+TEST(AlignmentValidator, RejectsAFalseCandidate) {
+  auto validator = makeValidator();
+  // Two places with disjoint landmark sets: nothing in common, whatever the guess.
+  Landmarks here = scatter(100, 5, 11), there = scatter(100, 5, 12);
+  LocalMap a, b;
+  Landmarks only_a(200, Eigen::Vector2d::Constant(NAN)), only_b(200, Eigen::Vector2d::Constant(NAN));
+  for (int i = 0; i < 100; ++i) {
+    only_a[i] = here[i];
+    only_b[100 + i] = there[i];
+  }
+  a.scene.set<Landmarks>("landmarks", only_a);
+  b.scene.set<Landmarks>("landmarks", only_b);
+  LoopClosure closure;
+  std::string reason;
+  EXPECT_FALSE(validator->validate(a, b, Eigen::Isometry3d::Identity(), closure, reason));
+  EXPECT_FALSE(reason.empty());
+  // The same place seen from a known offset is accepted with that offset.
+  LocalMap c;
+  const Eigen::Isometry2d offset = se2(0.4, -0.3, 0.05);
+  Landmarks moved(200, Eigen::Vector2d::Constant(NAN));
+  for (int i = 0; i < 100; ++i) moved[i] = offset.inverse() * here[i];
+  c.scene.set<Landmarks>("landmarks", moved);
+  ASSERT_TRUE(validator->validate(a, c, Eigen::Isometry3d::Identity(), closure, reason)) << reason;
+  EXPECT_LT((Space2D::toVector(Space2D::from3D(closure.edge.relative)) - Space2D::toVector(offset)).norm(),
+            1e-6);
+  // A partial overlap below the threshold is refused.
+  Landmarks partial = moved;
+  for (int i = 0; i < 70; ++i) partial[i] = Eigen::Vector2d::Constant(NAN);
+  for (int i = 0; i < 70; ++i) partial[100 + i] = Eigen::Vector2d(i, -i);
+  c.scene.set<Landmarks>("landmarks", partial);
+  EXPECT_FALSE(validator->validate(a, c, Eigen::Isometry3d::Identity(), closure, reason));
+}
+
+TEST(ProximityDetector, GatesByDistanceAndTravel) {
+  ProximityDetector d;
+  GraphView view;
+  for (int i = 0; i < 5; ++i) {
+    auto m = std::make_shared<LocalMap>();
+    m->id = i;
+    m->origin.translation() = Eigen::Vector3d(i == 4 ? 0.5 : 10.0 * i, 0, 0);
+    view.maps.push_back(m);
+    view.travelled.push_back(10.0 * i);
+  }
+  auto c = d.detect(view, *view.maps[4]);
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_EQ(c[0], 0);
+  d.min_travel = 50.0;
+  EXPECT_TRUE(d.detect(view, *view.maps[4]).empty());
+}
+
+namespace {
+// Passes the real validator's verdict on, but corrupts the closures of one query map: a false
+// loop that looks valid, which only the consistency check can catch.
+class CorruptingValidator : public LoopValidator {
+ public:
+  std::shared_ptr<AlignmentValidator<Space2D>> inner = makeValidator();
+  int64_t victim = -1, victim_candidate = -1;
+  bool validate(const LocalMap& c, const LocalMap& q, const Eigen::Isometry3d& guess,
+                LoopClosure& closure, std::string& reason) override {
+    if (!inner->validate(c, q, guess, closure, reason)) return false;
+    if (q.id == victim && c.id == victim_candidate)
+      closure.edge.relative.translation() += Eigen::Vector3d(2.5, -1.5, 0);
+    return true;
+  }
+};
+}  // namespace
+
+TEST(GraphSlam, AFalseLoopIsRejectedByConsistency) {
+  LoopWorld lw;
+  auto graph = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
+      Registry::instance().create("sdk.GraphSlam2D"));
+  graph->deterministic = true;
+  graph->loop_detectors.assign(Registry::instance().create("sdk.ProximityDetector"));
+  auto v = std::make_shared<CorruptingValidator>();
+  v->victim = static_cast<int64_t>(lw.origins.size()) - 2;
+  v->victim_candidate = 0;
+  graph->validators.assign(v);
+  std::vector<std::shared_ptr<LocalMap>> maps;
+  Eigen::Isometry2d estimate = lw.origins[0];
+  for (size_t k = 0; k < lw.origins.size(); ++k) {
+    auto m = lw.map(k);
+    if (k > 0) {
+      Eigen::Isometry2d rel = lw.origins[k - 1].inverse() * lw.origins[k] * se2(0, 0, 0.006);
+      estimate = estimate * rel;
+      m->previous = static_cast<int64_t>(k - 1);
+      m->relative = Space2D::to3D(rel);
+      m->information = Eigen::Matrix3d::Identity() * 100.0;
+    }
+    m->origin = Space2D::to3D(estimate);
+    maps.push_back(m);
+    graph->mapStarted(m);
+    if (k > 0) graph->mapClosed(maps[k - 1]);
+  }
+  graph->mapClosed(maps.back());
+  graph->finish();
+  EXPECT_GE(graph->stats().loops_rejected, 1u);
+  EXPECT_GE(graph->stats().loops_accepted, 1u);
+  for (const auto& e : graph->edges()) EXPECT_FALSE(e.loop && e.to == v->victim && e.from == 0);
+  EXPECT_LT((Space2D::from3D(maps.back()->origin).translation() - lw.origins.back().translation()).norm(),
+            0.05);
+}

@@ -1,0 +1,125 @@
+// The generic Multi-Aligner and Multi-Tracker on a synthetic landmark cue.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "landmark_cue.h"
+#include "plugslam/multi_tracker.h"
+#include "plugslam/registry.h"
+
+using namespace plugslam;
+using namespace plugslam::testing;
+
+namespace {
+
+Landmarks grid(double step, double extent) {
+  Landmarks w;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  for (double x = -extent; x <= extent; x += step)
+    for (double y = -extent; y <= extent; y += step) w.emplace_back(x + jitter(rng), y + jitter(rng));
+  return w;
+}
+
+std::shared_ptr<MultiTracker<Space2D>> makeTracker(double split_distance) {
+  registerLandmarkCue();
+  auto obj = Registry::instance().create("sdk.MultiTracker2D");
+  auto tracker = std::dynamic_pointer_cast<MultiTracker<Space2D>>(obj);
+  tracker->aligner.assign(Registry::instance().create("sdk.MultiAligner2D"));
+  tracker->aligner->slices.assign(Registry::instance().create("lmtest.LandmarkSlice"));
+  tracker->slices.assign(Registry::instance().create("lmtest.LandmarkMapSlice"));
+  auto splitter = Registry::instance().create("sdk.DistanceSplitter");
+  dynamic_cast<DistanceSplitter&>(*splitter).distance = split_distance;
+  tracker->splitter.assign(splitter);
+  tracker->configure();
+  return tracker;
+}
+
+}  // namespace
+
+TEST(MultiAligner, RecoversAKnownOffsetWithOneSlice) {
+  registerLandmarkCue();
+  const Landmarks world = grid(2.0, 8.0);
+  MultiAligner<Space2D> aligner;
+  aligner.slices.assign(Registry::instance().create("lmtest.LandmarkSlice"));
+  PropertyContainer scene;
+  scene.set<Landmarks>("landmarks", world);  // the map frame is the world frame
+  const Eigen::Isometry2d truth = se2(0.3, -0.2, 0.1);
+  Frame frame;
+  frame.measurement.set<Landmarks>("landmarks", observe(world, truth, 6.0));
+  AlignResult<Space2D> r =
+      aligner.align(frame, scene, AlignContext<Space2D>{Eigen::Isometry2d::Identity(),
+                                                        Eigen::Isometry2d::Identity()});
+  EXPECT_TRUE(r.valid);
+  EXPECT_TRUE(r.converged);
+  EXPECT_LT((toVector(r.pose) - toVector(truth)).norm(), 1e-9);
+  EXPECT_GT(r.inliers, 10u);
+  EXPECT_DOUBLE_EQ(r.overlap(), 1.0);
+  EXPECT_GT(r.H.determinant(), 0);
+}
+
+TEST(MultiAligner, NoSliceOrNoDataIsInvalidNotACrash) {
+  MultiAligner<Space2D> aligner;
+  Frame frame;
+  PropertyContainer scene;
+  auto r = aligner.align(frame, scene, {Eigen::Isometry2d::Identity(), se2(1, 2, 0.3)});
+  EXPECT_FALSE(r.valid);
+  EXPECT_LT((toVector(r.pose) - Eigen::Vector3d(1, 2, 0.3)).norm(), 1e-12);
+}
+
+TEST(MultiTracker, TracksACircleAndSplitsLocalMaps) {
+  auto tracker = makeTracker(1.0);
+  const Landmarks world = grid(1.5, 12.0);
+  std::vector<Eigen::Isometry2d> truth;
+  for (int i = 0; i < 200; ++i) {
+    double a = 2 * M_PI * i / 200.0;
+    truth.push_back(se2(5 * std::cos(a), 5 * std::sin(a), a + M_PI / 2));
+  }
+  double worst = 0;
+  for (size_t i = 0; i < truth.size(); ++i) {
+    Frame f;
+    f.seq = i;
+    f.stamp = 0.1 * i;
+    // Observations in the robot frame; the world frame of the estimate is the first pose's.
+    f.measurement.set<Landmarks>("landmarks", observe(world, truth[i], 6.0));
+    tracker->track(f);
+    ASSERT_TRUE(f.estimate.valid);
+    Eigen::Isometry2d expected = truth[0].inverse() * truth[i];
+    worst = std::max(worst, (Space2D::toVector(Space2D::from3D(f.estimate.world)) -
+                             Space2D::toVector(expected))
+                                .norm());
+  }
+  EXPECT_LT(worst, 1e-6);
+  // 31.4 m of travel with a split every metre.
+  EXPECT_GT(tracker->stats().local_maps, 25u);
+  EXPECT_EQ(tracker->stats().failed, 0u);
+  auto closed = tracker->takeClosed();
+  ASSERT_FALSE(closed.empty());
+  for (size_t k = 1; k < closed.size(); ++k) {
+    EXPECT_EQ(closed[k]->previous, closed[k - 1]->id);
+    EXPECT_EQ(closed[k]->information.rows(), 3);
+  }
+}
+
+TEST(MultiTracker, AFrameWithoutDataStartsANewMapAndTrackingGoesOn) {
+  auto tracker = makeTracker(100.0);
+  const Landmarks world = grid(1.5, 12.0);
+  for (int i = 0; i < 30; ++i) {
+    Frame f;
+    f.seq = i;
+    f.stamp = 0.1 * i;
+    const Eigen::Isometry2d pose = se2(0.1 * i, 0, 0);
+    if (i != 15) f.measurement.set<Landmarks>("landmarks", observe(world, pose, 6.0));
+    tracker->track(f);
+    if (i > 16)
+      EXPECT_LT((f.estimate.world.translation().head<2>() - pose.translation()).norm(), 1e-6) << i;
+  }
+  EXPECT_EQ(tracker->stats().failed, 1u);
+  EXPECT_EQ(tracker->stats().local_maps, 2u);
+}
+
+TEST(MultiTracker, FallbackSigmaIsValidated) {
+  auto tracker = makeTracker(1.0);
+  tracker->fallback_sigma = std::vector<double>{0.1, 0.1};
+  EXPECT_THROW(tracker->configure(), ParamError);
+}
