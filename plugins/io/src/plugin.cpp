@@ -1,5 +1,6 @@
 // The io plugin: dataset sources (CARMEN, ROS1 bags), the 2D simulator and the writers.
 #include "plugslam/plugin.h"
+
 #include "sources/carmen_source.h"
 #include "sources/rosbag_source.h"
 #include "sources/simulator_source.h"

@@ -1,14 +1,13 @@
 #include "sources/rosbag_source.h"
 
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "plugslam/errors.h"
@@ -24,7 +23,6 @@ using plugslam::Odometry2D;
 using plugslam::io::RosbagSource;
 
 namespace {
-
 
 // Minimal ROS bag v2.0 writer (uncompressed chunk) for synthetic synchronisation cases.
 std::string u32(std::uint32_t v) {
@@ -64,8 +62,8 @@ std::string message(std::uint32_t conn, double t, const std::string& data) {
 }
 std::string header(double t) { return u32(0) + u32(sec(t)) + u32(nsec(t)) + str("f"); }
 std::string laserScan(double t, float range) {
-  std::string s = header(t) + f32(-1.0f) + f32(1.0f) + f32(1.0f) + f32(0) + f32(0.1f) +
-                  f32(0.1f) + f32(30.0f) + u32(3);
+  std::string s = header(t) + f32(-1.0f) + f32(1.0f) + f32(1.0f) + f32(0) + f32(0.1f) + f32(0.1f) +
+                  f32(30.0f) + u32(3);
   for (int i = 0; i < 3; ++i) s += f32(range);
   return s + u32(0);
 }
@@ -89,14 +87,13 @@ std::string syntheticBag() {
   inner += message(0, 10.2, laserScan(10.2, 5.0f));
   inner += message(2, 10.25, odometry(10.25, 3.0, 0.5));
   inner += message(1, 10.31, laserScan(10.31, 6.0f));
-  const std::string chunk =
-      record(op(5) + field("compression", "none") +
-                 field("size", u32(static_cast<std::uint32_t>(inner.size()))),
-             inner);
-  const std::string bag_header = record(op(3) + field("index_pos", u64(0)) +
-                                            field("conn_count", u32(0)) +
-                                            field("chunk_count", u32(0)),
-                                        std::string(64, ' '));
+  const std::string chunk = record(op(5) + field("compression", "none") +
+                                       field("size", u32(static_cast<std::uint32_t>(inner.size()))),
+                                   inner);
+  const std::string bag_header =
+      record(op(3) + field("index_pos", u64(0)) + field("conn_count", u32(0)) +
+                 field("chunk_count", u32(0)),
+             std::string(64, ' '));
   const std::string path = ::testing::TempDir() + "/" + std::to_string(::getpid()) + "_sync.bag";
   std::ofstream(path, std::ios::binary) << "#ROSBAG V2.0\n" << bag_header << chunk;
   return path;

@@ -78,8 +78,8 @@ TEST(Simulator2DSource, DeterministicBySeed) {
       }
       differs |= !(ra[k] == rc[k]) && !(std::isnan(ra[k]) && std::isnan(rc[k]));
     }
-    EXPECT_TRUE(a[i].raw.get<Odometry2D>("odom").pose.isApprox(
-        b[i].raw.get<Odometry2D>("odom").pose, 0.0));
+    EXPECT_TRUE(
+        a[i].raw.get<Odometry2D>("odom").pose.isApprox(b[i].raw.get<Odometry2D>("odom").pose, 0.0));
     // Ground truth does not depend on the seed in tour mode.
     EXPECT_TRUE(a[i].raw.get<Eigen::Isometry2d>("ground_truth")
                     .isApprox(c[i].raw.get<Eigen::Isometry2d>("ground_truth"), 1e-12));

@@ -1,5 +1,6 @@
 // The odometry plugin: wheel-odometry motion prediction and the odometry prior slice.
 #include "plugslam/plugin.h"
+
 #include "prior_slice.h"
 #include "wheel_odometry.h"
 

@@ -14,22 +14,26 @@ namespace odometry {
 /// Adds e = log(Z^-1 * T) with Z = previous * (odometry delta since the previous frame) and an
 /// information matrix from a motion-proportional noise model:
 ///   sigma_t = max(min_sigma_translation, sigma_translation_per_m * |d|)
-///   sigma_r = max(min_sigma_rotation, sigma_rotation_per_rad * |dtheta| + sigma_rotation_per_m * |d|)
+///   sigma_r = max(min_sigma_rotation,
+///                 sigma_rotation_per_rad * |dtheta| + sigma_rotation_per_m * |d|)
 /// log here is (x, y, theta) of the pose, matching Space2D::boxplus (T * se2(dx)), so the
 /// Jacobian is exactly blockdiag(R(E), 1) with E = Z^-1 * T.
 class PriorSlice : public AlignerSlice<Space2D> {
  public:
   Param<std::string> input{this, "input", "odom", "", "raw Odometry2D entry to read"};
-  Param<double> sigma_translation_per_m{this, "sigma_translation_per_m", 0.05, "m/m",
-                                        "translation noise per metre travelled", Range{0, 100}};
-  Param<double> sigma_rotation_per_rad{this, "sigma_rotation_per_rad", 0.05, "rad/rad",
-                                       "rotation noise per radian turned", Range{0, 100}};
-  Param<double> sigma_rotation_per_m{this, "sigma_rotation_per_m", 0.02, "rad/m",
-                                     "rotation noise per metre travelled", Range{0, 100}};
-  Param<double> min_sigma_translation{this, "min_sigma_translation", 0.01, "m",
-                                      "translation noise floor", Range{1e-9, 1e6}};
-  Param<double> min_sigma_rotation{this, "min_sigma_rotation", 0.005, "rad",
-                                   "rotation noise floor", Range{1e-9, 1e6}};
+  Param<double> sigma_translation_per_m{
+      this,         "sigma_translation_per_m", 0.05, "m/m", "translation noise per metre travelled",
+      Range{0, 100}};
+  Param<double> sigma_rotation_per_rad{
+      this,      "sigma_rotation_per_rad",           0.05,
+      "rad/rad", "rotation noise per radian turned", Range{0, 100}};
+  Param<double> sigma_rotation_per_m{
+      this,         "sigma_rotation_per_m", 0.02, "rad/m", "rotation noise per metre travelled",
+      Range{0, 100}};
+  Param<double> min_sigma_translation{this, "min_sigma_translation",   0.01,
+                                      "m",  "translation noise floor", Range{1e-9, 1e6}};
+  Param<double> min_sigma_rotation{this,  "min_sigma_rotation",   0.005,
+                                   "rad", "rotation noise floor", Range{1e-9, 1e6}};
 
   void configure() override;
   bool bind(const Frame& frame, const PropertyContainer& scene,

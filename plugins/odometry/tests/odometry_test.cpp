@@ -41,7 +41,8 @@ TEST(WheelOdometry, DeltasComposeBackToTheOdometryPath) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::vector<Eigen::Isometry2d> path{se2(2.0, -1.0, 0.3)};
-  for (int i = 0; i < 50; ++i) path.push_back(path.back() * se2(0.3 * u(rng), 0.1 * u(rng), 0.4 * u(rng)));
+  for (int i = 0; i < 50; ++i)
+    path.push_back(path.back() * se2(0.3 * u(rng), 0.1 * u(rng), 0.4 * u(rng)));
 
   WheelOdometry model;
   model.configure();
@@ -98,8 +99,9 @@ TEST(PriorSlice, JacobianMatchesNumericalDifferentiation) {
       numeric.col(k) = (ep - em) / (2 * h);
       numeric(2, k) = plugslam::normalizeAngle(ep[2] - em[2]) / (2 * h);
     }
-    EXPECT_LT((numeric - j).cwiseAbs().maxCoeff(), 1e-6) << "trial " << trial << "\n" << j
-                                                          << "\nvs\n" << numeric;
+    EXPECT_LT((numeric - j).cwiseAbs().maxCoeff(), 1e-6) << "trial " << trial << "\n"
+                                                         << j << "\nvs\n"
+                                                         << numeric;
   }
 }
 

@@ -90,7 +90,8 @@ double CarmenSource::maxRangeFor(const CarmenLaser& laser) const {
   if (!old_format || max_range() > 0) return laser.max_range;
   // Old formats do not log the range limit; CARMEN keeps it in a PARAM line.
   const auto& params = reader_->params();
-  auto it = params.find(laser.message == "FLASER" ? "robot_front_laser_max" : "robot_rear_laser_max");
+  auto it =
+      params.find(laser.message == "FLASER" ? "robot_front_laser_max" : "robot_rear_laser_max");
   if (it != params.end()) {
     char* end = nullptr;
     const double v = std::strtod(it->second.c_str(), &end);

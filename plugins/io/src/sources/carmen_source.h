@@ -33,16 +33,25 @@ class CarmenSource : public Source {
   Param<std::string> odometry{this, "odometry", "odom", "", "raw entry for the wheel odometry"};
   Param<std::string> reference{this, "reference", "reference", "",
                                "raw entry for the pose logged on the laser line"};
-  Param<std::string> on_error{this, "on_error", "strict", "",
+  Param<std::string> on_error{this,
+                              "on_error",
+                              "strict",
+                              "",
                               "malformed line: stop with an error, or warn and skip it",
                               Choices{{"strict", "skip"}}};
-  Param<double> max_range{this, "max_range", 0.0, "m",
+  Param<double> max_range{this,
+                          "max_range",
+                          0.0,
+                          "m",
                           "maximum range of old-format scans; 0 = the log's PARAM or 80 m",
                           Range{0.0, 1000.0}};
   Param<bool> use_laser_odometry{this, "use_laser_odometry", false, "",
                                  "take odometry from the laser line's robot pose instead of ODOM "
                                  "lines (wrong for GMapping-corrected logs)"};
-  Param<double> fallback_period{this, "fallback_period", 0.1, "s",
+  Param<double> fallback_period{this,
+                                "fallback_period",
+                                0.1,
+                                "s",
                                 "frame spacing used when the log has no timestamps",
                                 Range{1e-6, 3600.0}};
 

@@ -23,8 +23,8 @@ std::pair<std::string, std::string> splitTopicEntry(const std::string& param,
                                                     const std::string& text) {
   const auto colon = text.rfind(':');
   if (colon == std::string::npos || colon == 0 || colon + 1 == text.size()) {
-    throw ParamError(param, "expected \"topic:entry\" (e.g. \"/scan:front_laser\"), got \"" +
-                                text + "\"");
+    throw ParamError(param,
+                     "expected \"topic:entry\" (e.g. \"/scan:front_laser\"), got \"" + text + "\"");
   }
   return {text.substr(0, colon), text.substr(colon + 1)};
 }

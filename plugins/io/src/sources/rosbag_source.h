@@ -23,19 +23,28 @@ namespace io {
 class RosbagSource : public Source {
  public:
   Param<std::string> path{this, "path", "", "", "ROS1 bag (v2.0) to read"};
-  Param<std::vector<std::string>> scans{this, "scans", {"/scan:front_laser"}, "",
+  Param<std::vector<std::string>> scans{this,
+                                        "scans",
+                                        {"/scan:front_laser"},
+                                        "",
                                         "LaserScan topics as \"topic:entry\"; the first one "
                                         "paces the frames"};
   Param<std::string> odometry{this, "odometry", "/odom:odom", "",
                               "Odometry topic as \"topic:entry\"; empty = none"};
-  Param<double> max_odometry_gap{this, "max_odometry_gap", 0.5, "s",
+  Param<double> max_odometry_gap{this,
+                                 "max_odometry_gap",
+                                 0.5,
+                                 "s",
                                  "longest gap between odometry messages to interpolate across",
                                  Range{0.0, 3600.0}};
-  Param<double> sync_tolerance{this, "sync_tolerance", 0.05, "s",
+  Param<double> sync_tolerance{this,
+                               "sync_tolerance",
+                               0.05,
+                               "s",
                                "largest time offset of a secondary scan from the frame",
                                Range{0.0, 3600.0}};
-  Param<std::vector<double>> mounts{this, "mounts", {}, "",
-                                    "x, y, theta (m, m, rad) per scan topic; empty = identity"};
+  Param<std::vector<double>> mounts{
+      this, "mounts", {}, "", "x, y, theta (m, m, rad) per scan topic; empty = identity"};
   Param<bool> header_stamps{this, "header_stamps", true, "",
                             "use message header stamps (false: bag record times)"};
 

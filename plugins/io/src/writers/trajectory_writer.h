@@ -12,7 +12,11 @@ class TrajectoryWriter : public Sink {
  public:
   Param<std::string> file{this, "file", "trajectory.tum", "",
                           "file name, relative to the run's output folder"};
-  Param<std::string> format{this, "format", "tum", "", "tum: t x y z qx qy qz qw; kitti: 3x4 rows",
+  Param<std::string> format{this,
+                            "format",
+                            "tum",
+                            "",
+                            "tum: t x y z qx qy qz qw; kitti: 3x4 rows",
                             Choices{{"tum", "kitti"}}};
   Param<std::string> times_file{this, "times_file", "", "",
                                 "kitti only: also write the timestamps to this file"};
