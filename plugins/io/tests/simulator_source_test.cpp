@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -130,6 +131,41 @@ TEST(Simulator2DSource, BadParametersAreParamErrors) {
     Simulator2DSource source;
     EXPECT_THROW(source.session = std::string("stage-9"), plugslam::ValueError);
   }
+}
+
+}  // namespace
+
+namespace {
+
+TEST(Simulator2DSource, ExploresACustomSegmentWorld) {
+  const std::string path = ::testing::TempDir() + "/iosrc_room.segments";
+  {
+    std::ofstream out(path);
+    out << "# 12 x 8 m room with a pillar\n0 0 12 0\n12 0 12 8\n12 8 0 8\n0 8 0 0\n"
+           "5 3 7 3\n7 3 7 5\n7 5 5 5\n5 5 5 3\n";
+  }
+  auto run = [&](int64_t seed) {
+    Simulator2DSource source;
+    source.session = std::string("stage-0");
+    source.world = path;
+    source.start = std::vector<double>{2.0, 2.0};
+    source.seed = seed;
+    source.configure();
+    EXPECT_NEAR(source.simulator().pathLength(), 43.2, 1.0);  // stage-0's length
+    return source.simulator().groundTruth();
+  };
+  const auto a = run(1), b = run(1);
+  ASSERT_GT(a.size(), 100u);
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_TRUE(a[i].isApprox(b[i], 0.0)) << i;
+    EXPECT_GT(a[i].x(), 0.0);
+    EXPECT_LT(a[i].x(), 12.0);
+    EXPECT_GT(a[i].y(), 0.0);
+    EXPECT_LT(a[i].y(), 8.0);
+  }
+  EXPECT_NEAR(a.front().x(), 2.0, 1e-9);
+  EXPECT_NEAR(a.front().y(), 2.0, 1e-9);
 }
 
 }  // namespace
