@@ -185,6 +185,43 @@ TEST(CarmenSource, MissingTimestampsAreSynthesisedInOrder) {
   EXPECT_EQ(source.synthesizedStamps(), 3u);
 }
 
+// A raw, time-ordered log: odometry is interpolated between the ODOM lines around each laser.
+TEST(CarmenSource, RawLogOdometryIsInterpolatedAtTheLaserTime) {
+  const std::string text =
+      "ODOM 0 0 0 0 0 0 1.0 h 1.0\n"
+      "ODOM 1 0 0 0 0 0 1.2 h 1.2\n"
+      "FLASER 3 1 2 3 9 9 0 9 9 0 1.25 h 1.25\n"
+      "ODOM 2 0 0.4 0 0 0 1.4 h 1.4\n"
+      "FLASER 3 1 2 3 9 9 0 9 9 0 1.4 h 1.4\n"
+      "ODOM 3 0 0.4 0 0 0 1.6 h 1.6\n"
+      "FLASER 3 1 2 3 9 9 0 9 9 0 1.7 h 1.7\n"
+      "FLASER 3 1 2 3 9 9 0 9 9 0 1.8 h 1.8\n"
+      "ODOM 4 0 0.4 0 0 0 3.0 h 3.0\n";
+  CarmenSource source;
+  source.path = writeLog("raw.log", text);
+  source.configure();
+  std::vector<Frame> frames;
+  Frame f;
+  while (source.next(f)) {
+    frames.push_back(f);
+    f = Frame();
+  }
+  ASSERT_EQ(frames.size(), 4u);
+  std::vector<Eigen::Isometry2d> odom;
+  for (const auto& fr : frames) odom.push_back(fr.raw.get<Odometry2D>("odom").pose);
+  // 1.25 s: a quarter of the way from the 1.2 s reading to the 1.4 s one, on SE(2).
+  const Eigen::Isometry2d a = se2(1, 0, 0), b = se2(2, 0, 0.4);
+  expectPose(a * se2(0.25 * plugslam::toVector(a.inverse() * b)), odom[0], 1e-9);
+  // 1.4 s: the reading at that very time.
+  expectPose(b, odom[1], 1e-12);
+  // 1.7 s and 1.8 s: the next reading (3.0 s) is beyond max_odometry_gap, so both keep the
+  // preceding one (1.6 s).
+  expectPose(se2(3, 0, 0.4), odom[2], 1e-12);
+  expectPose(se2(3, 0, 0.4), odom[3], 1e-12);
+  EXPECT_DOUBLE_EQ(frames[0].stamp, 1.25);
+  EXPECT_DOUBLE_EQ(frames[3].stamp, 1.8);
+}
+
 // The GMapping-corrected intel log: 910 scans of 180 beams; the odometry increments between
 // consecutive scans agree with GMapping's increments to within wheel-odometry error.
 TEST(CarmenSourceData, IntelOdometryFollowsTheReference) {

@@ -55,6 +55,10 @@ void CarmenSource::open() {
   pending_rear_.reset();
   have_odom_ = false;
   laser_before_odom_.reset();
+  last_odom_stamp_ = 0;
+  last_odom_has_stamp_ = false;
+  held_.reset();
+  pushed_back_.reset();
   any_frame_ = false;
   synthesized_stamps_ = 0;
   restarts_ = 0;
@@ -134,52 +138,104 @@ void CarmenSource::onOdometry(const CarmenOdometry& odom) {
     last_raw_ = raw;
   }
   laser_before_odom_.reset();
+  last_odom_stamp_ = odom.timestamp;
+  last_odom_has_stamp_ = odom.has_timestamp;
+}
+
+void CarmenSource::fill(Frame& frame, Held& held, const std::optional<Eigen::Isometry2d>& odom) {
+  const CarmenLaser& laser = held.laser;
+  frame.stamp = held.stamp;
+  LaserScan scan = toScan(laser);
+  scan.stamp = held.stamp;
+  frame.raw.set<LaserScan>(front(), std::move(scan));
+  if (held.rear && !rear().empty()) frame.raw.set<LaserScan>(rear(), std::move(*held.rear));
+  if (use_laser_odometry()) {
+    if (laser.has_pose) {
+      frame.raw.set<Odometry2D>(odometry(), {held.stamp, toIso(laser.robot_pose)});
+    }
+  } else if (odom) {
+    frame.raw.set<Odometry2D>(odometry(), {held.stamp, *odom});
+  }
+  if (laser.has_pose) frame.raw.set<Eigen::Isometry2d>(reference(), toIso(laser.robot_pose));
 }
 
 bool CarmenSource::next(Frame& frame) {
   if (!reader_) open();
   CarmenRecord record;
-  while (reader_->next(record)) {
+  for (;;) {
+    if (pushed_back_) {
+      record = std::move(*pushed_back_);
+      pushed_back_.reset();
+    } else if (!reader_->next(record)) {
+      if (!held_) return false;
+      fill(frame, *held_, have_odom_ ? std::optional<Eigen::Isometry2d>(track_) : std::nullopt);
+      held_.reset();
+      return true;
+    }
+
     if (record.kind == CarmenRecord::Kind::kOdometry) {
+      const Eigen::Isometry2d before = track_;
+      const double t0 = last_odom_stamp_;
+      const std::size_t restarts = restarts_;
       onOdometry(record.odometry);
-      continue;
+      if (!held_) continue;
+      // The reading after a held laser: interpolate between the two around the laser's time,
+      // unless this line restarted dead reckoning or the gap is too long to trust.
+      std::optional<Eigen::Isometry2d> odom = before;
+      const double t1 = record.odometry.timestamp;
+      if (restarts_ == restarts && record.odometry.has_timestamp && t1 > held_->laser.timestamp &&
+          t1 - t0 <= max_odometry_gap()) {
+        const double alpha = (held_->laser.timestamp - t0) / (t1 - t0);
+        odom = before * se2(alpha * toVector(before.inverse() * track_));
+      }
+      fill(frame, *held_, odom);
+      held_.reset();
+      return true;
     }
     if (record.kind != CarmenRecord::Kind::kLaser) continue;
     const CarmenLaser& laser = record.laser;
-    if (laser.has_pose) laser_before_odom_ = laser.robot_pose;
     if (isRear(laser)) {
+      if (laser.has_pose) laser_before_odom_ = laser.robot_pose;
       pending_rear_ = toScan(laser);
       continue;
     }
     if (!isFront(laser)) continue;
+    if (held_) {
+      // Another laser before any further odometry: the held one keeps the preceding reading.
+      pushed_back_ = std::move(record);
+      fill(frame, *held_, have_odom_ ? std::optional<Eigen::Isometry2d>(track_) : std::nullopt);
+      held_.reset();
+      return true;
+    }
+    if (laser.has_pose) laser_before_odom_ = laser.robot_pose;
 
-    double stamp = laser.timestamp;
-    if (!laser.has_timestamp || !std::isfinite(stamp) || (any_frame_ && stamp <= last_stamp_)) {
+    Held held;
+    held.stamp = laser.timestamp;
+    if (!laser.has_timestamp || !std::isfinite(held.stamp) ||
+        (any_frame_ && held.stamp <= last_stamp_)) {
       // No usable time (zero in e.g. freiburg-campus, or going backwards): keep the order.
-      stamp = any_frame_ ? last_stamp_ + fallback_period() : 0.0;
+      held.stamp = any_frame_ ? last_stamp_ + fallback_period() : 0.0;
       ++synthesized_stamps_;
     }
-    last_stamp_ = stamp;
+    last_stamp_ = held.stamp;
     any_frame_ = true;
-
-    frame.stamp = stamp;
-    LaserScan scan = toScan(laser);
-    scan.stamp = stamp;
-    frame.raw.set<LaserScan>(front(), std::move(scan));
-    if (pending_rear_ && !rear().empty()) {
-      frame.raw.set<LaserScan>(rear(), std::move(*pending_rear_));
-    }
+    held.rear = std::move(pending_rear_);
     pending_rear_.reset();
-    if (use_laser_odometry()) {
-      if (laser.has_pose) frame.raw.set<Odometry2D>(odometry(), {stamp, toIso(laser.robot_pose)});
-    } else if (have_odom_) {
-      // The preceding ODOM line is the reading at the laser (same timestamp in these logs).
-      frame.raw.set<Odometry2D>(odometry(), {stamp, track_});
+    held.laser = laser;
+
+    // The preceding ODOM line is the reading at the laser when it carries the laser's time (the
+    // GMapping-corrected logs) or when the log has no times; a laser logged after the last
+    // reading waits for the next one to interpolate.
+    const bool wait = !use_laser_odometry() && have_odom_ && laser.has_timestamp &&
+                      last_odom_has_stamp_ && laser.timestamp > last_odom_stamp_ + 1e-9 &&
+                      laser.timestamp - last_odom_stamp_ <= max_odometry_gap();
+    if (wait) {
+      held_ = std::move(held);
+      continue;
     }
-    if (laser.has_pose) frame.raw.set<Eigen::Isometry2d>(reference(), toIso(laser.robot_pose));
+    fill(frame, held, have_odom_ ? std::optional<Eigen::Isometry2d>(track_) : std::nullopt);
     return true;
   }
-  return false;
 }
 
 }  // namespace io

@@ -18,11 +18,13 @@ namespace io {
 /// since the previous frame (if any), raw[odometry] = Odometry2D, raw[reference] = the robot
 /// pose logged on the laser line (GMapping's estimate in the "corrected" logs).
 ///
-/// Odometry (use_laser_odometry = false) is the ODOM stream as of the ODOM line preceding each
-/// laser line. In GMapping-corrected logs that line carries the laser's own timestamp, and the
-/// ODOM line right after each laser restarts dead reckoning from the corrected pose; such
-/// restarts are detected (an ODOM pose equal to the preceding laser's robot pose) and skipped,
-/// so the emitted odometry is one continuous dead-reckoned track made of the logged increments.
+/// Odometry (use_laser_odometry = false) is the ODOM stream at the laser's time: the preceding
+/// ODOM line when it carries the laser's timestamp (the GMapping-corrected logs) or the log has
+/// no times, otherwise interpolated between the ODOM lines around the laser (time-ordered raw
+/// logs). In GMapping-corrected logs the ODOM line right after each laser restarts dead reckoning
+/// from the corrected pose; such restarts are detected (an ODOM pose equal to the preceding
+/// laser's robot pose) and skipped, so the emitted odometry is one continuous dead-reckoned track
+/// made of the logged increments.
 class CarmenSource : public Source {
  public:
   Param<std::string> path{this, "path", "", "", "CARMEN log to read (plain text or gzip)"};
@@ -48,6 +50,12 @@ class CarmenSource : public Source {
   Param<bool> use_laser_odometry{this, "use_laser_odometry", false, "",
                                  "take odometry from the laser line's robot pose instead of ODOM "
                                  "lines (wrong for GMapping-corrected logs)"};
+  Param<double> max_odometry_gap{this,
+                                 "max_odometry_gap",
+                                 0.5,
+                                 "s",
+                                 "longest gap between ODOM lines to interpolate across",
+                                 Range{0.0, 3600.0}};
   Param<double> fallback_period{this,
                                 "fallback_period",
                                 0.1,
@@ -71,7 +79,14 @@ class CarmenSource : public Source {
   const CarmenReaderStats& readerStats() const;
 
  private:
+  // A front laser waiting for the next ODOM line (to interpolate the odometry at its time).
+  struct Held {
+    CarmenLaser laser;
+    double stamp = 0;
+    std::optional<LaserScan> rear;
+  };
   void open();
+  void fill(Frame& frame, Held& held, const std::optional<Eigen::Isometry2d>& odom);
   double maxRangeFor(const CarmenLaser& laser) const;
   LaserScan toScan(const CarmenLaser& laser) const;
   void onOdometry(const CarmenOdometry& odom);
@@ -84,6 +99,10 @@ class CarmenSource : public Source {
   bool have_odom_ = false;
   Eigen::Isometry2d track_ = Eigen::Isometry2d::Identity();
   Eigen::Isometry2d last_raw_ = Eigen::Isometry2d::Identity();
+  double last_odom_stamp_ = 0;
+  bool last_odom_has_stamp_ = false;
+  std::optional<Held> held_;
+  std::optional<CarmenRecord> pushed_back_;
   // The robot pose of the most recent laser line, while no ODOM line has followed it.
   std::optional<CarmenPose> laser_before_odom_;
   double last_stamp_ = 0;
