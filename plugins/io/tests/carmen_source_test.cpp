@@ -117,6 +117,14 @@ TEST(CarmenSource, FramesCarryScanOdometryAndReference) {
   expectPose(se2(0.0, 0, M_PI), rear.mount);
 }
 
+TEST(CarmenSource, LogWithoutFrontLaserIsAnInputError) {
+  CarmenSource source;
+  source.path = writeLog("noflaser.log", "ODOM 0 0 0 0 0 0 1.0 h 1.0\n");
+  source.configure();
+  Frame f;
+  EXPECT_THROW(source.next(f), plugslam::InputError);
+}
+
 TEST(CarmenSource, LaserOdometryOption) {
   CarmenSource source;
   source.path = writeLog("laserodom.log", kCorrectedLog);

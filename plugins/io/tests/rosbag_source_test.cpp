@@ -225,6 +225,22 @@ TEST(RosbagSource, SynchronisesScansAndOdometry) {
   EXPECT_NEAR(frames[0].raw.get<LaserScan>("rear_laser").mount.translation().x(), -0.1, 1e-12);
 }
 
+TEST(RosbagSource, MissingScanTopicListsTheBagsTopics) {
+  RosbagSource source;
+  source.path = syntheticBag();
+  source.scans = std::vector<std::string>{"/scna:front_laser"};
+  source.configure();
+  Frame f;
+  try {
+    source.next(f);
+    FAIL() << "a bag without the scan topic gave frames";
+  } catch (const plugslam::InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("/scna"), std::string::npos) << what;
+    EXPECT_NE(what.find("/scan (sensor_msgs/LaserScan, 3)"), std::string::npos) << what;
+  }
+}
+
 TEST(RosbagSource, OdometryGapLeavesFramesWithout) {
   RosbagSource source;
   source.path = syntheticBag();

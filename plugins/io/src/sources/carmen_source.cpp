@@ -167,6 +167,12 @@ bool CarmenSource::next(Frame& frame) {
       record = std::move(*pushed_back_);
       pushed_back_.reset();
     } else if (!reader_->next(record)) {
+      if (!held_ && !any_frame_) {
+        throw InputError("CARMEN log '" + path() +
+                         "' has no front-laser line (FLASER or ROBOTLASER1); " +
+                         std::to_string(reader_->stats().lasers) + " other laser lines, " +
+                         std::to_string(reader_->stats().odometry) + " ODOM lines");
+      }
       if (!held_) return false;
       fill(frame, *held_, have_odom_ ? std::optional<Eigen::Isometry2d>(track_) : std::nullopt);
       held_.reset();

@@ -77,6 +77,18 @@ void RosbagSource::open() {
   odom_.clear();
   size_hint_.reset();
   frames_without_odometry_ = 0;
+  frames_ = 0;
+}
+
+void RosbagSource::noFramesError() const {
+  // A misspelt topic would otherwise make an empty run; say what the bag holds.
+  std::string topics;
+  for (const auto& info : summarizeRosbag(path())) {
+    topics += (topics.empty() ? "" : ", ") + info.topic + " (" + info.type + ", " +
+              std::to_string(info.count) + ")";
+  }
+  throw InputError("ROS bag '" + path() + "' has no message on scan topic " + scan_topics_[0] +
+                   "; its topics: " + (topics.empty() ? "none" : topics));
 }
 
 int64_t RosbagSource::sizeHint() const {
@@ -172,9 +184,13 @@ bool RosbagSource::next(Frame& frame) {
   if (!reader_) open();
   for (;;) {
     if (!primary_.empty() && ready(primary_.front().t)) break;
-    if (finished_) return false;
+    if (finished_) {
+      if (frames_ == 0) noFramesError();
+      return false;
+    }
     if (!readOne()) finished_ = true;
   }
+  ++frames_;
   Stamped s = std::move(primary_.front());
   primary_.pop_front();
   const double t = s.t;

@@ -19,7 +19,8 @@ namespace io {
 /// One frame per message of the first scan topic, stamped with its header time. The odometry
 /// is interpolated at that time between the neighbouring odometry messages (when they are at
 /// most max_odometry_gap apart; else the nearest within the gap; else none). Every other scan
-/// topic contributes its message nearest in time within sync_tolerance.
+/// topic contributes its message nearest in time within sync_tolerance. A bag with no message on
+/// the first scan topic is an InputError listing the bag's topics.
 class RosbagSource : public Source {
  public:
   Param<std::string> path{this, "path", "", "", "ROS1 bag (v2.0) to read"};
@@ -72,6 +73,7 @@ class RosbagSource : public Source {
   bool readOne();
   bool ready(double t) const;
   std::optional<Eigen::Isometry2d> odometryAt(double t) const;
+  [[noreturn]] void noFramesError() const;
 
   std::vector<std::string> scan_topics_, scan_entries_;
   std::vector<Eigen::Isometry2d> scan_mounts_;
@@ -84,6 +86,7 @@ class RosbagSource : public Source {
   std::deque<Pose> odom_;
   mutable std::optional<int64_t> size_hint_;
   std::size_t frames_without_odometry_ = 0;
+  std::size_t frames_ = 0;
 };
 
 /// Splits "topic:entry" at its last colon; throws ParamError(param, ...) when malformed.
