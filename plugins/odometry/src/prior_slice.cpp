@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "plugslam/errors.h"
 #include "plugslam/geometry.h"
@@ -17,9 +18,11 @@ bool PriorSlice::bind(const Frame& frame, const PropertyContainer& scene,
                       const AlignContext<Space2D>& context) {
   const Odometry2D* odom = frame.raw.find<Odometry2D>(input());
   if (!odom) return false;  // keep the last reading: the next delta spans the gap
-  if (!bound_seq_ || *bound_seq_ != frame.seq) {
+  // Frames are told apart by sequence number and stamp, so callers that leave seq at 0 still
+  // get one delta per frame.
+  if (!bound_ || bound_->first != frame.seq || bound_->second != frame.stamp) {
     before_bound_ = last_;
-    bound_seq_ = frame.seq;
+    bound_ = std::make_pair(frame.seq, frame.stamp);
   }
   last_ = odom->pose;
   if (!before_bound_) return false;  // the first reading has nothing to be relative to

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "plugslam/aligner_slice.h"
 #include "plugslam/sensor_data.h"
@@ -53,7 +54,7 @@ class PriorSlice : public AlignerSlice<Space2D> {
   // same frame twice gives the same delta).
   std::optional<Eigen::Isometry2d> last_;
   std::optional<Eigen::Isometry2d> before_bound_;
-  std::optional<uint64_t> bound_seq_;
+  std::optional<std::pair<uint64_t, double>> bound_;  // (seq, stamp) of the bound frame
   Eigen::Isometry2d prior_ = Eigen::Isometry2d::Identity();
   Eigen::Matrix3d information_ = Eigen::Matrix3d::Identity();
 };

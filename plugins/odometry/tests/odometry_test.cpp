@@ -181,4 +181,21 @@ TEST(PriorSlice, RebindingTheSameFrameKeepsItsDelta) {
   EXPECT_FALSE(slice.needsScene());
 }
 
+TEST(PriorSlice, FramesWithoutSequenceNumbersAreToldApartByStamp) {
+  PriorSlice slice;
+  slice.configure();
+  PropertyContainer scene;
+  AlignContext<Space2D> ctx{se2(0, 0, 0), se2(0, 0, 0)};
+  Frame a = odomFrame(0, se2(0, 0, 0)), b = odomFrame(0, se2(1, 0, 0)),
+        c = odomFrame(0, se2(3, 0, 0));
+  a.stamp = 1.0;
+  b.stamp = 2.0;
+  c.stamp = 3.0;
+  slice.bind(a, scene, ctx);
+  ASSERT_TRUE(slice.bind(b, scene, ctx));
+  expectPose(se2(1, 0, 0), slice.prior(), 1e-12);
+  ASSERT_TRUE(slice.bind(c, scene, ctx));
+  expectPose(se2(2, 0, 0), slice.prior(), 1e-12);
+}
+
 }  // namespace
