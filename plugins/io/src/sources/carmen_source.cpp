@@ -1,0 +1,248 @@
+#include "sources/carmen_source.h"
+
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+
+#include "plugslam/errors.h"
+#include "plugslam/geometry.h"
+
+namespace plugslam {
+namespace io {
+namespace {
+
+Eigen::Isometry2d toIso(const CarmenPose& p) { return se2(p.x, p.y, p.theta); }
+
+bool samePose(const CarmenPose& a, const CarmenPose& b) {
+  // The restart line repeats the laser line's numbers verbatim, so they agree to print precision.
+  return std::abs(a.x - b.x) < 1e-6 && std::abs(a.y - b.y) < 1e-6 &&
+         std::abs(normalizeAngle(a.theta - b.theta)) < 1e-6;
+}
+
+bool isFront(const CarmenLaser& l) { return l.sensor == "front"; }
+bool isRear(const CarmenLaser& l) { return l.sensor == "rear"; }
+
+}  // namespace
+
+CarmenSource::CarmenSource() = default;
+CarmenSource::~CarmenSource() = default;
+
+void CarmenSource::configure() {
+  if (path().empty()) throw ParamError("path", "required: the CARMEN log to read");
+  for (const auto* p : {&front, &odometry, &reference}) {
+    if (p->value().empty()) throw ParamError(p->name(), "must name a raw entry (not empty)");
+  }
+  if (front() == rear() || front() == odometry() || front() == reference() ||
+      odometry() == reference() || rear() == odometry() || rear() == reference()) {
+    throw ParamError("front", "front, rear, odometry and reference must be distinct entry names");
+  }
+  open();
+}
+
+void CarmenSource::open() {
+  CarmenReaderOptions options;
+  options.policy = on_error() == "skip" ? ErrorPolicy::kSkip : ErrorPolicy::kStrict;
+  // GMapping-corrected logs interleave timestamps out of order; that is not a malformed line.
+  options.time_policy = ErrorPolicy::kSkip;
+  if (max_range() > 0) options.old_format_max_range = max_range();
+  options.on_warning = [](const ReaderWarning& w) {
+    spdlog::debug("{}:{}: {}", w.file, w.line, w.message);
+  };
+  reader_ = std::make_unique<CarmenReader>(path(), options);
+  size_hint_.reset();
+  pending_rear_.reset();
+  have_odom_ = false;
+  laser_before_odom_.reset();
+  last_odom_stamp_ = 0;
+  last_odom_has_stamp_ = false;
+  held_.reset();
+  pushed_back_.reset();
+  any_frame_ = false;
+  synthesized_stamps_ = 0;
+  restarts_ = 0;
+}
+
+const CarmenReaderStats& CarmenSource::readerStats() const {
+  static const CarmenReaderStats kEmpty;
+  return reader_ ? reader_->stats() : kEmpty;
+}
+
+int64_t CarmenSource::sizeHint() const {
+  if (size_hint_) return *size_hint_;
+  if (path().empty()) return -1;
+  try {
+    CarmenReaderOptions options;
+    options.policy = ErrorPolicy::kSkip;
+    options.time_policy = ErrorPolicy::kSkip;
+    CarmenReader counter(path(), options);
+    CarmenRecord record;
+    int64_t n = 0;
+    while (counter.next(record)) {
+      if (record.kind == CarmenRecord::Kind::kLaser && isFront(record.laser)) ++n;
+    }
+    size_hint_ = n;
+  } catch (const Error&) {
+    size_hint_ = -1;  // the real read reports the problem with its line number
+  }
+  return *size_hint_;
+}
+
+double CarmenSource::maxRangeFor(const CarmenLaser& laser) const {
+  const bool old_format = laser.message == "FLASER" || laser.message == "RLASER";
+  if (!old_format || max_range() > 0) return laser.max_range;
+  // Old formats do not log the range limit; CARMEN keeps it in a PARAM line.
+  const auto& params = reader_->params();
+  auto it =
+      params.find(laser.message == "FLASER" ? "robot_front_laser_max" : "robot_rear_laser_max");
+  if (it != params.end()) {
+    char* end = nullptr;
+    const double v = std::strtod(it->second.c_str(), &end);
+    if (end != it->second.c_str() && std::isfinite(v) && v > 0) return v;
+  }
+  return laser.max_range;
+}
+
+LaserScan CarmenSource::toScan(const CarmenLaser& laser) const {
+  LaserScan scan;
+  scan.stamp = laser.timestamp;
+  scan.angle_min = laser.angle_min;
+  scan.angle_increment = laser.angle_increment;
+  scan.range_min = 0.0;
+  scan.range_max = maxRangeFor(laser);
+  scan.ranges = laser.ranges;
+  if (laser.message == "FLASER") {
+    scan.mount = se2(laser.forward_offset, 0.0, 0.0);
+  } else if (laser.message == "RLASER") {
+    // CARMEN's rear laser sits on the robot's x axis looking backwards.
+    scan.mount = se2(laser.forward_offset, 0.0, M_PI);
+  } else if (laser.has_pose) {
+    scan.mount = toIso(laser.robot_pose).inverse() * toIso(laser.laser_pose);
+  }
+  return scan;
+}
+
+void CarmenSource::onOdometry(const CarmenOdometry& odom) {
+  const Eigen::Isometry2d raw = toIso(odom.pose);
+  if (laser_before_odom_ && samePose(*laser_before_odom_, odom.pose)) {
+    // Dead reckoning restarted from the corrected pose: no motion happened here.
+    last_raw_ = raw;
+    ++restarts_;
+  } else if (!have_odom_) {
+    track_ = raw;
+    last_raw_ = raw;
+    have_odom_ = true;
+  } else {
+    track_ = track_ * (last_raw_.inverse() * raw);
+    last_raw_ = raw;
+  }
+  laser_before_odom_.reset();
+  last_odom_stamp_ = odom.timestamp;
+  last_odom_has_stamp_ = odom.has_timestamp;
+}
+
+void CarmenSource::fill(Frame& frame, Held& held, const std::optional<Eigen::Isometry2d>& odom) {
+  const CarmenLaser& laser = held.laser;
+  frame.stamp = held.stamp;
+  LaserScan scan = toScan(laser);
+  scan.stamp = held.stamp;
+  frame.raw.set<LaserScan>(front(), std::move(scan));
+  if (held.rear && !rear().empty()) frame.raw.set<LaserScan>(rear(), std::move(*held.rear));
+  if (use_laser_odometry()) {
+    if (laser.has_pose) {
+      frame.raw.set<Odometry2D>(odometry(), {held.stamp, toIso(laser.robot_pose)});
+    }
+  } else if (odom) {
+    frame.raw.set<Odometry2D>(odometry(), {held.stamp, *odom});
+  }
+  if (laser.has_pose) frame.raw.set<Eigen::Isometry2d>(reference(), toIso(laser.robot_pose));
+}
+
+bool CarmenSource::next(Frame& frame) {
+  if (!reader_) open();
+  CarmenRecord record;
+  for (;;) {
+    if (pushed_back_) {
+      record = std::move(*pushed_back_);
+      pushed_back_.reset();
+    } else if (!reader_->next(record)) {
+      if (!held_ && !any_frame_) {
+        throw InputError("CARMEN log '" + path() +
+                         "' has no front-laser line (FLASER or ROBOTLASER1); " +
+                         std::to_string(reader_->stats().lasers) + " other laser lines, " +
+                         std::to_string(reader_->stats().odometry) + " ODOM lines");
+      }
+      if (!held_) return false;
+      fill(frame, *held_, have_odom_ ? std::optional<Eigen::Isometry2d>(track_) : std::nullopt);
+      held_.reset();
+      return true;
+    }
+
+    if (record.kind == CarmenRecord::Kind::kOdometry) {
+      const Eigen::Isometry2d before = track_;
+      const double t0 = last_odom_stamp_;
+      const std::size_t restarts = restarts_;
+      onOdometry(record.odometry);
+      if (!held_) continue;
+      // The reading after a held laser: interpolate between the two around the laser's time,
+      // unless this line restarted dead reckoning or the gap is too long to trust.
+      std::optional<Eigen::Isometry2d> odom = before;
+      const double t1 = record.odometry.timestamp;
+      if (restarts_ == restarts && record.odometry.has_timestamp && t1 > held_->laser.timestamp &&
+          t1 - t0 <= max_odometry_gap()) {
+        const double alpha = (held_->laser.timestamp - t0) / (t1 - t0);
+        odom = before * se2(alpha * toVector(before.inverse() * track_));
+      }
+      fill(frame, *held_, odom);
+      held_.reset();
+      return true;
+    }
+    if (record.kind != CarmenRecord::Kind::kLaser) continue;
+    const CarmenLaser& laser = record.laser;
+    if (isRear(laser)) {
+      if (laser.has_pose) laser_before_odom_ = laser.robot_pose;
+      pending_rear_ = toScan(laser);
+      continue;
+    }
+    if (!isFront(laser)) continue;
+    if (held_) {
+      // Another laser before any further odometry: the held one keeps the preceding reading.
+      pushed_back_ = std::move(record);
+      fill(frame, *held_, have_odom_ ? std::optional<Eigen::Isometry2d>(track_) : std::nullopt);
+      held_.reset();
+      return true;
+    }
+    if (laser.has_pose) laser_before_odom_ = laser.robot_pose;
+
+    Held held;
+    held.stamp = laser.timestamp;
+    if (!laser.has_timestamp || !std::isfinite(held.stamp) ||
+        (any_frame_ && held.stamp <= last_stamp_)) {
+      // No usable time (zero in e.g. freiburg-campus, or going backwards): keep the order.
+      held.stamp = any_frame_ ? last_stamp_ + fallback_period() : 0.0;
+      ++synthesized_stamps_;
+    }
+    last_stamp_ = held.stamp;
+    any_frame_ = true;
+    held.rear = std::move(pending_rear_);
+    pending_rear_.reset();
+    held.laser = laser;
+
+    // The preceding ODOM line is the reading at the laser when it carries the laser's time (the
+    // GMapping-corrected logs) or when the log has no times; a laser logged after the last
+    // reading waits for the next one to interpolate.
+    const bool wait = !use_laser_odometry() && have_odom_ && laser.has_timestamp &&
+                      last_odom_has_stamp_ && laser.timestamp > last_odom_stamp_ + 1e-9 &&
+                      laser.timestamp - last_odom_stamp_ <= max_odometry_gap();
+    if (wait) {
+      held_ = std::move(held);
+      continue;
+    }
+    fill(frame, held, have_odom_ ? std::optional<Eigen::Isometry2d>(track_) : std::nullopt);
+    return true;
+  }
+}
+
+}  // namespace io
+}  // namespace plugslam

@@ -1,0 +1,115 @@
+#pragma once
+// io.CarmenSource: CARMEN logs (plain or gzip) as a frame source, one frame per front-laser
+// reading, with the wheel odometry and the log's own pose estimate attached.
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "plugslam/sensor_data.h"
+#include "plugslam/source.h"
+#include "readers/carmen_reader.h"
+
+namespace plugslam {
+namespace io {
+
+/// Reads a CARMEN log into frames: raw[front] = LaserScan, raw[rear] = the latest rear scan
+/// since the previous frame (if any), raw[odometry] = Odometry2D, raw[reference] = the robot
+/// pose logged on the laser line (GMapping's estimate in the "corrected" logs).
+///
+/// Odometry (use_laser_odometry = false) is the ODOM stream at the laser's time: the preceding
+/// ODOM line when it carries the laser's timestamp (the GMapping-corrected logs) or the log has
+/// no times, otherwise interpolated between the ODOM lines around the laser (time-ordered raw
+/// logs). In GMapping-corrected logs the ODOM line right after each laser restarts dead reckoning
+/// from the corrected pose; such restarts are detected (an ODOM pose equal to the preceding
+/// laser's robot pose) and skipped, so the emitted odometry is one continuous dead-reckoned track
+/// made of the logged increments.
+class CarmenSource : public Source {
+ public:
+  Param<std::string> path{this, "path", "", "", "CARMEN log to read (plain text or gzip)"};
+  Param<std::string> front{this, "front", "front_laser", "",
+                           "raw entry for FLASER / ROBOTLASER1 scans (one frame each)"};
+  Param<std::string> rear{this, "rear", "rear_laser", "",
+                          "raw entry for RLASER / ROBOTLASER2 scans"};
+  Param<std::string> odometry{this, "odometry", "odom", "", "raw entry for the wheel odometry"};
+  Param<std::string> reference{this, "reference", "reference", "",
+                               "raw entry for the pose logged on the laser line"};
+  Param<std::string> on_error{this,
+                              "on_error",
+                              "strict",
+                              "",
+                              "malformed line: stop with an error, or warn and skip it",
+                              Choices{{"strict", "skip"}}};
+  Param<double> max_range{this,
+                          "max_range",
+                          0.0,
+                          "m",
+                          "maximum range of old-format scans; 0 = the log's PARAM or 80 m",
+                          Range{0.0, 1000.0}};
+  Param<bool> use_laser_odometry{this, "use_laser_odometry", false, "",
+                                 "take odometry from the laser line's robot pose instead of ODOM "
+                                 "lines (wrong for GMapping-corrected logs)"};
+  Param<double> max_odometry_gap{this,
+                                 "max_odometry_gap",
+                                 0.5,
+                                 "s",
+                                 "longest gap between ODOM lines to interpolate across",
+                                 Range{0.0, 3600.0}};
+  Param<double> fallback_period{this,
+                                "fallback_period",
+                                0.1,
+                                "s",
+                                "frame spacing used when the log has no timestamps",
+                                Range{1e-6, 3600.0}};
+
+  CarmenSource();
+  ~CarmenSource() override;
+
+  void configure() override;
+  bool next(Frame& frame) override;
+  /// Number of front-laser lines, counted once by a light pass over the file.
+  int64_t sizeHint() const override;
+
+  /// Frames whose timestamp was missing (0) or not after the previous one and was synthesised.
+  std::size_t synthesizedStamps() const { return synthesized_stamps_; }
+  /// Odometry restarts detected and skipped (GMapping-corrected logs).
+  std::size_t odometryRestarts() const { return restarts_; }
+  /// The reader's counters so far.
+  const CarmenReaderStats& readerStats() const;
+
+ private:
+  // A front laser waiting for the next ODOM line (to interpolate the odometry at its time).
+  struct Held {
+    CarmenLaser laser;
+    double stamp = 0;
+    std::optional<LaserScan> rear;
+  };
+  void open();
+  void fill(Frame& frame, Held& held, const std::optional<Eigen::Isometry2d>& odom);
+  double maxRangeFor(const CarmenLaser& laser) const;
+  LaserScan toScan(const CarmenLaser& laser) const;
+  void onOdometry(const CarmenOdometry& odom);
+
+  std::unique_ptr<CarmenReader> reader_;
+  mutable std::optional<int64_t> size_hint_;
+  // Rear scan waiting for the next front frame.
+  std::optional<LaserScan> pending_rear_;
+  // Continuous odometry track built from ODOM increments.
+  bool have_odom_ = false;
+  Eigen::Isometry2d track_ = Eigen::Isometry2d::Identity();
+  Eigen::Isometry2d last_raw_ = Eigen::Isometry2d::Identity();
+  double last_odom_stamp_ = 0;
+  bool last_odom_has_stamp_ = false;
+  std::optional<Held> held_;
+  std::optional<CarmenRecord> pushed_back_;
+  // The robot pose of the most recent laser line, while no ODOM line has followed it.
+  std::optional<CarmenPose> laser_before_odom_;
+  double last_stamp_ = 0;
+  bool any_frame_ = false;
+  std::size_t synthesized_stamps_ = 0;
+  std::size_t restarts_ = 0;
+};
+
+}  // namespace io
+}  // namespace plugslam

@@ -1,0 +1,39 @@
+#include "writers/trajectory_writer.h"
+
+#include <filesystem>
+
+#include "plugslam/errors.h"
+
+namespace plugslam {
+namespace io {
+
+void TrajectoryWriter::configure() {
+  if (file().empty()) throw ParamError("file", "needs a file name");
+  if (!times_file().empty() && format() != "kitti") {
+    throw ParamError("times_file", "only the kitti format keeps timestamps apart");
+  }
+}
+
+void TrajectoryWriter::begin(const std::string& out_dir) {
+  out_dir_ = out_dir.empty() ? "." : out_dir;
+}
+
+std::string TrajectoryWriter::resolve(const std::string& name) const {
+  std::filesystem::path p(name);
+  if (p.is_absolute()) return p.string();
+  return (std::filesystem::path(out_dir_) / p).string();
+}
+
+std::string TrajectoryWriter::outputPath() const { return resolve(file()); }
+
+void TrajectoryWriter::end(const RunResult& result) {
+  if (format() == "kitti") {
+    writeKittiTrajectory(result.trajectory, outputPath(),
+                         times_file().empty() ? std::string() : resolve(times_file()));
+  } else {
+    writeTumTrajectory(result.trajectory, outputPath());
+  }
+}
+
+}  // namespace io
+}  // namespace plugslam

@@ -1,0 +1,37 @@
+#pragma once
+// io.TrajectoryWriter: writes the run's final trajectory (TUM or KITTI) into the output folder.
+#include <string>
+
+#include "plugslam/sink.h"
+
+namespace plugslam {
+namespace io {
+
+/// Writes RunResult::trajectory atomically at the end of the run.
+class TrajectoryWriter : public Sink {
+ public:
+  Param<std::string> file{this, "file", "trajectory.tum", "",
+                          "file name, relative to the run's output folder"};
+  Param<std::string> format{this,
+                            "format",
+                            "tum",
+                            "",
+                            "tum: t x y z qx qy qz qw; kitti: 3x4 rows",
+                            Choices{{"tum", "kitti"}}};
+  Param<std::string> times_file{this, "times_file", "", "",
+                                "kitti only: also write the timestamps to this file"};
+
+  void configure() override;
+  void begin(const std::string& out_dir) override;
+  void end(const RunResult& result) override;
+
+  /// Where the trajectory goes (after begin()).
+  std::string outputPath() const;
+
+ private:
+  std::string resolve(const std::string& name) const;
+  std::string out_dir_ = ".";
+};
+
+}  // namespace io
+}  // namespace plugslam

@@ -1,0 +1,88 @@
+#include "writers/trajectory_writer.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+
+#include "plugslam/errors.h"
+#include "plugslam/geometry.h"
+
+namespace fs = std::filesystem;
+using plugslam::RunResult;
+using plugslam::Trajectory;
+using plugslam::io::TrajectoryWriter;
+
+namespace {
+
+RunResult sampleResult() {
+  RunResult r;
+  for (int i = 0; i < 5; ++i) {
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.translation() << i * 0.5, -i * 0.25, 0.0;
+    p.linear() = Eigen::AngleAxisd(0.1 * i, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    r.trajectory.push_back(100.0 + i, p);
+  }
+  return r;
+}
+
+std::string outDir(const std::string& name) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("plugslam_tw_" + std::to_string(::getpid()) + "_" + name);
+  fs::create_directories(dir);
+  return dir.string();
+}
+
+void expectSame(const Trajectory& a, const Trajectory& b) {
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) {
+    EXPECT_NEAR(a[i].t, b[i].t, 1e-9);
+    EXPECT_TRUE(a[i].pose.isApprox(b[i].pose, 1e-8));
+  }
+}
+
+TEST(TrajectoryWriter, WritesTumIntoTheOutputFolder) {
+  const std::string dir = outDir("tum");
+  TrajectoryWriter w;
+  w.configure();
+  w.begin(dir);
+  const RunResult r = sampleResult();
+  w.end(r);
+  EXPECT_EQ(w.outputPath(), dir + "/trajectory.tum");
+  expectSame(r.trajectory, plugslam::readTumTrajectory(dir + "/trajectory.tum"));
+  fs::remove_all(dir);
+}
+
+TEST(TrajectoryWriter, WritesKittiWithTimes) {
+  const std::string dir = outDir("kitti");
+  TrajectoryWriter w;
+  w.file = std::string("poses.txt");
+  w.format = std::string("kitti");
+  w.times_file = std::string("times.txt");
+  w.configure();
+  w.begin(dir);
+  const RunResult r = sampleResult();
+  w.end(r);
+  expectSame(r.trajectory, plugslam::readKittiTrajectory(dir + "/poses.txt", dir + "/times.txt"));
+  fs::remove_all(dir);
+}
+
+TEST(TrajectoryWriter, RejectsBadSettings) {
+  TrajectoryWriter w;
+  EXPECT_THROW(w.format = std::string("csv"), plugslam::ValueError);
+  w.times_file = std::string("times.txt");
+  EXPECT_THROW(w.configure(), plugslam::ParamError);
+  w.times_file = std::string("");
+  w.file = std::string("");
+  EXPECT_THROW(w.configure(), plugslam::ParamError);
+}
+
+TEST(TrajectoryWriter, UnwritableFolderIsAnInputError) {
+  TrajectoryWriter w;
+  w.configure();
+  w.begin("/nonexistent/plugslam/out");
+  EXPECT_THROW(w.end(sampleResult()), plugslam::InputError);
+}
+
+}  // namespace

@@ -1,0 +1,63 @@
+#pragma once
+// odometry.PriorSlice: a factor on the aligner's relative pose from the wheel odometry, so laser
+// (or any other cue) and odometry fuse in one solve.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "plugslam/aligner_slice.h"
+#include "plugslam/sensor_data.h"
+
+namespace plugslam {
+namespace odometry {
+
+/// Adds e = log(Z^-1 * T) with Z = previous * (odometry delta since the previous frame) and an
+/// information matrix from a motion-proportional noise model:
+///   sigma_t = max(min_sigma_translation, sigma_translation_per_m * |d|)
+///   sigma_r = max(min_sigma_rotation,
+///                 sigma_rotation_per_rad * |dtheta| + sigma_rotation_per_m * |d|)
+/// log here is (x, y, theta) of the pose, matching Space2D::boxplus (T * se2(dx)), so the
+/// Jacobian is exactly blockdiag(R(E), 1) with E = Z^-1 * T.
+class PriorSlice : public AlignerSlice<Space2D> {
+ public:
+  Param<std::string> input{this, "input", "odom", "", "raw Odometry2D entry to read"};
+  Param<double> sigma_translation_per_m{
+      this,         "sigma_translation_per_m", 0.05, "m/m", "translation noise per metre travelled",
+      Range{0, 100}};
+  Param<double> sigma_rotation_per_rad{
+      this,      "sigma_rotation_per_rad",           0.05,
+      "rad/rad", "rotation noise per radian turned", Range{0, 100}};
+  Param<double> sigma_rotation_per_m{
+      this,         "sigma_rotation_per_m", 0.02, "rad/m", "rotation noise per metre travelled",
+      Range{0, 100}};
+  Param<double> min_sigma_translation{this, "min_sigma_translation",   0.01,
+                                      "m",  "translation noise floor", Range{1e-9, 1e6}};
+  Param<double> min_sigma_rotation{this,  "min_sigma_rotation",   0.005,
+                                   "rad", "rotation noise floor", Range{1e-9, 1e6}};
+
+  void configure() override;
+  bool bind(const Frame& frame, const PropertyContainer& scene,
+            const AlignContext<Space2D>& context) override;
+  void linearize(const Eigen::Isometry2d& t, NormalEquations<Space2D>& eq) const override;
+  bool needsScene() const override { return false; }
+
+  /// The prior pose of the bound frame (scene <- robot).
+  const Eigen::Isometry2d& prior() const { return prior_; }
+  /// The information matrix of the bound frame's factor.
+  const Eigen::Matrix3d& information() const { return information_; }
+  /// The error e(T) and its Jacobian w.r.t. the right perturbation of T.
+  Eigen::Vector3d error(const Eigen::Isometry2d& t, Eigen::Matrix3d* jacobian = nullptr) const;
+
+ private:
+  // Reading of the last frame seen, and the one before the frame being bound (so binding the
+  // same frame twice gives the same delta).
+  std::optional<Eigen::Isometry2d> last_;
+  std::optional<Eigen::Isometry2d> before_bound_;
+  std::optional<std::pair<uint64_t, double>> bound_;  // (seq, stamp) of the bound frame
+  Eigen::Isometry2d prior_ = Eigen::Isometry2d::Identity();
+  Eigen::Matrix3d information_ = Eigen::Matrix3d::Identity();
+};
+
+}  // namespace odometry
+}  // namespace plugslam

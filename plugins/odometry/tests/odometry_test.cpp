@@ -1,0 +1,201 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "plugslam/errors.h"
+#include "plugslam/geometry.h"
+#include "plugslam/multi_aligner.h"
+#include "prior_slice.h"
+#include "wheel_odometry.h"
+
+using plugslam::AlignContext;
+using plugslam::Frame;
+using plugslam::NormalEquations;
+using plugslam::Odometry2D;
+using plugslam::PropertyContainer;
+using plugslam::se2;
+using plugslam::Space2D;
+using plugslam::odometry::PriorSlice;
+using plugslam::odometry::WheelOdometry;
+
+namespace {
+
+Frame odomFrame(uint64_t seq, const Eigen::Isometry2d& pose, const std::string& entry = "odom") {
+  Frame f;
+  f.seq = seq;
+  f.stamp = 0.1 * seq;
+  f.raw.set<Odometry2D>(entry, {f.stamp, pose});
+  return f;
+}
+
+void expectPose(const Eigen::Isometry2d& expected, const Eigen::Isometry2d& actual, double tol) {
+  EXPECT_NEAR(expected.translation().x(), actual.translation().x(), tol);
+  EXPECT_NEAR(expected.translation().y(), actual.translation().y(), tol);
+  EXPECT_NEAR(0.0, plugslam::angleOf(expected.linear().transpose() * actual.linear()), tol);
+}
+
+TEST(WheelOdometry, DeltasComposeBackToTheOdometryPath) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Eigen::Isometry2d> path{se2(2.0, -1.0, 0.3)};
+  for (int i = 0; i < 50; ++i)
+    path.push_back(path.back() * se2(0.3 * u(rng), 0.1 * u(rng), 0.4 * u(rng)));
+
+  WheelOdometry model;
+  model.configure();
+  EXPECT_FALSE(model.predict(odomFrame(0, path[0])).has_value());  // nothing to be relative to
+  Eigen::Isometry2d composed = path[0];
+  for (size_t i = 1; i < path.size(); ++i) {
+    if (i == 20) {
+      // A frame without odometry predicts nothing; the next delta spans the gap.
+      Frame empty;
+      EXPECT_FALSE(model.predict(empty).has_value());
+    }
+    auto delta = model.predict(odomFrame(i, path[i]));
+    ASSERT_TRUE(delta.has_value());
+    composed = composed * *delta;
+    expectPose(path[i], composed, 1e-9);
+  }
+  model.reset();
+  EXPECT_FALSE(model.predict(odomFrame(99, path[3])).has_value());
+}
+
+TEST(WheelOdometry, ReadsTheConfiguredEntry) {
+  WheelOdometry model;
+  model.input = std::string("wheels");
+  model.configure();
+  EXPECT_FALSE(model.predict(odomFrame(0, se2(0, 0, 0), "wheels")).has_value());
+  auto delta = model.predict(odomFrame(1, se2(1, 0, 0), "wheels"));
+  ASSERT_TRUE(delta.has_value());
+  expectPose(se2(1, 0, 0), *delta, 1e-12);
+  EXPECT_FALSE(model.predict(odomFrame(2, se2(2, 0, 0), "odom")).has_value());
+  model.input = std::string("");
+  EXPECT_THROW(model.configure(), plugslam::ParamError);
+}
+
+TEST(PriorSlice, JacobianMatchesNumericalDifferentiation) {
+  PriorSlice slice;
+  slice.configure();
+  PropertyContainer scene;
+  AlignContext<Space2D> ctx{se2(1.0, 2.0, 2.9), se2(0, 0, 0)};
+  ASSERT_FALSE(slice.bind(odomFrame(0, se2(0, 0, 0)), scene, ctx));
+  ASSERT_TRUE(slice.bind(odomFrame(1, se2(0.7, 0.2, 0.6)), scene, ctx));
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    const Eigen::Isometry2d t = slice.prior() * se2(0.5 * u(rng), 0.5 * u(rng), 2.5 * u(rng));
+    Eigen::Matrix3d j;
+    slice.error(t, &j);
+    Eigen::Matrix3d numeric;
+    const double h = 1e-6;
+    for (int k = 0; k < 3; ++k) {
+      Eigen::Vector3d dx = Eigen::Vector3d::Zero();
+      dx[k] = h;
+      const Eigen::Vector3d ep = slice.error(Space2D::boxplus(t, dx));
+      const Eigen::Vector3d em = slice.error(Space2D::boxplus(t, -dx));
+      numeric.col(k) = (ep - em) / (2 * h);
+      numeric(2, k) = plugslam::normalizeAngle(ep[2] - em[2]) / (2 * h);
+    }
+    EXPECT_LT((numeric - j).cwiseAbs().maxCoeff(), 1e-6) << "trial " << trial << "\n"
+                                                         << j << "\nvs\n"
+                                                         << numeric;
+  }
+}
+
+TEST(PriorSlice, AloneInAMultiAlignerReturnsThePriorExactly) {
+  auto slice = std::make_shared<PriorSlice>();
+  slice->configure();
+  plugslam::MultiAligner<Space2D> aligner;
+  aligner.slices.assign(slice);
+  aligner.min_inliers = 1;
+  PropertyContainer scene;
+  const Eigen::Isometry2d odom0 = se2(5.0, -3.0, 1.2), odom1 = odom0 * se2(0.8, 0.1, -0.7);
+  AlignContext<Space2D> ctx{se2(-2.0, 4.0, -2.5), se2(-1.0, 3.0, 0.5)};
+
+  auto first = aligner.align(odomFrame(0, odom0), scene, ctx);
+  EXPECT_EQ(first.factors, 0u);  // the first reading has no delta yet
+
+  auto result = aligner.align(odomFrame(1, odom1), scene, ctx);
+  const Eigen::Isometry2d z = ctx.previous * odom0.inverse() * odom1;
+  expectPose(z, result.pose, 1e-9);
+  EXPECT_TRUE(result.valid);
+  EXPECT_EQ(result.factors, 1u);
+  EXPECT_LT(result.chi2, 1e-12);
+  EXPECT_TRUE(result.H.isApprox(slice->information(), 1e-9));
+}
+
+TEST(PriorSlice, NoiseModelScalesWithTheMotion) {
+  PriorSlice slice;
+  slice.sigma_translation_per_m = 0.1;
+  slice.sigma_rotation_per_rad = 0.2;
+  slice.sigma_rotation_per_m = 0.05;
+  slice.min_sigma_translation = 0.01;
+  slice.min_sigma_rotation = 0.004;
+  slice.configure();
+  PropertyContainer scene;
+  AlignContext<Space2D> ctx{se2(0, 0, 0), se2(0, 0, 0)};
+  slice.bind(odomFrame(0, se2(0, 0, 0)), scene, ctx);
+
+  // 2 m and 0.5 rad: sigma_t = 0.2 m, sigma_r = 0.2 * 0.5 + 0.05 * 2 = 0.2 rad.
+  ASSERT_TRUE(slice.bind(odomFrame(1, se2(2.0, 0.0, 0.5)), scene, ctx));
+  EXPECT_NEAR(slice.information()(0, 0), 1 / (0.2 * 0.2), 1e-9);
+  EXPECT_NEAR(slice.information()(1, 1), 1 / (0.2 * 0.2), 1e-9);
+  EXPECT_NEAR(slice.information()(2, 2), 1 / (0.2 * 0.2), 1e-9);
+  EXPECT_EQ(slice.information()(0, 1), 0.0);
+
+  // Standing still: the floors.
+  ASSERT_TRUE(slice.bind(odomFrame(2, se2(2.0, 0.0, 0.5)), scene, ctx));
+  EXPECT_NEAR(slice.information()(0, 0), 1 / (0.01 * 0.01), 1e-6);
+  EXPECT_NEAR(slice.information()(2, 2), 1 / (0.004 * 0.004), 1e-6);
+
+  // The factor's normal equations are J^T W J and J^T W e.
+  NormalEquations<Space2D> eq;
+  const Eigen::Isometry2d t = slice.prior() * se2(0.05, -0.02, 0.01);
+  slice.linearize(t, eq);
+  Eigen::Matrix3d j;
+  const Eigen::Vector3d e = slice.error(t, &j);
+  EXPECT_TRUE(eq.H.isApprox(j.transpose() * slice.information() * j, 1e-12));
+  EXPECT_TRUE(eq.b.isApprox(j.transpose() * slice.information() * e, 1e-12));
+  EXPECT_NEAR(eq.chi2, e.dot(slice.information() * e), 1e-9);
+}
+
+TEST(PriorSlice, RebindingTheSameFrameKeepsItsDelta) {
+  PriorSlice slice;
+  slice.configure();
+  PropertyContainer scene;
+  AlignContext<Space2D> ctx{se2(1, 1, 0), se2(0, 0, 0)};
+  slice.bind(odomFrame(0, se2(0, 0, 0)), scene, ctx);
+  ASSERT_TRUE(slice.bind(odomFrame(1, se2(1, 0, 0.1)), scene, ctx));
+  const Eigen::Isometry2d first = slice.prior();
+  ASSERT_TRUE(slice.bind(odomFrame(1, se2(1, 0, 0.1)), scene, ctx));
+  expectPose(first, slice.prior(), 1e-12);
+  // A frame without odometry adds nothing; the next delta spans the gap.
+  Frame empty;
+  empty.seq = 2;
+  EXPECT_FALSE(slice.bind(empty, scene, ctx));
+  ASSERT_TRUE(slice.bind(odomFrame(3, se2(2, 0, 0.1)), scene, ctx));
+  expectPose(se2(1, 1, 0) * se2(1, 0, 0.1).inverse() * se2(2, 0, 0.1), slice.prior(), 1e-12);
+  EXPECT_FALSE(slice.needsScene());
+}
+
+TEST(PriorSlice, FramesWithoutSequenceNumbersAreToldApartByStamp) {
+  PriorSlice slice;
+  slice.configure();
+  PropertyContainer scene;
+  AlignContext<Space2D> ctx{se2(0, 0, 0), se2(0, 0, 0)};
+  Frame a = odomFrame(0, se2(0, 0, 0)), b = odomFrame(0, se2(1, 0, 0)),
+        c = odomFrame(0, se2(3, 0, 0));
+  a.stamp = 1.0;
+  b.stamp = 2.0;
+  c.stamp = 3.0;
+  slice.bind(a, scene, ctx);
+  ASSERT_TRUE(slice.bind(b, scene, ctx));
+  expectPose(se2(1, 0, 0), slice.prior(), 1e-12);
+  ASSERT_TRUE(slice.bind(c, scene, ctx));
+  expectPose(se2(2, 0, 0), slice.prior(), 1e-12);
+}
+
+}  // namespace
