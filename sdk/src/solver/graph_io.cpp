@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <charconv>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -303,10 +304,12 @@ GraphFileInfo readGraph(std::istream& in, const std::string& name, FactorGraph& 
 }
 
 size_t writeGraph(std::ostream& out, const FactorGraph& graph) {
-  char buf[128];
+  char buf[64];
   auto num = [&](double x) {
-    std::snprintf(buf, sizeof(buf), " %.17g", x);
-    out << buf;
+    // Shortest representation that reads back to the same double.
+    buf[0] = ' ';
+    const auto res = std::to_chars(buf + 1, buf + sizeof(buf), x);
+    out.write(buf, res.ptr - buf);
   };
   for (Variable* v : graph.variables()) {
     if (auto* p = dynamic_cast<VariableSE2*>(v)) {

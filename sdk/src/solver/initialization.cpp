@@ -211,8 +211,9 @@ void initializeChordal(FactorGraph& graph) {
   {
     std::vector<Eigen::Triplet<double>> trip;
     Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(nfree * d, d);
+    trip.reserve(g.edges.size() * (2 * d + 2 * d * d));
     for (const auto& e : g.edges) {
-      const Eigen::MatrixXd a = e.r.topLeftCorner(d, d).transpose();  // x_j = A x_i
+      const Eigen::Matrix3d a = e.r.transpose();  // x_j = A x_i (top-left d x d in 2D)
       const double w = e.kappa;
       const int ci = col[e.i], cj = col[e.j];
       for (int p = 0; p < d; ++p) {
@@ -228,15 +229,13 @@ void initializeChordal(FactorGraph& graph) {
         }
       } else if (cj >= 0) {
         // x_i known (row k of R_i): H_jj x_j = w A x_i.
-        for (int k = 0; k < d; ++k) {
-          const Eigen::VectorXd xi = r[e.i].row(k).head(d).transpose();
-          rhs.block(cj * d, k, d, 1) += w * a * xi;
-        }
+        const Eigen::Matrix3d m = w * a * r[e.i].transpose();  // column k = w A (row k of R_i)^T
+        for (int k = 0; k < d; ++k)
+          for (int p = 0; p < d; ++p) rhs(cj * d + p, k) += m(p, k);
       } else if (ci >= 0) {
-        for (int k = 0; k < d; ++k) {
-          const Eigen::VectorXd xj = r[e.j].row(k).head(d).transpose();
-          rhs.block(ci * d, k, d, 1) += w * a.transpose() * xj;
-        }
+        const Eigen::Matrix3d m = w * a.transpose() * r[e.j].transpose();
+        for (int k = 0; k < d; ++k)
+          for (int p = 0; p < d; ++p) rhs(ci * d + p, k) += m(p, k);
       }
     }
     Eigen::SparseMatrix<double> h(nfree * d, nfree * d);
@@ -263,25 +262,26 @@ void initializeChordal(FactorGraph& graph) {
   {
     std::vector<Eigen::Triplet<double>> trip;
     Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(nfree, d);
+    trip.reserve(g.edges.size() * 4);
     for (const auto& e : g.edges) {
       const double w = e.tau;
       const Eigen::Vector3d m = r[e.i] * e.t;
       const int ci = col[e.i], cj = col[e.j];
       if (ci >= 0) {
         trip.emplace_back(ci, ci, w);
-        rhs.row(ci) -= w * m.head(d).transpose();
+        for (int p = 0; p < d; ++p) rhs(ci, p) -= w * m[p];
       }
       if (cj >= 0) {
         trip.emplace_back(cj, cj, w);
-        rhs.row(cj) += w * m.head(d).transpose();
+        for (int p = 0; p < d; ++p) rhs(cj, p) += w * m[p];
       }
       if (ci >= 0 && cj >= 0) {
         trip.emplace_back(ci, cj, -w);
         trip.emplace_back(cj, ci, -w);
       } else if (cj >= 0) {
-        rhs.row(cj) += w * t[e.i].head(d).transpose();
+        for (int p = 0; p < d; ++p) rhs(cj, p) += w * t[e.i][p];
       } else if (ci >= 0) {
-        rhs.row(ci) += w * t[e.j].head(d).transpose();
+        for (int p = 0; p < d; ++p) rhs(ci, p) += w * t[e.j][p];
       }
     }
     Eigen::SparseMatrix<double> h(nfree, nfree);
