@@ -300,17 +300,57 @@ void initializeChordal(FactorGraph& graph) {
   }
 }
 
-double seSyncObjective(const FactorGraph& graph) {
+std::vector<Eigen::Vector2d> seSyncWeights(const FactorGraph& graph) {
   const PoseGraphView g = makeView(graph);
+  std::vector<Eigen::Vector2d> w;
+  w.reserve(g.edges.size());
+  for (const auto& e : g.edges) w.emplace_back(e.kappa, e.tau);
+  return w;
+}
+
+double seSyncObjective(const FactorGraph& graph, const std::vector<Eigen::Vector2d>& weights) {
+  const PoseGraphView g = makeView(graph);
+  if (weights.size() != g.edges.size()) {
+    throw InputError("seSyncObjective: " + std::to_string(weights.size()) + " weights for " +
+                     std::to_string(g.edges.size()) + " between factors");
+  }
   double f = 0.0;
-  for (const auto& e : g.edges) {
+  for (size_t k = 0; k < g.edges.size(); ++k) {
+    const Edge& e = g.edges[k];
     const Eigen::Matrix3d ri = rotationOf(g.vars[e.i], g.dim);
     const Eigen::Matrix3d rj = rotationOf(g.vars[e.j], g.dim);
     const Eigen::Vector3d ti = translationOf(g.vars[e.i], g.dim);
     const Eigen::Vector3d tj = translationOf(g.vars[e.j], g.dim);
-    f += e.kappa * (rj - ri * e.r).squaredNorm() + e.tau * (tj - ti - ri * e.t).squaredNorm();
+    f += weights[k][0] * (rj - ri * e.r).squaredNorm() +
+         weights[k][1] * (tj - ti - ri * e.t).squaredNorm();
   }
   return f;
+}
+
+double seSyncObjective(const FactorGraph& graph) {
+  return seSyncObjective(graph, seSyncWeights(graph));
+}
+
+size_t applySeSyncWeights(FactorGraph& graph) {
+  size_t changed = 0;
+  for (const auto& f : graph.factors()) {
+    if (auto* e3 = dynamic_cast<BetweenFactorSE3*>(f.get())) {
+      const auto& inf = e3->information();
+      const double tau = 3.0 / inf.topLeftCorner<3, 3>().inverse().trace();
+      const double kappa = 3.0 / (2.0 * inf.bottomRightCorner<3, 3>().inverse().trace());
+      // |Rj - Ri Rij|_F^2 = 8 |q.vec|^2 for the error rotation.
+      Eigen::Matrix<double, 6, 1> d;
+      d << tau, tau, tau, 8.0 * kappa, 8.0 * kappa, 8.0 * kappa;
+      e3->setInformation(d.asDiagonal());
+      ++changed;
+    } else if (auto* e2 = dynamic_cast<BetweenFactorSE2*>(f.get())) {
+      const auto& inf = e2->information();
+      const double tau = 2.0 / inf.topLeftCorner<2, 2>().inverse().trace();
+      e2->setInformation(Eigen::Vector3d(tau, tau, 2.0 * inf(2, 2)).asDiagonal());
+      ++changed;
+    }
+  }
+  return changed;
 }
 
 }  // namespace abi_v1

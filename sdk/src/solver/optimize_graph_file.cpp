@@ -48,6 +48,8 @@ OptimizeReport optimizeGraphFile(const OptimizeOptions& options) {
                      "optimise with information projection enabled to project each to the "
                      "nearest positive definite matrix");
   }
+  const std::vector<Eigen::Vector2d> weights = seSyncWeights(graph);
+  if (options.se_sync_weights) applySeSyncWeights(graph);
   if (!options.robust_kernel.empty()) {
     std::shared_ptr<const RobustKernel> kernel =
         makeRobustKernel(options.robust_kernel, options.robust_scale);
@@ -73,7 +75,7 @@ OptimizeReport optimizeGraphFile(const OptimizeOptions& options) {
   report.iterations = report.result.iterations;
   report.reason = report.result.reason;
   report.time_optimize = report.result.time_total;
-  report.se_sync_objective = seSyncObjective(graph);
+  report.se_sync_objective = seSyncObjective(graph, weights);
 
   if (!options.output.empty()) {
     t0 = Clock::now();

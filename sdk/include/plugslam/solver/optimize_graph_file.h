@@ -33,6 +33,7 @@ struct OptimizeOptions {
   double robust_scale = 1.0;            ///< kernel scale
   bool project_information = false;     ///< optimise graphs with non-PD information by projecting
   Factorization factorization = Factorization::kAuto;  ///< CHOLMOD factorisation kind
+  bool se_sync_weights = false;         ///< minimise the SE-Sync objective (applySeSyncWeights)
   std::function<void(const IterationStats&)> on_iteration;  ///< per-iteration callback
 };
 
