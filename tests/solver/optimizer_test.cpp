@@ -125,10 +125,22 @@ TEST(Optimizer, PointToLineAlignmentRecoversTheTransform) {
     for (int k = 0; k < 500; ++k) {
       Eigen::Vector2d q, n;
       switch (k % 4) {
-        case 0: q << 5.0, u(rng); n << -1, 0; break;
-        case 1: q << -5.0, u(rng); n << 1, 0; break;
-        case 2: q << u(rng), 4.0; n << 0, -1; break;
-        default: q << u(rng), -4.0; n << 0, 1; break;
+        case 0:
+          q << 5.0, u(rng);
+          n << -1, 0;
+          break;
+        case 1:
+          q << -5.0, u(rng);
+          n << 1, 0;
+          break;
+        case 2:
+          q << u(rng), 4.0;
+          n << 0, -1;
+          break;
+        default:
+          q << u(rng), -4.0;
+          n << 0, 1;
+          break;
       }
       const Eigen::Vector2d p = truth.inverse() * q;
       g.emplaceFactor<PointToLineFactor2D>(&t, p, q, n);
@@ -196,7 +208,8 @@ TEST(Optimizer, RobustKernelDownweightsOutliers) {
     double max_err = 0.0;
     for (int i = 0; i < 30; ++i) {
       max_err = std::max(max_err, (loop.graph.get<VariableSE2>(i).estimate().translation() -
-                                   loop.truth[i].translation()).norm());
+                                   loop.truth[i].translation())
+                                      .norm());
     }
     return max_err;
   };
@@ -217,13 +230,15 @@ TEST(Optimizer, StereoBundleAdjustmentOfLandmarks) {
   PinholeCamera cam{500, 500, 320, 240, 0.2};
   FactorGraph g;
   auto& c0 = g.addVariable<VariableSE3>(0, SE3::Identity());
-  auto& c1 = g.addVariable<VariableSE3>(1, se3(Eigen::Vector3d(0.5, 0, 0.2), Eigen::Quaterniond::Identity()));
+  auto& c1 = g.addVariable<VariableSE3>(
+      1, se3(Eigen::Vector3d(0.5, 0, 0.2), Eigen::Quaterniond::Identity()));
   c0.setFixed(true);
   c1.setFixed(true);
   std::vector<Eigen::Vector3d> truth;
   for (int k = 0; k < 30; ++k) {
     truth.emplace_back(u(rng), u(rng), 6.0 + u(rng));
-    auto& p = g.addVariable<VariablePoint3>(100 + k, truth.back() + Eigen::Vector3d(0.3, -0.2, 0.5));
+    auto& p =
+        g.addVariable<VariablePoint3>(100 + k, truth.back() + Eigen::Vector3d(0.3, -0.2, 0.5));
     for (VariableSE3* c : {&c0, &c1}) {
       const Eigen::Vector3d pc = c->estimate().inverse() * truth.back();
       const Eigen::Vector3d z(cam.fx * pc.x() / pc.z() + cam.cx, cam.fy * pc.y() / pc.z() + cam.cy,
@@ -245,7 +260,8 @@ TEST(Optimizer, PointToPlaneAlignmentIn3D) {
   auto& t = g.addVariable<VariableSE3>(0, SE3::Identity());
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> u(-3.0, 3.0);
-  const Eigen::Vector3d normals[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  const Eigen::Vector3d normals[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                      {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
   for (int k = 0; k < 300; ++k) {
     const Eigen::Vector3d& n = normals[k % 6];
     Eigen::Vector3d q(u(rng), u(rng), u(rng));

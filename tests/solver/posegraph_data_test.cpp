@@ -2,8 +2,8 @@
 // known g2o chi2 of each graph (issue 3), so a broken initialisation or convergence fails.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -45,18 +45,19 @@ TEST_P(PoseGraphData, ChordalThenSolverReachesTheBestKnownMinimum) {
   EXPECT_LE(r.final_chi2, r.initial_chi2);
   EXPECT_GT(r.se_sync_objective, 0.0);
   std::printf("%s: %zu poses %zu edges chi2 %.6g -> %.6g in %d iterations, %.3f s, SE-Sync %.6g\n",
-              c.file, r.poses, r.edges, r.initial_chi2, r.final_chi2, r.iterations,
-              r.time_optimize, r.se_sync_objective);
+              c.file, r.poses, r.edges, r.initial_chi2, r.final_chi2, r.iterations, r.time_optimize,
+              r.se_sync_objective);
 }
 
 INSTANTIATE_TEST_SUITE_P(
     SeSync, PoseGraphData,
-    ::testing::Values(Case{"posegraph/se-sync/intel.g2o", 45.005 * 1.001, Algorithm::kGaussNewton},
-                      Case{"posegraph/se-sync/intel.g2o", 45.005 * 1.001, Algorithm::kLevenbergMarquardt},
-                      Case{"posegraph/se-sync/MIT.g2o", 526.33, Algorithm::kGaussNewton},
-                      Case{"posegraph/se-sync/manhattan.g2o", 3549.0 * 1.001, Algorithm::kGaussNewton},
-                      Case{"posegraph/se-sync/kitti_00.g2o", 98.322 * 1.001, Algorithm::kLevenbergMarquardt},
-                      Case{"posegraph/se-sync/sphere2500.g2o", 727.15 * 1.001, Algorithm::kGaussNewton}));
+    ::testing::Values(
+        Case{"posegraph/se-sync/intel.g2o", 45.005 * 1.001, Algorithm::kGaussNewton},
+        Case{"posegraph/se-sync/intel.g2o", 45.005 * 1.001, Algorithm::kLevenbergMarquardt},
+        Case{"posegraph/se-sync/MIT.g2o", 526.33, Algorithm::kGaussNewton},
+        Case{"posegraph/se-sync/manhattan.g2o", 3549.0 * 1.001, Algorithm::kGaussNewton},
+        Case{"posegraph/se-sync/kitti_00.g2o", 98.322 * 1.001, Algorithm::kLevenbergMarquardt},
+        Case{"posegraph/se-sync/sphere2500.g2o", 727.15 * 1.001, Algorithm::kGaussNewton}));
 
 TEST(PoseGraphDataFile, OdometryStartOnMitStopsInTheKnownLocalMinimum) {
   // The file's own poses lead GN to g2o GN's local minimum (770.66): chordal exists for this.

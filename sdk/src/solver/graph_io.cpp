@@ -2,8 +2,8 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <charconv>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -51,7 +51,8 @@ class LineParser {
     errno = 0;
     char* end = nullptr;
     const long long v = std::strtoll(t.c_str(), &end, 10);
-    if (end == t.c_str() || *end != '\0') fail(std::string("expected ") + what + " (an integer id), found '" + t + "'");
+    if (end == t.c_str() || *end != '\0')
+      fail(std::string("expected ") + what + " (an integer id), found '" + t + "'");
     if (errno == ERANGE) fail(std::string(what) + " '" + t + "' is out of range");
     return v;
   }
@@ -63,7 +64,8 @@ class LineParser {
     }
     char* end = nullptr;
     const double v = std::strtod(t.c_str(), &end);
-    if (end == t.c_str() || *end != '\0') fail(std::string("expected a number in ") + what + ", found '" + t + "'");
+    if (end == t.c_str() || *end != '\0')
+      fail(std::string("expected a number in ") + what + ", found '" + t + "'");
     if (!std::isfinite(v)) fail(std::string("non-finite value '") + t + "' in " + what);
     return v;
   }
@@ -71,7 +73,9 @@ class LineParser {
     std::string t;
     if (next(t)) fail("unexpected extra value '" + t + "' at end of record");
   }
-  [[noreturn]] void fail(const std::string& message) const { throw ParseError(file_, line_, message); }
+  [[noreturn]] void fail(const std::string& message) const {
+    throw ParseError(file_, line_, message);
+  }
 
  private:
   const std::string& file_;
@@ -198,8 +202,7 @@ GraphFileInfo readGraph(std::istream& in, const std::string& name, FactorGraph& 
       e.to = p.id("second vertex id");
       for (int k = 0; k < 28; ++k) e.values.push_back(p.number(tag.c_str(), k, 28));
       p.end();
-      const double qn =
-          Eigen::Vector4d(e.values[3], e.values[4], e.values[5], e.values[6]).norm();
+      const double qn = Eigen::Vector4d(e.values[3], e.values[4], e.values[5], e.values[6]).norm();
       if (qn < 1e-6) p.fail("edge quaternion has zero norm");
       edges.push_back(std::move(e));
     } else if (tag == "FIX") {
@@ -213,9 +216,10 @@ GraphFileInfo readGraph(std::istream& in, const std::string& name, FactorGraph& 
     } else if (looksLikeTag(tag)) {
       ++info.skipped_records;
     } else {
-      throw ParseError(name, line, "unknown record '" + tag.substr(0, 40) +
-                                       "'; expected VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, "
-                                       "EDGE_SE3:QUAT, FIX, VERTEX2 or EDGE2");
+      throw ParseError(name, line,
+                       "unknown record '" + tag.substr(0, 40) +
+                           "'; expected VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, "
+                           "EDGE_SE3:QUAT, FIX, VERTEX2 or EDGE2");
     }
   }
   if (in.bad()) throw ParseError(name, line, "read error");
@@ -261,11 +265,12 @@ GraphFileInfo readGraph(std::istream& in, const std::string& name, FactorGraph& 
     Variable* a = graph.findVariable(e.from);
     Variable* b = graph.findVariable(e.to);
     if (!a || !b) {
-      throw ParseError(name, e.line, "edge refers to vertex " +
-                                         std::to_string(!a ? e.from : e.to) +
-                                         ", which the file does not declare");
+      throw ParseError(name, e.line,
+                       "edge refers to vertex " + std::to_string(!a ? e.from : e.to) +
+                           ", which the file does not declare");
     }
-    if (a == b) throw ParseError(name, e.line, "edge from vertex " + std::to_string(e.from) + " to itself");
+    if (a == b)
+      throw ParseError(name, e.line, "edge from vertex " + std::to_string(e.from) + " to itself");
     const double* v = e.values.data();
     if (d == 2) {
       Eigen::Matrix3d inf = upperToMatrix<3>(v + 3);
@@ -276,9 +281,8 @@ GraphFileInfo readGraph(std::istream& in, const std::string& name, FactorGraph& 
           ++info.projected_information;
         }
       }
-      graph.emplaceFactor<BetweenFactorSE2>(static_cast<VariableSE2*>(a),
-                                            static_cast<VariableSE2*>(b), se2(v[0], v[1], v[2]),
-                                            inf);
+      graph.emplaceFactor<BetweenFactorSE2>(
+          static_cast<VariableSE2*>(a), static_cast<VariableSE2*>(b), se2(v[0], v[1], v[2]), inf);
     } else {
       Eigen::Matrix<double, 6, 6> inf = upperToMatrix<6>(v + 7);
       if (!isPositiveDefinite(inf)) {
@@ -290,13 +294,14 @@ GraphFileInfo readGraph(std::istream& in, const std::string& name, FactorGraph& 
       }
       graph.emplaceFactor<BetweenFactorSE3>(
           static_cast<VariableSE3*>(a), static_cast<VariableSE3*>(b),
-          se3(Eigen::Vector3d(v[0], v[1], v[2]), Eigen::Quaterniond(v[6], v[3], v[4], v[5])),
-          inf);
+          se3(Eigen::Vector3d(v[0], v[1], v[2]), Eigen::Quaterniond(v[6], v[3], v[4], v[5])), inf);
     }
   }
   for (const auto& [id, fline] : fixes) {
     Variable* v = graph.findVariable(id);
-    if (!v) throw ParseError(name, fline, "FIX of vertex " + std::to_string(id) + ", which does not exist");
+    if (!v)
+      throw ParseError(name, fline,
+                       "FIX of vertex " + std::to_string(id) + ", which does not exist");
     if (!v->fixed()) ++info.fixed;
     v->setFixed(true);
   }

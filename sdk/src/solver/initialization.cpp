@@ -241,7 +241,8 @@ void initializeChordal(FactorGraph& graph) {
     Eigen::SparseMatrix<double> h(nfree * d, nfree * d);
     h.setFromTriplets(trip.begin(), trip.end());
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(h);
-    if (solver.info() != Eigen::Success) throw Error("chordal initialisation: rotation system is singular");
+    if (solver.info() != Eigen::Success)
+      throw Error("chordal initialisation: rotation system is singular");
     const Eigen::MatrixXd x = solver.solve(rhs);
     for (int k = 0; k < n; ++k) {
       if (col[k] < 0) continue;
@@ -287,7 +288,8 @@ void initializeChordal(FactorGraph& graph) {
     Eigen::SparseMatrix<double> h(nfree, nfree);
     h.setFromTriplets(trip.begin(), trip.end());
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(h);
-    if (solver.info() != Eigen::Success) throw Error("chordal initialisation: translation system is singular");
+    if (solver.info() != Eigen::Success)
+      throw Error("chordal initialisation: translation system is singular");
     const Eigen::MatrixXd x = solver.solve(rhs);
     for (int k = 0; k < n; ++k) {
       if (col[k] < 0) continue;

@@ -21,18 +21,26 @@ double secondsSince(Clock::time_point t0) {
 
 const char* toString(StopReason r) {
   switch (r) {
-    case StopReason::kConverged: return "converged";
-    case StopReason::kMaxIterations: return "max_iterations";
-    case StopReason::kNoProgress: return "no_progress";
-    case StopReason::kSolverFailure: return "solver_failure";
-    case StopReason::kNothingToOptimize: return "nothing_to_optimize";
+    case StopReason::kConverged:
+      return "converged";
+    case StopReason::kMaxIterations:
+      return "max_iterations";
+    case StopReason::kNoProgress:
+      return "no_progress";
+    case StopReason::kSolverFailure:
+      return "solver_failure";
+    case StopReason::kNothingToOptimize:
+      return "nothing_to_optimize";
   }
   return "unknown";
 }
 
 struct Optimizer::Impl {
   Impl() { cholmod_start(&common); }
-  ~Impl() { freeCholmod(); cholmod_finish(&common); }
+  ~Impl() {
+    freeCholmod();
+    cholmod_finish(&common);
+  }
 
   void freeCholmod() {
     if (factor) cholmod_free_factor(&factor, &common);
@@ -48,14 +56,14 @@ struct Optimizer::Impl {
   }
 
   // Structure of the current problem.
-  std::vector<Variable*> active;      // free variables in system order
-  std::vector<int> block_offset;      // scalar offset of each block
+  std::vector<Variable*> active;  // free variables in system order
+  std::vector<int> block_offset;  // scalar offset of each block
   std::vector<int> block_dim;
-  std::vector<BlockSlot> slots;       // all factors' slots, concatenated
-  std::vector<int> slot_start;        // per factor
-  std::vector<int> b_offsets;         // all factors' variable offsets, concatenated
-  std::vector<int> b_start;           // per factor
-  std::vector<int> diag_pos;          // value index of each diagonal entry
+  std::vector<BlockSlot> slots;  // all factors' slots, concatenated
+  std::vector<int> slot_start;   // per factor
+  std::vector<int> b_offsets;    // all factors' variable offsets, concatenated
+  std::vector<int> b_start;      // per factor
+  std::vector<int> diag_pos;     // value index of each diagonal entry
   std::vector<double> diag_backup;
   int n = 0;
   bool dense = false;
@@ -79,9 +87,9 @@ struct Optimizer::Impl {
   void build(FactorGraph& graph, const OptimizerOptions& opt, OptimizeResult& result);
   void buildSparsePattern(const std::vector<std::vector<int>>& above);
   double linearize(const FactorGraph& graph);
-  bool solve(double lambda);   // factorises H + lambda I and solves for dx
-  bool backSolve();             // dx from the current b and the last factorisation
-  bool has_factor = false;      // the last factorisation succeeded
+  bool solve(double lambda);  // factorises H + lambda I and solves for dx
+  bool backSolve();           // dx from the current b and the last factorisation
+  bool has_factor = false;    // the last factorisation succeeded
 };
 
 void Optimizer::Impl::build(FactorGraph& graph, const OptimizerOptions& opt,
@@ -230,8 +238,8 @@ void Optimizer::Impl::buildSparsePattern(const std::vector<std::vector<int>>& ab
       diag_pos[col] = new_colptr[col + 1] - block_dim[c] + j;
     }
   }
-  const bool same = factor && new_colptr == colptr && new_rowind == rowind &&
-                    analyzed_with == factorization;
+  const bool same =
+      factor && new_colptr == colptr && new_rowind == rowind && analyzed_with == factorization;
   if (same) return;
   freeCholmod();
   colptr.swap(new_colptr);
@@ -467,7 +475,8 @@ OptimizeResult Optimizer::optimize(FactorGraph& graph) {
       lambda *= nu;
       nu *= 2.0;
       if (st.rejected_steps > options_.lm_max_rejections || step < options_.step_norm) {
-        result.reason = step < options_.step_norm ? StopReason::kConverged : StopReason::kNoProgress;
+        result.reason =
+            step < options_.step_norm ? StopReason::kConverged : StopReason::kNoProgress;
         st.accepted = false;
         done = true;
         break;

@@ -1,10 +1,9 @@
 #pragma once
 // Initial estimates for pose graphs built from SE2/SE3 between factors, and the SE-Sync
 // objective used to compare estimates across solvers.
+#include <Eigen/Core>
 #include <cstddef>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "plugslam/solver/factor_graph.h"
 

@@ -26,9 +26,9 @@ class BetweenFactorSE2 final : public Factor<3, VariableSE2, VariableSE2> {
 class BetweenFactorSE3 final : public Factor<6, VariableSE3, VariableSE3> {
  public:
   /// Measurement Z of Xi^-1 Xj with the given information (error order: t, q.vec).
-  BetweenFactorSE3(VariableSE3* xi, VariableSE3* xj, const SE3& measurement,
-                   const Eigen::Matrix<double, 6, 6>& information =
-                       Eigen::Matrix<double, 6, 6>::Identity());
+  BetweenFactorSE3(
+      VariableSE3* xi, VariableSE3* xj, const SE3& measurement,
+      const Eigen::Matrix<double, 6, 6>& information = Eigen::Matrix<double, 6, 6>::Identity());
   /// The measured relative pose.
   const SE3& measurement() const { return measurement_; }
   ErrorVector error() const override;
@@ -59,9 +59,9 @@ class PriorFactorSE2 final : public Factor<3, VariableSE2> {
 class PriorFactorSE3 final : public Factor<6, VariableSE3> {
  public:
   /// Prior Z with the given information.
-  PriorFactorSE3(VariableSE3* x, const SE3& measurement,
-                 const Eigen::Matrix<double, 6, 6>& information =
-                     Eigen::Matrix<double, 6, 6>::Identity());
+  PriorFactorSE3(
+      VariableSE3* x, const SE3& measurement,
+      const Eigen::Matrix<double, 6, 6>& information = Eigen::Matrix<double, 6, 6>::Identity());
   /// The prior pose.
   const SE3& measurement() const { return measurement_; }
   ErrorVector error() const override;
