@@ -49,7 +49,7 @@ struct OptimizerOptions {
   double relative_decrease = 1e-6;     ///< stop when (chi2_old - chi2_new) / chi2_old is below
   double absolute_chi2 = 1e-12;        ///< stop when the cost falls below
   double step_norm = 1e-9;             ///< stop when max |dx| is below
-  double lm_initial_tau = 1e-5;        ///< LM: lambda0 = tau * max diag(H)
+  double lm_initial_tau = 1e-8;        ///< LM: lambda0 = tau * max diag(H)
   int lm_max_rejections = 10;          ///< LM: consecutive rejected steps before giving up
   int dense_threshold = 60;            ///< systems of at most this many scalars use dense LDLT
   GaugeMode gauge = GaugeMode::kAuto;  ///< implicit gauge fixing
