@@ -283,3 +283,29 @@ TEST(Optimizer, NothingToOptimize) {
   EXPECT_EQ(r.reason, StopReason::kNothingToOptimize);
   EXPECT_NEAR(r.final_chi2, 1.0, 1e-12);
 }
+
+TEST(Optimizer, EachDisconnectedComponentGetsItsGauge) {
+  // Two separate loops in one graph: each needs its own anchor or H is singular.
+  FactorGraph g;
+  Loop2D a(12, 0.05, 21), b(9, 0.05, 22);
+  for (Loop2D* loop : {&a, &b}) {
+    const int64_t base = loop == &a ? 0 : 100;
+    for (Variable* v : loop->graph.variables()) {
+      g.addVariable<VariableSE2>(base + v->id(), static_cast<VariableSE2*>(v)->estimate());
+    }
+    for (const auto& f : loop->graph.factors()) {
+      const auto& e = static_cast<const BetweenFactorSE2&>(*f);
+      g.emplaceFactor<BetweenFactorSE2>(&g.get<VariableSE2>(base + e.variable(0)->id()),
+                                        &g.get<VariableSE2>(base + e.variable(1)->id()),
+                                        e.measurement(), e.information());
+    }
+  }
+  OptimizerOptions o;
+  o.dense_threshold = 0;
+  const OptimizeResult r = Optimizer(o).optimize(g);
+  EXPECT_TRUE(r.ok()) << toString(r.reason);
+  EXPECT_EQ(r.system_size, (11 + 8) * 3);
+  EXPECT_EQ(r.singular_systems, 0);
+  EXPECT_EQ(g.get<VariableSE2>(100).estimate().matrix(),
+            b.graph.get<VariableSE2>(0).estimate().matrix());
+}

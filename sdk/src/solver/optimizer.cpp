@@ -96,20 +96,49 @@ void Optimizer::Impl::build(FactorGraph& graph, const OptimizerOptions& opt,
                             OptimizeResult& result) {
   const auto& factors = graph.factors();
   for (Variable* v : graph.variables()) v->setSystemOffset(-1);
-  // Gauge: relative-only problems are fixed at their first variable.
-  Variable* implicit_fixed = nullptr;
-  if (opt.gauge == GaugeMode::kAuto && !graph.variables().empty()) {
-    bool any_fixed = false, any_unary = false;
-    for (Variable* v : graph.variables()) any_fixed |= v->fixed();
-    for (const auto& f : factors) any_unary |= f->numVariables() == 1;
-    if (!any_fixed && !any_unary) implicit_fixed = graph.variables().front();
+  // Gauge: each connected component with neither a fixed variable nor a unary factor is fixed
+  // at its first variable (graph order). Offsets temporarily hold graph indices; -3 marks an
+  // implicitly fixed variable.
+  const auto& vars = graph.variables();
+  if (opt.gauge == GaugeMode::kAuto) {
+    const int nv = int(vars.size());
+    for (int k = 0; k < nv; ++k) vars[k]->setSystemOffset(k);
+    std::vector<int> parent(nv);
+    for (int k = 0; k < nv; ++k) parent[k] = k;
+    auto find = [&](int x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    std::vector<char> used(nv, 0), anchored(nv, 0);
+    for (const auto& f : factors) {
+      const int m = f->numVariables();
+      const int first = f->variable(0)->systemOffset();
+      used[first] = 1;
+      if (m == 1) anchored[first] = 1;
+      for (int a = 1; a < m; ++a) {
+        const int o = f->variable(a)->systemOffset();
+        used[o] = 1;
+        parent[find(o)] = find(first);
+      }
+    }
+    std::vector<char> root_anchored(nv, 0);
+    for (int k = 0; k < nv; ++k) {
+      if (anchored[k] || vars[k]->fixed()) root_anchored[find(k)] = 1;
+    }
+    for (int k = 0; k < nv; ++k) vars[k]->setSystemOffset(-1);
+    for (int k = 0; k < nv; ++k) {
+      const int r = find(k);
+      if (used[k] && !root_anchored[r]) {
+        vars[k]->setSystemOffset(-3);
+        root_anchored[r] = 1;
+      }
+    }
   }
-  auto isFree = [&](Variable* v) { return !v->fixed() && v != implicit_fixed; };
   // Mark variables used by a factor (-2), then number them in graph order.
   for (const auto& f : factors) {
     for (int i = 0; i < f->numVariables(); ++i) {
       Variable* v = f->variable(i);
-      if (isFree(v)) v->setSystemOffset(-2);
+      if (!v->fixed() && v->systemOffset() != -3) v->setSystemOffset(-2);
     }
   }
   active.clear();
@@ -117,7 +146,10 @@ void Optimizer::Impl::build(FactorGraph& graph, const OptimizerOptions& opt,
   block_dim.clear();
   n = 0;
   for (Variable* v : graph.variables()) {
-    if (v->systemOffset() != -2) continue;
+    if (v->systemOffset() != -2) {
+      v->setSystemOffset(-1);
+      continue;
+    }
     v->setSystemOffset(n);
     active.push_back(v);
     block_offset.push_back(n);

@@ -19,7 +19,7 @@ enum class Algorithm { kGaussNewton, kLevenbergMarquardt };
 
 /// How the optimizer treats the gauge freedom of relative-only problems.
 enum class GaugeMode {
-  kAuto,  ///< fix the first variable if none is fixed and no factor is unary
+  kAuto,  ///< per connected component without a fixed variable or unary factor, fix its first
   kNone,  ///< never fix anything implicitly
 };
 
