@@ -317,7 +317,11 @@ void Optimizer::Impl::buildSparsePattern(const std::vector<std::vector<int>>& ab
   common.supernodal = factorization == Factorization::kSupernodal   ? CHOLMOD_SUPERNODAL
                       : factorization == Factorization::kSimplicial ? CHOLMOD_SIMPLICIAL
                                                                     : CHOLMOD_AUTO;
+  // Only the block ordering: by default CHOLMOD would also run AMD on the scalar matrix.
+  common.nmethods = 1;
+  common.method[0].ordering = CHOLMOD_GIVEN;
   factor = cholmod_analyze_p(matrix, perm.data(), nullptr, 0, &common);
+
   analyzed_with = factorization;
   rhs = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &common);
 }
