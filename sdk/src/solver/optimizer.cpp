@@ -59,11 +59,14 @@ struct Optimizer::Impl {
   std::vector<Variable*> active;  // free variables in system order
   std::vector<int> block_offset;  // scalar offset of each block
   std::vector<int> block_dim;
-  std::vector<BlockSlot> slots;  // all factors' slots, concatenated
-  std::vector<int> slot_start;   // per factor
-  std::vector<int> b_offsets;    // all factors' variable offsets, concatenated
-  std::vector<int> b_start;      // per factor
-  std::vector<int> diag_pos;     // value index of each diagonal entry
+  std::vector<BlockSlot> slots;      // all factors' slots, concatenated
+  std::vector<int> slot_start;       // per factor
+  std::vector<int> b_offsets;        // all factors' variable offsets, concatenated
+  std::vector<int> b_start;          // per factor
+  std::vector<int> diag_pos;         // value index of each diagonal entry
+  std::vector<int> block_of_scalar;  // block index of each scalar unknown
+  std::vector<int> parent;           // gauge: union-find over variables
+  std::vector<char> used, anchored, root_anchored;
   std::vector<double> diag_backup;
   int n = 0;
   bool dense = false;
@@ -103,13 +106,14 @@ void Optimizer::Impl::build(FactorGraph& graph, const OptimizerOptions& opt,
   if (opt.gauge == GaugeMode::kAuto) {
     const int nv = int(vars.size());
     for (int k = 0; k < nv; ++k) vars[k]->setSystemOffset(k);
-    std::vector<int> parent(nv);
+    parent.resize(nv);
     for (int k = 0; k < nv; ++k) parent[k] = k;
     auto find = [&](int x) {
       while (parent[x] != x) x = parent[x] = parent[parent[x]];
       return x;
     };
-    std::vector<char> used(nv, 0), anchored(nv, 0);
+    used.assign(nv, 0);
+    anchored.assign(nv, 0);
     for (const auto& f : factors) {
       const int m = f->numVariables();
       const int first = f->variable(0)->systemOffset();
@@ -121,7 +125,7 @@ void Optimizer::Impl::build(FactorGraph& graph, const OptimizerOptions& opt,
         parent[find(o)] = find(first);
       }
     }
-    std::vector<char> root_anchored(nv, 0);
+    root_anchored.assign(nv, 0);
     for (int k = 0; k < nv; ++k) {
       if (anchored[k] || vars[k]->fixed()) root_anchored[find(k)] = 1;
     }
@@ -159,7 +163,7 @@ void Optimizer::Impl::build(FactorGraph& graph, const OptimizerOptions& opt,
   result.system_size = n;
   dense = n <= opt.dense_threshold;
   result.dense = dense;
-  std::vector<int> block_of_scalar(n);
+  block_of_scalar.resize(n);
   for (size_t k = 0; k < active.size(); ++k) {
     for (int j = 0; j < block_dim[k]; ++j) block_of_scalar[block_offset[k] + j] = int(k);
   }
@@ -404,6 +408,8 @@ OptimizeResult Optimizer::optimize(FactorGraph& graph) {
   double chi = result.initial_chi2;
   double lambda = 0.0, nu = 2.0;
   result.reason = StopReason::kMaxIterations;
+  // Reserved up front so that iterations do not allocate (the aligner calls this every frame).
+  result.stats.reserve(std::min(options_.max_iterations, 64));
   for (int it = 0; it < options_.max_iterations; ++it) {
     IterationStats st;
     st.iteration = it;
