@@ -20,6 +20,7 @@ class BetweenFactorSE2 final : public Factor<3, VariableSE2, VariableSE2> {
  private:
   SE2 measurement_;
   SE2 inverse_measurement_;
+  double measurement_angle_;
 };
 
 /// Relative 3D pose measurement Z between Xi and Xj.
@@ -53,6 +54,7 @@ class PriorFactorSE2 final : public Factor<3, VariableSE2> {
  private:
   SE2 measurement_;
   SE2 inverse_measurement_;
+  double measurement_angle_;
 };
 
 /// Absolute 3D pose prior Z on X: error (t, q.vec) of Z^-1 X.
