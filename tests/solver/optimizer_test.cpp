@@ -309,3 +309,30 @@ TEST(Optimizer, EachDisconnectedComponentGetsItsGauge) {
   EXPECT_EQ(g.get<VariableSE2>(100).estimate().matrix(),
             b.graph.get<VariableSE2>(0).estimate().matrix());
 }
+
+TEST(Optimizer, SingularSparseSystemGnFailsCleanlyLmRecovers) {
+  // Pose 40 hangs on a factor with zero information: its block of H is zero.
+  for (Algorithm alg : {Algorithm::kGaussNewton, Algorithm::kLevenbergMarquardt}) {
+    Loop2D loop(40, 0.05, 13);
+    auto& extra = loop.graph.addVariable<VariableSE2>(40, se2(1, 2, 0.3));
+    loop.graph.emplaceFactor<BetweenFactorSE2>(&loop.graph.get<VariableSE2>(5), &extra,
+                                               se2(1, 0, 0), Eigen::Matrix3d::Zero());
+    OptimizerOptions o;
+    o.algorithm = alg;
+    o.dense_threshold = 0;
+    const OptimizeResult r = Optimizer(o).optimize(loop.graph);
+    for (Variable* v : loop.graph.variables()) {
+      EXPECT_TRUE(static_cast<VariableSE2*>(v)->estimate().matrix().allFinite());
+    }
+    if (alg == Algorithm::kGaussNewton) {
+      EXPECT_GE(r.singular_systems, 1);
+      EXPECT_EQ(r.reason, StopReason::kSolverFailure);
+      EXPECT_EQ(r.final_chi2, r.initial_chi2);  // the failed step was not applied
+    } else {
+      // The damping keeps the system positive definite; the free pose simply does not move.
+      EXPECT_TRUE(r.ok()) << toString(r.reason);
+      EXPECT_LT(r.final_chi2, 1e-3 * r.initial_chi2);
+      EXPECT_LT((toVector(extra.estimate()) - Eigen::Vector3d(1, 2, 0.3)).norm(), 1e-6);
+    }
+  }
+}

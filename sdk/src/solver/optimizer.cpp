@@ -36,7 +36,10 @@ const char* toString(StopReason r) {
 }
 
 struct Optimizer::Impl {
-  Impl() { cholmod_start(&common); }
+  Impl() {
+    cholmod_start(&common);
+    common.print = 0;  // a non-positive-definite system is reported through OptimizeResult
+  }
   ~Impl() {
     freeCholmod();
     cholmod_finish(&common);
