@@ -15,9 +15,10 @@ enum class InitMethod {
   kFile,      ///< the file's vertex estimates (edge-only files fall back to kOdometry)
   kOdometry,  ///< compose measurements along a spanning tree
   kChordal,   ///< chordal relaxation of rotations, then translations
+  kBest,      ///< optimise from kFile and from kChordal, keep the lower cost (twice the time)
 };
 
-/// Parses "file", "odometry" or "chordal"; throws InputError otherwise.
+/// Parses "file", "odometry", "chordal" or "best"; throws InputError otherwise.
 InitMethod parseInitMethod(const std::string& name);
 /// Parses "gn" or "lm"; throws InputError otherwise.
 Algorithm parseAlgorithm(const std::string& name);
