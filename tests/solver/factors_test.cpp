@@ -22,7 +22,9 @@ SE3 randomSE3() {
   for (int k = 3; k < 6; ++k) v[k] = uniform(-1.5, 1.5);
   return se3(v);
 }
-Eigen::Vector3d randomPoint3() { return Eigen::Vector3d(uniform(-3, 3), uniform(-3, 3), uniform(-3, 3)); }
+Eigen::Vector3d randomPoint3() {
+  return Eigen::Vector3d(uniform(-3, 3), uniform(-3, 3), uniform(-3, 3));
+}
 Eigen::Vector2d randomPoint2() { return Eigen::Vector2d(uniform(-3, 3), uniform(-3, 3)); }
 
 template <class M>
@@ -116,8 +118,9 @@ TEST(Factors, RegistrationJacobians) {
     PointToLineFactor2D b(&t2, randomPoint2(), randomPoint2(), randomPoint2().normalized());
     PointToPointFactor3D c(&t3, randomPoint3(), randomPoint3());
     PointToPlaneFactor3D d(&t3, randomPoint3(), randomPoint3(), randomPoint3().normalized());
-    for (const FactorBase* f : {static_cast<const FactorBase*>(&a), static_cast<const FactorBase*>(&b),
-                                static_cast<const FactorBase*>(&c), static_cast<const FactorBase*>(&d)}) {
+    for (const FactorBase* f :
+         {static_cast<const FactorBase*>(&a), static_cast<const FactorBase*>(&b),
+          static_cast<const FactorBase*>(&c), static_cast<const FactorBase*>(&d)}) {
       const auto r = checkJacobian(*f);
       EXPECT_TRUE(r.ok) << r;
     }

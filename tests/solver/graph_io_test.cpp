@@ -88,8 +88,9 @@ TEST(GraphIo, RoundTrip2DAnd3D) {
         Eigen::Matrix<double, 6, 6> a = Eigen::Matrix<double, 6, 6>::Random();
         Vector6d v;
         for (int q = 0; q < 6; ++q) v[q] = u(rng);
-        g.emplaceFactor<BetweenFactorSE3>(&g.get<VariableSE3>(i * 7), &g.get<VariableSE3>(j * 7),
-                                          se3(v), a * a.transpose() + Eigen::Matrix<double, 6, 6>::Identity());
+        g.emplaceFactor<BetweenFactorSE3>(
+            &g.get<VariableSE3>(i * 7), &g.get<VariableSE3>(j * 7), se3(v),
+            a * a.transpose() + Eigen::Matrix<double, 6, 6>::Identity());
       }
     }
     const std::string path = ::testing::TempDir() + "/roundtrip" + std::to_string(dim) + ".g2o";
@@ -116,12 +117,16 @@ TEST(GraphIo, RoundTrip2DAnd3D) {
     if (dim == 2) {
       for (size_t k = 0; k < g.numVariables(); ++k) {
         EXPECT_LT((static_cast<VariableSE2*>(g.variables()[k])->estimate().matrix() -
-                   static_cast<VariableSE2*>(r.variables()[k])->estimate().matrix()).norm(), 1e-14);
+                   static_cast<VariableSE2*>(r.variables()[k])->estimate().matrix())
+                      .norm(),
+                  1e-14);
       }
     } else {
       for (size_t k = 0; k < g.numVariables(); ++k) {
         EXPECT_LT((static_cast<VariableSE3*>(g.variables()[k])->estimate().matrix() -
-                   static_cast<VariableSE3*>(r.variables()[k])->estimate().matrix()).norm(), 1e-14);
+                   static_cast<VariableSE3*>(r.variables()[k])->estimate().matrix())
+                      .norm(),
+                  1e-14);
       }
     }
   }
@@ -148,7 +153,9 @@ TEST(GraphIo, ReadsToroWithItsInformationOrder) {
 TEST(GraphIo, EdgeOnlyFilesCreateVertices) {
   FactorGraph g;
   const GraphFileInfo info = readString(
-      "EDGE_SE2 5 6 1 0 0 1 0 0 1 0 1\nEDGE_SE2 6 7 1 0 0 1 0 0 1 0 1\nEDGE_SE2 5 7 2 0 0 1 0 0 1 0 1\n", g);
+      "EDGE_SE2 5 6 1 0 0 1 0 0 1 0 1\nEDGE_SE2 6 7 1 0 0 1 0 0 1 0 1\nEDGE_SE2 5 7 2 0 0 1 0 0 1 "
+      "0 1\n",
+      g);
   EXPECT_FALSE(info.has_vertices);
   ASSERT_EQ(g.numVariables(), 3u);
   EXPECT_EQ(g.variables()[0]->id(), 5);
@@ -202,9 +209,9 @@ TEST(GraphIo, RandomBinaryGarbageIsRejected) {
 TEST(GraphIo, NonPositiveDefiniteInformationIsCountedAndProjectedOnRequest) {
   const std::string text =
       "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 2 2 0 0\n"
-      "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 -1\n"   // indefinite
-      "EDGE_SE2 1 2 1 0 0 1 2 0 1 0 1\n"    // indefinite (off-diagonal too large)
-      "EDGE_SE2 0 2 2 0 0 1 0 0 1 0 1\n";   // fine
+      "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 -1\n"  // indefinite
+      "EDGE_SE2 1 2 1 0 0 1 2 0 1 0 1\n"   // indefinite (off-diagonal too large)
+      "EDGE_SE2 0 2 2 0 0 1 0 0 1 0 1\n";  // fine
   FactorGraph g;
   GraphFileInfo info = readString(text, g);
   EXPECT_EQ(info.non_pd_information, 2u);

@@ -125,10 +125,22 @@ TEST(Optimizer, PointToLineAlignmentRecoversTheTransform) {
     for (int k = 0; k < 500; ++k) {
       Eigen::Vector2d q, n;
       switch (k % 4) {
-        case 0: q << 5.0, u(rng); n << -1, 0; break;
-        case 1: q << -5.0, u(rng); n << 1, 0; break;
-        case 2: q << u(rng), 4.0; n << 0, -1; break;
-        default: q << u(rng), -4.0; n << 0, 1; break;
+        case 0:
+          q << 5.0, u(rng);
+          n << -1, 0;
+          break;
+        case 1:
+          q << -5.0, u(rng);
+          n << 1, 0;
+          break;
+        case 2:
+          q << u(rng), 4.0;
+          n << 0, -1;
+          break;
+        default:
+          q << u(rng), -4.0;
+          n << 0, 1;
+          break;
       }
       const Eigen::Vector2d p = truth.inverse() * q;
       g.emplaceFactor<PointToLineFactor2D>(&t, p, q, n);
@@ -196,7 +208,8 @@ TEST(Optimizer, RobustKernelDownweightsOutliers) {
     double max_err = 0.0;
     for (int i = 0; i < 30; ++i) {
       max_err = std::max(max_err, (loop.graph.get<VariableSE2>(i).estimate().translation() -
-                                   loop.truth[i].translation()).norm());
+                                   loop.truth[i].translation())
+                                      .norm());
     }
     return max_err;
   };
@@ -217,13 +230,15 @@ TEST(Optimizer, StereoBundleAdjustmentOfLandmarks) {
   PinholeCamera cam{500, 500, 320, 240, 0.2};
   FactorGraph g;
   auto& c0 = g.addVariable<VariableSE3>(0, SE3::Identity());
-  auto& c1 = g.addVariable<VariableSE3>(1, se3(Eigen::Vector3d(0.5, 0, 0.2), Eigen::Quaterniond::Identity()));
+  auto& c1 = g.addVariable<VariableSE3>(
+      1, se3(Eigen::Vector3d(0.5, 0, 0.2), Eigen::Quaterniond::Identity()));
   c0.setFixed(true);
   c1.setFixed(true);
   std::vector<Eigen::Vector3d> truth;
   for (int k = 0; k < 30; ++k) {
     truth.emplace_back(u(rng), u(rng), 6.0 + u(rng));
-    auto& p = g.addVariable<VariablePoint3>(100 + k, truth.back() + Eigen::Vector3d(0.3, -0.2, 0.5));
+    auto& p =
+        g.addVariable<VariablePoint3>(100 + k, truth.back() + Eigen::Vector3d(0.3, -0.2, 0.5));
     for (VariableSE3* c : {&c0, &c1}) {
       const Eigen::Vector3d pc = c->estimate().inverse() * truth.back();
       const Eigen::Vector3d z(cam.fx * pc.x() / pc.z() + cam.cx, cam.fy * pc.y() / pc.z() + cam.cy,
@@ -245,7 +260,8 @@ TEST(Optimizer, PointToPlaneAlignmentIn3D) {
   auto& t = g.addVariable<VariableSE3>(0, SE3::Identity());
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> u(-3.0, 3.0);
-  const Eigen::Vector3d normals[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  const Eigen::Vector3d normals[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                      {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
   for (int k = 0; k < 300; ++k) {
     const Eigen::Vector3d& n = normals[k % 6];
     Eigen::Vector3d q(u(rng), u(rng), u(rng));
@@ -266,4 +282,57 @@ TEST(Optimizer, NothingToOptimize) {
   const OptimizeResult r = Optimizer().optimize(g);
   EXPECT_EQ(r.reason, StopReason::kNothingToOptimize);
   EXPECT_NEAR(r.final_chi2, 1.0, 1e-12);
+}
+
+TEST(Optimizer, EachDisconnectedComponentGetsItsGauge) {
+  // Two separate loops in one graph: each needs its own anchor or H is singular.
+  FactorGraph g;
+  Loop2D a(12, 0.05, 21), b(9, 0.05, 22);
+  for (Loop2D* loop : {&a, &b}) {
+    const int64_t base = loop == &a ? 0 : 100;
+    for (Variable* v : loop->graph.variables()) {
+      g.addVariable<VariableSE2>(base + v->id(), static_cast<VariableSE2*>(v)->estimate());
+    }
+    for (const auto& f : loop->graph.factors()) {
+      const auto& e = static_cast<const BetweenFactorSE2&>(*f);
+      g.emplaceFactor<BetweenFactorSE2>(&g.get<VariableSE2>(base + e.variable(0)->id()),
+                                        &g.get<VariableSE2>(base + e.variable(1)->id()),
+                                        e.measurement(), e.information());
+    }
+  }
+  OptimizerOptions o;
+  o.dense_threshold = 0;
+  const OptimizeResult r = Optimizer(o).optimize(g);
+  EXPECT_TRUE(r.ok()) << toString(r.reason);
+  EXPECT_EQ(r.system_size, (11 + 8) * 3);
+  EXPECT_EQ(r.singular_systems, 0);
+  EXPECT_EQ(g.get<VariableSE2>(100).estimate().matrix(),
+            b.graph.get<VariableSE2>(0).estimate().matrix());
+}
+
+TEST(Optimizer, SingularSparseSystemGnFailsCleanlyLmRecovers) {
+  // Pose 40 hangs on a factor with zero information: its block of H is zero.
+  for (Algorithm alg : {Algorithm::kGaussNewton, Algorithm::kLevenbergMarquardt}) {
+    Loop2D loop(40, 0.05, 13);
+    auto& extra = loop.graph.addVariable<VariableSE2>(40, se2(1, 2, 0.3));
+    loop.graph.emplaceFactor<BetweenFactorSE2>(&loop.graph.get<VariableSE2>(5), &extra,
+                                               se2(1, 0, 0), Eigen::Matrix3d::Zero());
+    OptimizerOptions o;
+    o.algorithm = alg;
+    o.dense_threshold = 0;
+    const OptimizeResult r = Optimizer(o).optimize(loop.graph);
+    for (Variable* v : loop.graph.variables()) {
+      EXPECT_TRUE(static_cast<VariableSE2*>(v)->estimate().matrix().allFinite());
+    }
+    if (alg == Algorithm::kGaussNewton) {
+      EXPECT_GE(r.singular_systems, 1);
+      EXPECT_EQ(r.reason, StopReason::kSolverFailure);
+      EXPECT_EQ(r.final_chi2, r.initial_chi2);  // the failed step was not applied
+    } else {
+      // The damping keeps the system positive definite; the free pose simply does not move.
+      EXPECT_TRUE(r.ok()) << toString(r.reason);
+      EXPECT_LT(r.final_chi2, 1e-3 * r.initial_chi2);
+      EXPECT_LT((toVector(extra.estimate()) - Eigen::Vector3d(1, 2, 0.3)).norm(), 1e-6);
+    }
+  }
 }

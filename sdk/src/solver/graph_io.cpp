@@ -2,7 +2,9 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -23,12 +25,12 @@ namespace {
 struct VertexRecord {
   int64_t id;
   int line;
-  std::vector<double> values;
+  std::array<double, 7> values;
 };
 struct EdgeRecord {
   int64_t from, to;
   int line;
-  std::vector<double> values;  // measurement then information entries
+  std::array<double, 28> values;  // measurement then information entries
 };
 
 class LineParser {
@@ -50,27 +52,45 @@ class LineParser {
     errno = 0;
     char* end = nullptr;
     const long long v = std::strtoll(t.c_str(), &end, 10);
-    if (end == t.c_str() || *end != '\0') fail(std::string("expected ") + what + " (an integer id), found '" + t + "'");
+    if (end == t.c_str() || *end != '\0')
+      fail(std::string("expected ") + what + " (an integer id), found '" + t + "'");
     if (errno == ERANGE) fail(std::string(what) + " '" + t + "' is out of range");
     return v;
   }
   double number(const char* what, int index, int count) {
-    std::string t;
-    if (!next(t)) {
+    // from_chars straight from the line: no token copy, no locale.
+    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+    if (pos_ >= text_.size()) {
       fail(std::string("expected ") + std::to_string(count) + " numbers for " + what + ", found " +
            std::to_string(index) + " (truncated line?)");
     }
-    char* end = nullptr;
-    const double v = std::strtod(t.c_str(), &end);
-    if (end == t.c_str() || *end != '\0') fail(std::string("expected a number in ") + what + ", found '" + t + "'");
-    if (!std::isfinite(v)) fail(std::string("non-finite value '") + t + "' in " + what);
+    const char* begin = text_.data() + pos_;
+    const char* stop = text_.data() + text_.size();
+    if (*begin == '+') ++begin;
+    double v = 0.0;
+    const auto res = std::from_chars(begin, stop, v);
+    const bool ends = res.ptr == stop || std::isspace(static_cast<unsigned char>(*res.ptr));
+    if (res.ec != std::errc() || !ends) {
+      std::string t;
+      next(t);
+      if (res.ec == std::errc::result_out_of_range && ends) {
+        fail(std::string("non-finite value '") + t + "' in " + what);
+      }
+      fail(std::string("expected a number in ") + what + ", found '" + t + "'");
+    }
+    pos_ = res.ptr - text_.data();
+    if (!std::isfinite(v)) {
+      fail(std::string("non-finite value '") + std::string(begin, res.ptr) + "' in " + what);
+    }
     return v;
   }
   void end() {
     std::string t;
     if (next(t)) fail("unexpected extra value '" + t + "' at end of record");
   }
-  [[noreturn]] void fail(const std::string& message) const { throw ParseError(file_, line_, message); }
+  [[noreturn]] void fail(const std::string& message) const {
+    throw ParseError(file_, line_, message);
+  }
 
  private:
   const std::string& file_;
@@ -103,6 +123,13 @@ Eigen::Matrix<double, N, N> upperToMatrix(const double* v) {
 }
 
 }  // namespace
+
+template <int N>
+bool isPositiveDefiniteFixed(const Eigen::Matrix<double, N, N>& m) {
+  // Cholesky succeeds exactly for symmetric positive definite matrices.
+  Eigen::LLT<Eigen::Matrix<double, N, N>> llt(m);
+  return llt.info() == Eigen::Success && llt.matrixLLT().diagonal().minCoeff() > 0.0;
+}
 
 bool isPositiveDefinite(const Eigen::MatrixXd& m) {
   Eigen::LLT<Eigen::MatrixXd> llt(m);
@@ -161,14 +188,14 @@ GraphFileInfo readGraph(std::istream& in, const std::string& name, FactorGraph& 
       (tag == "VERTEX_SE2" ? g2o : toro) = true;
       setDim(2, p, line);
       VertexRecord v{p.id("vertex id"), line, {}};
-      for (int k = 0; k < 3; ++k) v.values.push_back(p.number(tag.c_str(), k, 3));
+      for (int k = 0; k < 3; ++k) v.values[k] = p.number(tag.c_str(), k, 3);
       p.end();
       vertices.push_back(std::move(v));
     } else if (tag == "VERTEX_SE3:QUAT") {
       g2o = true;
       setDim(3, p, line);
       VertexRecord v{p.id("vertex id"), line, {}};
-      for (int k = 0; k < 7; ++k) v.values.push_back(p.number(tag.c_str(), k, 7));
+      for (int k = 0; k < 7; ++k) v.values[k] = p.number(tag.c_str(), k, 7);
       p.end();
       const double qn = Eigen::Vector4d(v.values[3], v.values[4], v.values[5], v.values[6]).norm();
       if (qn < 1e-6) p.fail("quaternion of vertex " + std::to_string(v.id) + " has zero norm");
@@ -185,9 +212,9 @@ GraphFileInfo readGraph(std::istream& in, const std::string& name, FactorGraph& 
       if (is_toro) {
         // TORO: xx xy yy tt xt yt -> g2o upper triangle xx xy xt yy yt tt.
         const double g[9] = {v[0], v[1], v[2], v[3], v[4], v[7], v[5], v[8], v[6]};
-        e.values.assign(g, g + 9);
+        std::copy(g, g + 9, e.values.begin());
       } else {
-        e.values.assign(v, v + 9);
+        std::copy(v, v + 9, e.values.begin());
       }
       edges.push_back(std::move(e));
     } else if (tag == "EDGE_SE3:QUAT") {
@@ -195,10 +222,9 @@ GraphFileInfo readGraph(std::istream& in, const std::string& name, FactorGraph& 
       setDim(3, p, line);
       EdgeRecord e{p.id("first vertex id"), 0, line, {}};
       e.to = p.id("second vertex id");
-      for (int k = 0; k < 28; ++k) e.values.push_back(p.number(tag.c_str(), k, 28));
+      for (int k = 0; k < 28; ++k) e.values[k] = p.number(tag.c_str(), k, 28);
       p.end();
-      const double qn =
-          Eigen::Vector4d(e.values[3], e.values[4], e.values[5], e.values[6]).norm();
+      const double qn = Eigen::Vector4d(e.values[3], e.values[4], e.values[5], e.values[6]).norm();
       if (qn < 1e-6) p.fail("edge quaternion has zero norm");
       edges.push_back(std::move(e));
     } else if (tag == "FIX") {
@@ -212,9 +238,10 @@ GraphFileInfo readGraph(std::istream& in, const std::string& name, FactorGraph& 
     } else if (looksLikeTag(tag)) {
       ++info.skipped_records;
     } else {
-      throw ParseError(name, line, "unknown record '" + tag.substr(0, 40) +
-                                       "'; expected VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, "
-                                       "EDGE_SE3:QUAT, FIX, VERTEX2 or EDGE2");
+      throw ParseError(name, line,
+                       "unknown record '" + tag.substr(0, 40) +
+                           "'; expected VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, "
+                           "EDGE_SE3:QUAT, FIX, VERTEX2 or EDGE2");
     }
   }
   if (in.bad()) throw ParseError(name, line, "read error");
@@ -260,27 +287,27 @@ GraphFileInfo readGraph(std::istream& in, const std::string& name, FactorGraph& 
     Variable* a = graph.findVariable(e.from);
     Variable* b = graph.findVariable(e.to);
     if (!a || !b) {
-      throw ParseError(name, e.line, "edge refers to vertex " +
-                                         std::to_string(!a ? e.from : e.to) +
-                                         ", which the file does not declare");
+      throw ParseError(name, e.line,
+                       "edge refers to vertex " + std::to_string(!a ? e.from : e.to) +
+                           ", which the file does not declare");
     }
-    if (a == b) throw ParseError(name, e.line, "edge from vertex " + std::to_string(e.from) + " to itself");
+    if (a == b)
+      throw ParseError(name, e.line, "edge from vertex " + std::to_string(e.from) + " to itself");
     const double* v = e.values.data();
     if (d == 2) {
       Eigen::Matrix3d inf = upperToMatrix<3>(v + 3);
-      if (!isPositiveDefinite(inf)) {
+      if (!isPositiveDefiniteFixed<3>(inf)) {
         ++info.non_pd_information;
         if (options.project_information) {
           inf = nearestPositiveDefinite(inf);
           ++info.projected_information;
         }
       }
-      graph.emplaceFactor<BetweenFactorSE2>(static_cast<VariableSE2*>(a),
-                                            static_cast<VariableSE2*>(b), se2(v[0], v[1], v[2]),
-                                            inf);
+      graph.emplaceFactor<BetweenFactorSE2>(
+          static_cast<VariableSE2*>(a), static_cast<VariableSE2*>(b), se2(v[0], v[1], v[2]), inf);
     } else {
       Eigen::Matrix<double, 6, 6> inf = upperToMatrix<6>(v + 7);
-      if (!isPositiveDefinite(inf)) {
+      if (!isPositiveDefiniteFixed<6>(inf)) {
         ++info.non_pd_information;
         if (options.project_information) {
           inf = nearestPositiveDefinite(inf);
@@ -289,24 +316,54 @@ GraphFileInfo readGraph(std::istream& in, const std::string& name, FactorGraph& 
       }
       graph.emplaceFactor<BetweenFactorSE3>(
           static_cast<VariableSE3*>(a), static_cast<VariableSE3*>(b),
-          se3(Eigen::Vector3d(v[0], v[1], v[2]), Eigen::Quaterniond(v[6], v[3], v[4], v[5])),
-          inf);
+          se3(Eigen::Vector3d(v[0], v[1], v[2]), Eigen::Quaterniond(v[6], v[3], v[4], v[5])), inf);
     }
   }
   for (const auto& [id, fline] : fixes) {
     Variable* v = graph.findVariable(id);
-    if (!v) throw ParseError(name, fline, "FIX of vertex " + std::to_string(id) + ", which does not exist");
+    if (!v)
+      throw ParseError(name, fline,
+                       "FIX of vertex " + std::to_string(id) + ", which does not exist");
     if (!v->fixed()) ++info.fixed;
     v->setFixed(true);
   }
   return info;
 }
 
-size_t writeGraph(std::ostream& out, const FactorGraph& graph) {
-  char buf[128];
+namespace {
+// Appends to a string: much cheaper than formatted stream output per number.
+class TextBuffer {
+ public:
+  TextBuffer& operator<<(const char* s) {
+    text_ += s;
+    return *this;
+  }
+  TextBuffer& operator<<(char c) {
+    text_ += c;
+    return *this;
+  }
+  TextBuffer& operator<<(int64_t v) {
+    char buf[24];
+    const auto res = std::to_chars(buf, buf + sizeof(buf), v);
+    text_.append(buf, res.ptr - buf);
+    return *this;
+  }
+  std::string& text() { return text_; }
+
+ private:
+  std::string text_;
+};
+}  // namespace
+
+size_t writeGraph(std::ostream& stream, const FactorGraph& graph) {
+  TextBuffer out;
+  out.text().reserve(64 * graph.numVariables() + 160 * graph.numFactors());
   auto num = [&](double x) {
-    std::snprintf(buf, sizeof(buf), " %.17g", x);
-    out << buf;
+    // Shortest representation that reads back to the same double.
+    char buf[32];
+    buf[0] = ' ';
+    const auto res = std::to_chars(buf + 1, buf + sizeof(buf), x);
+    out.text().append(buf, res.ptr - buf);
   };
   for (Variable* v : graph.variables()) {
     if (auto* p = dynamic_cast<VariableSE2*>(v)) {
@@ -354,6 +411,7 @@ size_t writeGraph(std::ostream& out, const FactorGraph& graph) {
       ++skipped;
     }
   }
+  stream.write(out.text().data(), std::streamsize(out.text().size()));
   return skipped;
 }
 

@@ -211,8 +211,9 @@ void initializeChordal(FactorGraph& graph) {
   {
     std::vector<Eigen::Triplet<double>> trip;
     Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(nfree * d, d);
+    trip.reserve(g.edges.size() * (2 * d + 2 * d * d));
     for (const auto& e : g.edges) {
-      const Eigen::MatrixXd a = e.r.topLeftCorner(d, d).transpose();  // x_j = A x_i
+      const Eigen::Matrix3d a = e.r.transpose();  // x_j = A x_i (top-left d x d in 2D)
       const double w = e.kappa;
       const int ci = col[e.i], cj = col[e.j];
       for (int p = 0; p < d; ++p) {
@@ -228,21 +229,20 @@ void initializeChordal(FactorGraph& graph) {
         }
       } else if (cj >= 0) {
         // x_i known (row k of R_i): H_jj x_j = w A x_i.
-        for (int k = 0; k < d; ++k) {
-          const Eigen::VectorXd xi = r[e.i].row(k).head(d).transpose();
-          rhs.block(cj * d, k, d, 1) += w * a * xi;
-        }
+        const Eigen::Matrix3d m = w * a * r[e.i].transpose();  // column k = w A (row k of R_i)^T
+        for (int k = 0; k < d; ++k)
+          for (int p = 0; p < d; ++p) rhs(cj * d + p, k) += m(p, k);
       } else if (ci >= 0) {
-        for (int k = 0; k < d; ++k) {
-          const Eigen::VectorXd xj = r[e.j].row(k).head(d).transpose();
-          rhs.block(ci * d, k, d, 1) += w * a.transpose() * xj;
-        }
+        const Eigen::Matrix3d m = w * a.transpose() * r[e.j].transpose();
+        for (int k = 0; k < d; ++k)
+          for (int p = 0; p < d; ++p) rhs(ci * d + p, k) += m(p, k);
       }
     }
     Eigen::SparseMatrix<double> h(nfree * d, nfree * d);
     h.setFromTriplets(trip.begin(), trip.end());
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(h);
-    if (solver.info() != Eigen::Success) throw Error("chordal initialisation: rotation system is singular");
+    if (solver.info() != Eigen::Success)
+      throw Error("chordal initialisation: rotation system is singular");
     const Eigen::MatrixXd x = solver.solve(rhs);
     for (int k = 0; k < n; ++k) {
       if (col[k] < 0) continue;
@@ -263,31 +263,33 @@ void initializeChordal(FactorGraph& graph) {
   {
     std::vector<Eigen::Triplet<double>> trip;
     Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(nfree, d);
+    trip.reserve(g.edges.size() * 4);
     for (const auto& e : g.edges) {
       const double w = e.tau;
       const Eigen::Vector3d m = r[e.i] * e.t;
       const int ci = col[e.i], cj = col[e.j];
       if (ci >= 0) {
         trip.emplace_back(ci, ci, w);
-        rhs.row(ci) -= w * m.head(d).transpose();
+        for (int p = 0; p < d; ++p) rhs(ci, p) -= w * m[p];
       }
       if (cj >= 0) {
         trip.emplace_back(cj, cj, w);
-        rhs.row(cj) += w * m.head(d).transpose();
+        for (int p = 0; p < d; ++p) rhs(cj, p) += w * m[p];
       }
       if (ci >= 0 && cj >= 0) {
         trip.emplace_back(ci, cj, -w);
         trip.emplace_back(cj, ci, -w);
       } else if (cj >= 0) {
-        rhs.row(cj) += w * t[e.i].head(d).transpose();
+        for (int p = 0; p < d; ++p) rhs(cj, p) += w * t[e.i][p];
       } else if (ci >= 0) {
-        rhs.row(ci) += w * t[e.j].head(d).transpose();
+        for (int p = 0; p < d; ++p) rhs(ci, p) += w * t[e.j][p];
       }
     }
     Eigen::SparseMatrix<double> h(nfree, nfree);
     h.setFromTriplets(trip.begin(), trip.end());
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(h);
-    if (solver.info() != Eigen::Success) throw Error("chordal initialisation: translation system is singular");
+    if (solver.info() != Eigen::Success)
+      throw Error("chordal initialisation: translation system is singular");
     const Eigen::MatrixXd x = solver.solve(rhs);
     for (int k = 0; k < n; ++k) {
       if (col[k] < 0) continue;
@@ -300,17 +302,57 @@ void initializeChordal(FactorGraph& graph) {
   }
 }
 
-double seSyncObjective(const FactorGraph& graph) {
+std::vector<Eigen::Vector2d> seSyncWeights(const FactorGraph& graph) {
   const PoseGraphView g = makeView(graph);
+  std::vector<Eigen::Vector2d> w;
+  w.reserve(g.edges.size());
+  for (const auto& e : g.edges) w.emplace_back(e.kappa, e.tau);
+  return w;
+}
+
+double seSyncObjective(const FactorGraph& graph, const std::vector<Eigen::Vector2d>& weights) {
+  const PoseGraphView g = makeView(graph);
+  if (weights.size() != g.edges.size()) {
+    throw InputError("seSyncObjective: " + std::to_string(weights.size()) + " weights for " +
+                     std::to_string(g.edges.size()) + " between factors");
+  }
   double f = 0.0;
-  for (const auto& e : g.edges) {
+  for (size_t k = 0; k < g.edges.size(); ++k) {
+    const Edge& e = g.edges[k];
     const Eigen::Matrix3d ri = rotationOf(g.vars[e.i], g.dim);
     const Eigen::Matrix3d rj = rotationOf(g.vars[e.j], g.dim);
     const Eigen::Vector3d ti = translationOf(g.vars[e.i], g.dim);
     const Eigen::Vector3d tj = translationOf(g.vars[e.j], g.dim);
-    f += e.kappa * (rj - ri * e.r).squaredNorm() + e.tau * (tj - ti - ri * e.t).squaredNorm();
+    f += weights[k][0] * (rj - ri * e.r).squaredNorm() +
+         weights[k][1] * (tj - ti - ri * e.t).squaredNorm();
   }
   return f;
+}
+
+double seSyncObjective(const FactorGraph& graph) {
+  return seSyncObjective(graph, seSyncWeights(graph));
+}
+
+size_t applySeSyncWeights(FactorGraph& graph) {
+  size_t changed = 0;
+  for (const auto& f : graph.factors()) {
+    if (auto* e3 = dynamic_cast<BetweenFactorSE3*>(f.get())) {
+      const auto& inf = e3->information();
+      const double tau = 3.0 / inf.topLeftCorner<3, 3>().inverse().trace();
+      const double kappa = 3.0 / (2.0 * inf.bottomRightCorner<3, 3>().inverse().trace());
+      // |Rj - Ri Rij|_F^2 = 8 |q.vec|^2 for the error rotation.
+      Eigen::Matrix<double, 6, 1> d;
+      d << tau, tau, tau, 8.0 * kappa, 8.0 * kappa, 8.0 * kappa;
+      e3->setInformation(d.asDiagonal());
+      ++changed;
+    } else if (auto* e2 = dynamic_cast<BetweenFactorSE2*>(f.get())) {
+      const auto& inf = e2->information();
+      const double tau = 2.0 / inf.topLeftCorner<2, 2>().inverse().trace();
+      e2->setInformation(Eigen::Vector3d(tau, tau, 2.0 * inf(2, 2)).asDiagonal());
+      ++changed;
+    }
+  }
+  return changed;
 }
 
 }  // namespace abi_v1

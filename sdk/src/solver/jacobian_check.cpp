@@ -11,8 +11,8 @@ std::string JacobianCheckResult::describe() const {
   std::ostringstream os;
   os << (ok ? "jacobian ok" : "jacobian MISMATCH") << " (tolerance " << tolerance << "):";
   for (size_t i = 0; i < max_abs_error.size(); ++i) {
-    os << " block " << i << " max abs error " << max_abs_error[i] << " (scale "
-       << max_abs_value[i] << ")";
+    os << " block " << i << " max abs error " << max_abs_error[i] << " (scale " << max_abs_value[i]
+       << ")";
   }
   return os.str();
 }

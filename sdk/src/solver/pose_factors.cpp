@@ -21,7 +21,10 @@ inline Eigen::Quaterniond positiveQuaternion(const Eigen::Matrix3d& r) {
 
 BetweenFactorSE2::BetweenFactorSE2(VariableSE2* xi, VariableSE2* xj, const SE2& measurement,
                                    const Eigen::Matrix3d& information)
-    : Factor(xi, xj), measurement_(measurement), inverse_measurement_(measurement.inverse()) {
+    : Factor(xi, xj),
+      measurement_(measurement),
+      inverse_measurement_(measurement.inverse()),
+      measurement_angle_(angleOf(measurement.linear())) {
   setInformation(information);
 }
 
@@ -29,7 +32,7 @@ BetweenFactorSE2::ErrorVector BetweenFactorSE2::error() const {
   const SE2& xi = var<0>()->estimate();
   const SE2& xj = var<1>()->estimate();
   const Eigen::Vector2d tij = xi.linear().transpose() * (xj.translation() - xi.translation());
-  const double th = angleOf(xj.linear()) - angleOf(xi.linear()) - angleOf(measurement_.linear());
+  const double th = angleOf(xj.linear()) - angleOf(xi.linear()) - measurement_angle_;
   ErrorVector e;
   e.head<2>() = inverse_measurement_.linear() * tij + inverse_measurement_.translation();
   e[2] = normalizeAngle(th);
@@ -43,8 +46,7 @@ void BetweenFactorSE2::errorAndJacobian(ErrorVector& e, JacobianMatrix& J) const
   const Eigen::Matrix2d rij = xi.linear().transpose() * xj.linear();
   const Eigen::Vector2d tij = xi.linear().transpose() * (xj.translation() - xi.translation());
   e.head<2>() = rzt * tij + inverse_measurement_.translation();
-  e[2] = normalizeAngle(angleOf(xj.linear()) - angleOf(xi.linear()) -
-                        angleOf(measurement_.linear()));
+  e[2] = normalizeAngle(angleOf(xj.linear()) - angleOf(xi.linear()) - measurement_angle_);
   J.setZero();
   J.block<2, 2>(0, 0) = -rzt;
   J.block<2, 1>(0, 2) = -rzt * perp(tij);
@@ -91,15 +93,19 @@ void BetweenFactorSE3::errorAndJacobian(ErrorVector& e, JacobianMatrix& J) const
 
 PriorFactorSE2::PriorFactorSE2(VariableSE2* x, const SE2& measurement,
                                const Eigen::Matrix3d& information)
-    : Factor(x), measurement_(measurement), inverse_measurement_(measurement.inverse()) {
+    : Factor(x),
+      measurement_(measurement),
+      inverse_measurement_(measurement.inverse()),
+      measurement_angle_(angleOf(measurement.linear())) {
   setInformation(information);
 }
 
 PriorFactorSE2::ErrorVector PriorFactorSE2::error() const {
   const SE2& x = var<0>()->estimate();
   ErrorVector e;
-  e.head<2>() = inverse_measurement_.linear() * x.translation() + inverse_measurement_.translation();
-  e[2] = normalizeAngle(angleOf(x.linear()) - angleOf(measurement_.linear()));
+  e.head<2>() =
+      inverse_measurement_.linear() * x.translation() + inverse_measurement_.translation();
+  e[2] = normalizeAngle(angleOf(x.linear()) - measurement_angle_);
   return e;
 }
 
@@ -120,7 +126,8 @@ PriorFactorSE3::PriorFactorSE3(VariableSE3* x, const SE3& measurement,
 PriorFactorSE3::ErrorVector PriorFactorSE3::error() const {
   const SE3& x = var<0>()->estimate();
   ErrorVector e;
-  e.head<3>() = inverse_measurement_.linear() * x.translation() + inverse_measurement_.translation();
+  e.head<3>() =
+      inverse_measurement_.linear() * x.translation() + inverse_measurement_.translation();
   e.tail<3>() = positiveQuaternion(inverse_measurement_.linear() * x.linear()).vec();
   return e;
 }
@@ -129,7 +136,8 @@ void PriorFactorSE3::errorAndJacobian(ErrorVector& e, JacobianMatrix& J) const {
   const SE3& x = var<0>()->estimate();
   const Eigen::Matrix3d re = inverse_measurement_.linear() * x.linear();
   const Eigen::Quaterniond q = positiveQuaternion(re);
-  e.head<3>() = inverse_measurement_.linear() * x.translation() + inverse_measurement_.translation();
+  e.head<3>() =
+      inverse_measurement_.linear() * x.translation() + inverse_measurement_.translation();
   e.tail<3>() = q.vec();
   J.setZero();
   J.block<3, 3>(0, 0) = re;

@@ -38,7 +38,8 @@ void ReprojectionFactor::errorAndJacobian(ErrorVector& e, JacobianMatrix& J) con
   const SE3& pose = var<0>()->estimate();
   const Eigen::Vector3d pc = toCamera(pose, var<1>()->estimate());
   const double z = std::max(pc.z(), kMinDepth);
-  e << camera_.fx * pc.x() / z + camera_.cx - uv_.x(), camera_.fy * pc.y() / z + camera_.cy - uv_.y();
+  e << camera_.fx * pc.x() / z + camera_.cx - uv_.x(),
+      camera_.fy * pc.y() / z + camera_.cy - uv_.y();
   Eigen::Matrix<double, 2, 3> dp;
   dp << camera_.fx / z, 0.0, -camera_.fx * pc.x() / (z * z), 0.0, camera_.fy / z,
       -camera_.fy * pc.y() / (z * z);
@@ -62,8 +63,8 @@ void StereoFactor::errorAndJacobian(ErrorVector& e, JacobianMatrix& J) const {
   const Eigen::Vector3d pc = toCamera(pose, var<1>()->estimate());
   const double z = std::max(pc.z(), kMinDepth);
   const double xr = pc.x() - camera_.baseline;
-  e << camera_.fx * pc.x() / z + camera_.cx - uvu_.x(), camera_.fy * pc.y() / z + camera_.cy - uvu_.y(),
-      camera_.fx * xr / z + camera_.cx - uvu_.z();
+  e << camera_.fx * pc.x() / z + camera_.cx - uvu_.x(),
+      camera_.fy * pc.y() / z + camera_.cy - uvu_.y(), camera_.fx * xr / z + camera_.cx - uvu_.z();
   Eigen::Matrix3d dp;
   dp << camera_.fx / z, 0.0, -camera_.fx * pc.x() / (z * z), 0.0, camera_.fy / z,
       -camera_.fy * pc.y() / (z * z), camera_.fx / z, 0.0, -camera_.fx * xr / (z * z);

@@ -18,8 +18,8 @@ inline namespace abi_v1 {
 /// of the block starts at offset + j * stride. transposed: the factor's (a, b) block is stored as
 /// the system's (b, a) block. offset < 0: the block is not part of the system (fixed variable).
 struct BlockSlot {
-  int offset = -1;     ///< start of the block's first column
-  int stride = 0;      ///< distance between consecutive columns of the block
+  int offset = -1;          ///< start of the block's first column
+  int stride = 0;           ///< distance between consecutive columns of the block
   bool transposed = false;  ///< store the transpose of the factor's block
 };
 

@@ -1,11 +1,10 @@
 #pragma once
 // Pose-graph files: g2o (VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, EDGE_SE3:QUAT, FIX) read and
 // write; TORO 2D (VERTEX2, EDGE2) read. Malformed input throws ParseError with the 1-based line.
+#include <Eigen/Core>
 #include <cstddef>
 #include <iosfwd>
 #include <string>
-
-#include <Eigen/Core>
 
 #include "plugslam/solver/factor_graph.h"
 
@@ -21,15 +20,15 @@ struct ReadGraphOptions {
 
 /// What a graph file held.
 struct GraphFileInfo {
-  int dimension = 0;                  ///< 2 or 3
-  std::string format;                 ///< "g2o" or "toro"
-  size_t vertices = 0;                ///< vertex records in the file
-  size_t edges = 0;                   ///< edge records
-  size_t fixed = 0;                   ///< variables fixed by FIX records
-  bool has_vertices = false;          ///< false: estimates are placeholders, initialise them
-  size_t non_pd_information = 0;      ///< edges whose information is not positive definite
-  size_t projected_information = 0;   ///< of those, how many were projected
-  size_t skipped_records = 0;         ///< records of other known-looking types (e.g. EQUIV)
+  int dimension = 0;                 ///< 2 or 3
+  std::string format;                ///< "g2o" or "toro"
+  size_t vertices = 0;               ///< vertex records in the file
+  size_t edges = 0;                  ///< edge records
+  size_t fixed = 0;                  ///< variables fixed by FIX records
+  bool has_vertices = false;         ///< false: estimates are placeholders, initialise them
+  size_t non_pd_information = 0;     ///< edges whose information is not positive definite
+  size_t projected_information = 0;  ///< of those, how many were projected
+  size_t skipped_records = 0;        ///< records of other known-looking types (e.g. EQUIV)
 };
 
 /// Reads a g2o or TORO file into an empty graph (SE2/SE3 variables, between factors).

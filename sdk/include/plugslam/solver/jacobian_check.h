@@ -14,11 +14,11 @@ inline namespace abi_v1 {
 
 /// Result of checkJacobian: per variable block, the largest absolute difference.
 struct JacobianCheckResult {
-  bool ok = true;                       ///< every block within tolerance
-  std::vector<double> max_abs_error;    ///< one per variable, in factor order
-  std::vector<double> max_abs_value;    ///< largest |entry| of each numeric block (scale)
-  double tolerance = 0.0;               ///< the absolute tolerance used (after scaling)
-  std::string describe() const;         ///< a one-line summary for test failure messages
+  bool ok = true;                     ///< every block within tolerance
+  std::vector<double> max_abs_error;  ///< one per variable, in factor order
+  std::vector<double> max_abs_value;  ///< largest |entry| of each numeric block (scale)
+  double tolerance = 0.0;             ///< the absolute tolerance used (after scaling)
+  std::string describe() const;       ///< a one-line summary for test failure messages
   /// Truthy when ok, so EXPECT_TRUE(checkJacobian(f)) works.
   explicit operator bool() const { return ok; }
 };

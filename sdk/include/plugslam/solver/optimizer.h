@@ -19,7 +19,7 @@ enum class Algorithm { kGaussNewton, kLevenbergMarquardt };
 
 /// How the optimizer treats the gauge freedom of relative-only problems.
 enum class GaugeMode {
-  kAuto,  ///< fix the first variable if none is fixed and no factor is unary
+  kAuto,  ///< per connected component without a fixed variable or unary factor, fix its first
   kNone,  ///< never fix anything implicitly
 };
 
@@ -32,10 +32,10 @@ enum class Factorization {
 
 /// Why an optimisation stopped.
 enum class StopReason {
-  kConverged,       ///< relative cost decrease or step norm below threshold
-  kMaxIterations,   ///< iteration budget used
-  kNoProgress,      ///< LM could not find a decreasing step
-  kSolverFailure,   ///< GN: the system was singular/indefinite, the step was rejected
+  kConverged,          ///< relative cost decrease or step norm below threshold
+  kMaxIterations,      ///< iteration budget used
+  kNoProgress,         ///< LM could not find a decreasing step
+  kSolverFailure,      ///< GN: the system was singular/indefinite, the step was rejected
   kNothingToOptimize,  ///< no free variable or no factor
 };
 
@@ -45,27 +45,27 @@ const char* toString(StopReason r);
 /// Optimizer settings.
 struct OptimizerOptions {
   Algorithm algorithm = Algorithm::kLevenbergMarquardt;  ///< GN or LM
-  int max_iterations = 100;           ///< outer iterations (each one linearisation)
-  double relative_decrease = 1e-6;    ///< stop when (chi2_old - chi2_new) / chi2_old is below
-  double absolute_chi2 = 1e-12;       ///< stop when the cost falls below
-  double step_norm = 1e-9;            ///< stop when max |dx| is below
-  double lm_initial_tau = 1e-5;       ///< LM: lambda0 = tau * max diag(H)
-  int lm_max_rejections = 10;         ///< LM: consecutive rejected steps before giving up
-  int dense_threshold = 60;           ///< systems of at most this many scalars use dense LDLT
+  int max_iterations = 100;            ///< outer iterations (each one linearisation)
+  double relative_decrease = 1e-6;     ///< stop when (chi2_old - chi2_new) / chi2_old is below
+  double absolute_chi2 = 1e-12;        ///< stop when the cost falls below
+  double step_norm = 1e-9;             ///< stop when max |dx| is below
+  double lm_initial_tau = 1e-8;        ///< LM: lambda0 = tau * max diag(H)
+  int lm_max_rejections = 10;          ///< LM: consecutive rejected steps before giving up
+  int dense_threshold = 60;            ///< systems of at most this many scalars use dense LDLT
   GaugeMode gauge = GaugeMode::kAuto;  ///< implicit gauge fixing
   Factorization factorization = Factorization::kAuto;  ///< sparse path factorisation
-  bool verbose = false;               ///< log each iteration with spdlog (info)
+  bool verbose = false;                                ///< log each iteration with spdlog (info)
 };
 
 /// Statistics of one outer iteration.
 struct IterationStats {
-  int iteration = 0;           ///< 0-based
-  double chi2 = 0.0;           ///< robust cost after the iteration
-  double chi2_before = 0.0;    ///< robust cost before it
-  double step_norm = 0.0;      ///< max |dx| of the accepted step (0 if none)
-  double lambda = 0.0;         ///< LM damping used for the accepted step (0 for GN)
-  int rejected_steps = 0;      ///< LM: steps rejected in this iteration
-  bool accepted = true;        ///< whether the estimate changed
+  int iteration = 0;            ///< 0-based
+  double chi2 = 0.0;            ///< robust cost after the iteration
+  double chi2_before = 0.0;     ///< robust cost before it
+  double step_norm = 0.0;       ///< max |dx| of the accepted step (0 if none)
+  double lambda = 0.0;          ///< LM damping used for the accepted step (0 for GN)
+  int rejected_steps = 0;       ///< LM: steps rejected in this iteration
+  bool accepted = true;         ///< whether the estimate changed
   double time_linearize = 0.0;  ///< seconds assembling H and b
   double time_solve = 0.0;      ///< seconds in the factorisation and solves
   double time_update = 0.0;     ///< seconds applying steps and evaluating the cost
@@ -74,17 +74,19 @@ struct IterationStats {
 /// Outcome of optimize().
 struct OptimizeResult {
   StopReason reason = StopReason::kNothingToOptimize;  ///< why it stopped
-  int iterations = 0;          ///< outer iterations run
-  double initial_chi2 = 0.0;   ///< robust cost at the start
-  double final_chi2 = 0.0;     ///< robust cost at the end
-  double time_total = 0.0;     ///< seconds in optimize()
-  double time_setup = 0.0;     ///< seconds building the structure and symbolic factorisation
-  int system_size = 0;         ///< scalar unknowns
-  bool dense = false;          ///< dense path used
-  int singular_systems = 0;    ///< factorisations that failed (indefinite or singular)
+  int iterations = 0;                                  ///< outer iterations run
+  double initial_chi2 = 0.0;                           ///< robust cost at the start
+  double final_chi2 = 0.0;                             ///< robust cost at the end
+  double time_total = 0.0;                             ///< seconds in optimize()
+  double time_setup = 0.0;            ///< seconds building the structure and symbolic factorisation
+  int system_size = 0;                ///< scalar unknowns
+  bool dense = false;                 ///< dense path used
+  int singular_systems = 0;           ///< factorisations that failed (indefinite or singular)
   std::vector<IterationStats> stats;  ///< one entry per iteration
   /// True when the run stopped without a failure (converged or out of iterations).
-  bool ok() const { return reason == StopReason::kConverged || reason == StopReason::kMaxIterations; }
+  bool ok() const {
+    return reason == StopReason::kConverged || reason == StopReason::kMaxIterations;
+  }
 };
 
 /// GN/LM optimizer. Keep one instance per problem stream: it caches the structure, the

@@ -20,15 +20,16 @@ class BetweenFactorSE2 final : public Factor<3, VariableSE2, VariableSE2> {
  private:
   SE2 measurement_;
   SE2 inverse_measurement_;
+  double measurement_angle_;
 };
 
 /// Relative 3D pose measurement Z between Xi and Xj.
 class BetweenFactorSE3 final : public Factor<6, VariableSE3, VariableSE3> {
  public:
   /// Measurement Z of Xi^-1 Xj with the given information (error order: t, q.vec).
-  BetweenFactorSE3(VariableSE3* xi, VariableSE3* xj, const SE3& measurement,
-                   const Eigen::Matrix<double, 6, 6>& information =
-                       Eigen::Matrix<double, 6, 6>::Identity());
+  BetweenFactorSE3(
+      VariableSE3* xi, VariableSE3* xj, const SE3& measurement,
+      const Eigen::Matrix<double, 6, 6>& information = Eigen::Matrix<double, 6, 6>::Identity());
   /// The measured relative pose.
   const SE3& measurement() const { return measurement_; }
   ErrorVector error() const override;
@@ -53,15 +54,16 @@ class PriorFactorSE2 final : public Factor<3, VariableSE2> {
  private:
   SE2 measurement_;
   SE2 inverse_measurement_;
+  double measurement_angle_;
 };
 
 /// Absolute 3D pose prior Z on X: error (t, q.vec) of Z^-1 X.
 class PriorFactorSE3 final : public Factor<6, VariableSE3> {
  public:
   /// Prior Z with the given information.
-  PriorFactorSE3(VariableSE3* x, const SE3& measurement,
-                 const Eigen::Matrix<double, 6, 6>& information =
-                     Eigen::Matrix<double, 6, 6>::Identity());
+  PriorFactorSE3(
+      VariableSE3* x, const SE3& measurement,
+      const Eigen::Matrix<double, 6, 6>& information = Eigen::Matrix<double, 6, 6>::Identity());
   /// The prior pose.
   const SE3& measurement() const { return measurement_; }
   ErrorVector error() const override;

@@ -60,7 +60,8 @@ class VariableT : public Variable {
   using Delta = Eigen::Matrix<double, D, 1>;
 
   /// A variable with id and initial estimate.
-  VariableT(int64_t id, const T& estimate) : Variable(id, D), estimate_(estimate), backup_(estimate) {}
+  VariableT(int64_t id, const T& estimate)
+      : Variable(id, D), estimate_(estimate), backup_(estimate) {}
   /// The current estimate.
   const T& estimate() const { return estimate_; }
   /// Replaces the current estimate.
@@ -118,9 +119,9 @@ template <>
 inline SE3 VariableT<6, SE3>::oplusTo(const SE3& x, const double* d) {
   SE3 r;
   r.translation() = x.translation() + x.linear() * Eigen::Vector3d(d[0], d[1], d[2]);
-  const Eigen::Quaterniond q =
-      (Eigen::Quaterniond(x.linear()) * Eigen::Quaterniond(so3Exp(Eigen::Vector3d(d[3], d[4], d[5]))))
-          .normalized();
+  const Eigen::Quaterniond q = (Eigen::Quaterniond(x.linear()) *
+                                Eigen::Quaterniond(so3Exp(Eigen::Vector3d(d[3], d[4], d[5]))))
+                                   .normalized();
   r.linear() = q.toRotationMatrix();
   r.makeAffine();
   return r;
