@@ -40,10 +40,13 @@ std::vector<LogScan> readLog(const std::string& path) {
   io::CarmenReader reader(path, options);
   io::CarmenRecord record;
   std::vector<LogScan> scans;
-  std::optional<SE2> last_odom;
+  // The last ODOM pose since the previous scan (GCC warns on std::optional of an Eigen type).
+  SE2 last_odom = SE2::Identity();
+  bool have_odom = false;
   while (reader.next(record)) {
     if (record.kind == io::CarmenRecord::Kind::kOdometry) {
       last_odom = poseOf(record.odometry.pose);
+      have_odom = true;
       continue;
     }
     if (record.kind != io::CarmenRecord::Kind::kLaser || record.laser.sensor != "front") continue;
@@ -59,8 +62,8 @@ std::vector<LogScan> readLog(const std::string& path) {
     s.reference = poseOf(l.robot_pose);
     // In the corrected logs odometry restarts from each corrected scan pose: the increment is
     // the last ODOM pose before this scan, seen from the previous scan's pose.
-    if (!scans.empty() && last_odom) s.odom_delta = scans.back().reference.inverse() * *last_odom;
-    last_odom.reset();
+    if (!scans.empty() && have_odom) s.odom_delta = scans.back().reference.inverse() * last_odom;
+    have_odom = false;
     scans.push_back(std::move(s));
   }
   return scans;

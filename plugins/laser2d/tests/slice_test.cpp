@@ -224,10 +224,6 @@ TEST(ScanSlices, TwoScannersInOneAlignerBeatEitherAlone) {
       aligner.slices.assign(slice);
     }
     const auto r = aligner.align(frame, scene, {SE2::Identity(), SE2::Identity()});
-    const Eigen::Vector3d d = toVector(offset.inverse() * r.pose);
-    if (std::getenv("LASER2D_DEBUG"))
-      std::printf("%d%d seed %u: %zu factors, d = %.4f %.4f %.4f\n", use_front, use_rear, seed,
-                  r.factors, d.x(), d.y(), d.z());
     return (r.pose.translation() - offset.translation()).norm() + rotationError(r.pose, offset);
   };
   double front_err = 0, rear_err = 0, both_err = 0;
