@@ -29,9 +29,9 @@ class ScanPreprocessor final : public PreProcessor {
                         Range{1, 1000}};
   Param<double> voxel{this, "voxel", 0.0, "m",
                       "minimum spacing between consecutive kept points (0: off)", Range{0, 100}};
-  Param<int> normal_neighbors{this, "normal_neighbors", 2, "",
+  Param<int> normal_neighbors{this, "normal_neighbors", 3, "",
                               "beams on each side used to fit a point's normal", Range{1, 50}};
-  Param<double> normal_radius{this, "normal_radius", 0.3, "m",
+  Param<double> normal_radius{this, "normal_radius", 0.5, "m",
                               "neighbours farther than this do not enter the normal fit",
                               Range{0.001, 100}};
   Param<double> max_planarity{this, "max_planarity", 0.1, "",

@@ -1,4 +1,5 @@
-// laser2d_bench LOG [association=kdtree|projective] [odom=1|0] [repeat=N] [module.param=value]...
+// laser2d_bench LOG [association=kdtree|projective] [odom=1|0] [repeat=N] [map_dir=DIR]
+// [module.param=value]...
 // Front-end speed and local accuracy (RPE over 1 m against the log's poses) on a CARMEN log;
 // module is preprocessor, slice, map, aligner or splitter.
 #include <cstdio>
@@ -25,6 +26,8 @@ int main(int argc, char** argv) {
         options.association = value;
       else if (key == "odom")
         options.odometry = value != "0";
+      else if (key == "map_dir")
+        options.map_dir = value;
       else if (key == "repeat")
         options.repeat = std::atoi(value.c_str());
       else

@@ -8,6 +8,7 @@
 #include "plugslam/errors.h"
 #include "plugslam/multi_tracker.h"
 #include "plugslam/registry.h"
+#include "occupancy_map_writer.h"
 #include "point_map_slice.h"
 #include "readers/carmen_reader.h"
 #include "scan_preprocessor.h"
@@ -141,6 +142,15 @@ FrontendRun runFrontend(const std::string& log, const FrontendOptions& options) 
     for (size_t i = 0; i < frames.size(); ++i) {
       out.estimate.push_back(frames[i].stamp, frames[i].estimate.world);
       out.reference.push_back(frames[i].stamp, Space2D::to3D(scans[i].reference));
+    }
+    if (!options.map_dir.empty() && run + 1 == std::max(1, options.repeat)) {
+      OccupancyMapWriter writer;
+      writer.max_range = 25.0;
+      writer.begin(options.map_dir);
+      for (const auto& frame : frames) writer.consume(frame);
+      RunResult result;
+      result.trajectory = out.estimate;
+      writer.end(result);
     }
     out.aligned = tracker.stats().aligned;
     out.local_maps = tracker.stats().local_maps;

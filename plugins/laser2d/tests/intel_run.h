@@ -16,6 +16,7 @@ struct FrontendOptions {
   bool odometry = true;   ///< predict from the log's ODOM increments, else constant velocity
   double split_distance = 1.0;  ///< local map split distance [m]
   int repeat = 1;         ///< runs over the log (timing only; the last run is kept)
+  std::string map_dir;    ///< when set, the occupancy map of the estimate is written there
   /// Parameter overrides "module.param" -> YAML value text, module one of preprocessor,
   /// slice, map, aligner (e.g. {"slice.max_distance", "0.3"}).
   std::vector<std::pair<std::string, std::string>> overrides;

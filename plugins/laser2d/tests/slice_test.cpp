@@ -17,7 +17,7 @@
 namespace plugslam::laser2d {
 namespace {
 
-PointCloud2D cloudOf(const LaserScan& scan, double normal_radius = 0.3, int neighbors = 2) {
+PointCloud2D cloudOf(const LaserScan& scan, double normal_radius = 0.5, int neighbors = 3) {
   ScanPreprocessor pre;
   pre.normal_radius = normal_radius;
   pre.normal_neighbors = neighbors;
