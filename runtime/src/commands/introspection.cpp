@@ -34,7 +34,7 @@ namespace {
 
 std::string paramLine(const ParamBase& p) {
   std::string extra;
-  if (p.range()) extra = fmt::format(", range [{}, {}]", p.range()->min, p.range()->max);
+  if (p.range()) extra = fmt::format(", range [{:g}, {:g}]", p.range()->min, p.range()->max);
   if (!p.choices().empty()) {
     std::string c;
     for (auto& v : p.choices()) c += (c.empty() ? "" : "|") + v;
@@ -104,7 +104,8 @@ std::string configReferenceMarkdown(const std::vector<PluginInfo>& plugins) {
         out += "| key | type | default | unit | description |\n|---|---|---|---|---|\n";
         for (auto* p : obj->params()) {
           std::string doc = p->doc();
-          if (p->range()) doc += fmt::format(" Range [{}, {}].", p->range()->min, p->range()->max);
+          if (!doc.empty() && doc.back() != '.') doc += ".";
+          if (p->range()) doc += fmt::format(" Range [{:g}, {:g}].", p->range()->min, p->range()->max);
           if (!p->choices().empty()) {
             std::string c;
             for (auto& v : p->choices()) c += (c.empty() ? "" : ", ") + v;
