@@ -15,7 +15,7 @@ for s in stage-0 stage-1 stage-2 stage-3; do
   cells=()
   for kind in single double; do
     dir="$out/$s-$kind"
-    "$bin" run "$root/configs/sim2d_${kind}_laser.yaml" -o "$dir" --set "source.session=$s" -q > /dev/null
+    "$bin" run "$root/configs/sim2d_${kind}_laser.yaml" -o "$dir" --set "source.session=$s" --set pipeline.graph.deterministic=true -q > /dev/null
     cells+=("$(python3 - "$dir/run.json" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
