@@ -23,7 +23,8 @@ void OccupancyMapWriter::consume(const Frame& frame) {
   for (const auto& name : measurements()) {
     const PointCloud2D* cloud = frame.measurement.find<PointCloud2D>(name);
     if (!cloud || cloud->empty()) continue;
-    KeptScan kept{frame.stamp, frame.seq,
+    KeptScan kept{frame.stamp,
+                  frame.seq,
                   {static_cast<float>(cloud->sensor_origin.x()),
                    static_cast<float>(cloud->sensor_origin.y())},
                   {}};
@@ -65,8 +66,9 @@ void OccupancyMapWriter::end(const RunResult& result) {
     }
   }
   if (placed.empty()) {
-    spdlog::warn("{}: no scan could be placed on the trajectory ({} kept, {} poses); no map written",
-                 name().empty() ? typeName() : name(), scans_.size(), result.trajectory.size());
+    spdlog::warn(
+        "{}: no scan could be placed on the trajectory ({} kept, {} poses); no map written",
+        name().empty() ? typeName() : name(), scans_.size(), result.trajectory.size());
     return;
   }
   const double margin = 2 * resolution();
@@ -80,8 +82,9 @@ void OccupancyMapWriter::end(const RunResult& result) {
   }
   placed_ = placed.size();
 
-  const std::string base =
-      !file().empty() && file()[0] == '/' ? file() : (out_dir_.empty() ? "." : out_dir_) + "/" + file();
+  const std::string base = !file().empty() && file()[0] == '/'
+                               ? file()
+                               : (out_dir_.empty() ? "." : out_dir_) + "/" + file();
   const std::string image_name = base.substr(base.find_last_of('/') + 1) + ".pgm";
   const std::vector<uint8_t> pixels = grid.image();
   const std::string pgm = encodePgm(pixels, grid.width(), grid.height());

@@ -16,12 +16,18 @@ class OccupancyMapWriter final : public Sink {
   Param<std::string> file{this, "file", "map", "",
                           "output base name (in the output folder unless absolute): "
                           "<file>.pgm, <file>.yaml, <file>.png"};
-  Param<double> max_range{this, "max_range", 0.0, "m",
+  Param<double> max_range{this,
+                          "max_range",
+                          0.0,
+                          "m",
                           "ignore points farther than this from the sensor (0: keep all)",
                           Range{0, 1e4}};
-  Param<std::vector<std::string>> measurements{this, "measurements", {"front"}, "",
-                                               "PointCloud2D measurement entries to map"};
-  Param<double> max_time_offset{this, "max_time_offset", 1e-6, "s",
+  Param<std::vector<std::string>> measurements{
+      this, "measurements", {"front"}, "", "PointCloud2D measurement entries to map"};
+  Param<double> max_time_offset{this,
+                                "max_time_offset",
+                                1e-6,
+                                "s",
                                 "a scan is placed at the trajectory pose this close in time",
                                 Range{0, 1e6}};
 

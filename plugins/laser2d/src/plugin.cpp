@@ -1,6 +1,7 @@
 // The laser2d plugin's register function: every type of the cue, by name.
-#include "occupancy_map_writer.h"
 #include "plugslam/plugin.h"
+
+#include "occupancy_map_writer.h"
 #include "point_cloud2d.h"
 #include "point_map_slice.h"
 #include "scan_preprocessor.h"

@@ -24,9 +24,8 @@ void PointCloud2D::touch() { revision = next_revision.fetch_add(1, std::memory_o
 void PointCloud2D::checkConsistent() const {
   if (normals.size() != points.size() || weights.size() != points.size())
     throw InputError("PointCloud2D: expected as many normals and weights as points, got " +
-                     std::to_string(points.size()) + " points, " +
-                     std::to_string(normals.size()) + " normals, " +
-                     std::to_string(weights.size()) + " weights");
+                     std::to_string(points.size()) + " points, " + std::to_string(normals.size()) +
+                     " normals, " + std::to_string(weights.size()) + " weights");
 }
 
 void save(OutArchive& ar, const PointCloud2D& c) {

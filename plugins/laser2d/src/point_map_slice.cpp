@@ -40,8 +40,8 @@ void PointMapSlice::merge(const Frame& frame, PropertyContainer& scene_container
   for (size_t j = 0; j < map->size(); ++j) index_.insert(map->points[j], static_cast<int>(j));
 
   const Eigen::Matrix2d r = t.linear();
-  const double clip2 = clip_radius() > 0 ? clip_radius() * clip_radius()
-                                         : std::numeric_limits<double>::infinity();
+  const double clip2 =
+      clip_radius() > 0 ? clip_radius() * clip_radius() : std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < measured->size(); ++i) {
     const Eigen::Vector2d p = t * measured->points[i];
     if ((p - robot).squaredNorm() > clip2) continue;  // would be clipped at once

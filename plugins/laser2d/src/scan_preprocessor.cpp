@@ -42,8 +42,7 @@ void ScanPreprocessor::convert(const LaserScan& scan, PointCloud2D& out) {
   for (size_t i = 0; i < n; ++i) {
     const double r = scan.ranges[i];
     const double a = scan.angle(i);
-    if (!std::isfinite(r) || r <= rmin || r >= rmax || a < min_angle() || a > max_angle())
-      continue;
+    if (!std::isfinite(r) || r <= rmin || r >= rmax || a < min_angle() || a > max_angle()) continue;
     beam_points_[i] = Eigen::Vector2d(r * std::cos(a), r * std::sin(a));
     valid_[i] = 1;
   }

@@ -86,9 +86,8 @@ bool ScanSliceBase::bind(const Frame& frame, const PropertyContainer& scene_cont
   if (!measured_ || !scene_ || measured_->empty() || scene_->empty()) return false;
   measured_->checkConsistent();
   scene_->checkConsistent();
-  if (association() == "kdtree" &&
-      (tree_->adaptor.points != &scene_->points || tree_revision_ != scene_->revision ||
-       scene_->revision == 0)) {
+  if (association() == "kdtree" && (tree_->adaptor.points != &scene_->points ||
+                                    tree_revision_ != scene_->revision || scene_->revision == 0)) {
     tree_->adaptor.points = &scene_->points;
     tree_->index.buildIndex();
     tree_revision_ = scene_->revision;
@@ -168,8 +167,7 @@ void ScanSliceBase::associateProjective(const Pose& t) {
   }
 }
 
-double ScanSliceBase::robustWeight(double s, double abs_error,
-                                   NormalEquations<Space2D>& eq) const {
+double ScanSliceBase::robustWeight(double s, double abs_error, NormalEquations<Space2D>& eq) const {
   ++eq.factors;
   if (abs_error <= kernel_scale()) ++eq.inliers;
   if (!kernel_) {

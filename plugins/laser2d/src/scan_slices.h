@@ -20,23 +20,34 @@ class ScanSliceBase : public AlignerSlice<Space2D> {
  public:
   Param<std::string> measurement{this, "measurement", "front", "", "measurement entry to align"};
   Param<std::string> scene{this, "scene", "front", "", "scene entry to align against"};
-  Param<double> max_distance{this, "max_distance", 0.5, "m", "association gate",
-                             Range{1e-6, 100}};
-  Param<std::string> association{this, "association", "kdtree", "",
+  Param<double> max_distance{this, "max_distance", 0.5, "m", "association gate", Range{1e-6, 100}};
+  Param<std::string> association{this,
+                                 "association",
+                                 "kdtree",
+                                 "",
                                  "nearest neighbour in a k-d tree of the scene, or projective "
                                  "(scene binned by bearing from the robot)",
                                  Choices{{"kdtree", "projective"}}};
-  Param<std::string> kernel{this, "kernel", "cauchy", "", "robust kernel",
-                            Choices{{"none", "huber", "cauchy", "tukey"}}};
-  Param<double> kernel_scale{this, "kernel_scale", 0.1, "m",
+  Param<std::string> kernel{this, "kernel",        "cauchy",
+                            "",   "robust kernel", Choices{{"none", "huber", "cauchy", "tukey"}}};
+  Param<double> kernel_scale{this,
+                             "kernel_scale",
+                             0.1,
+                             "m",
                              "kernel scale, and the residual below which a pair is an inlier",
                              Range{1e-6, 100}};
-  Param<double> sigma{this, "sigma", 0.02, "m", "range noise; each pair weighs 1/sigma^2",
-                      Range{1e-6, 100}};
-  Param<double> max_normal_angle{this, "max_normal_angle", 0.8, "rad",
+  Param<double> sigma{
+      this, "sigma", 0.02, "m", "range noise; each pair weighs 1/sigma^2", Range{1e-6, 100}};
+  Param<double> max_normal_angle{this,
+                                 "max_normal_angle",
+                                 0.8,
+                                 "rad",
                                  "reject pairs whose normals differ more than this (pi: off)",
                                  Range{0, M_PI}};
-  Param<double> projective_resolution{this, "projective_resolution", 0.25 * M_PI / 180, "rad",
+  Param<double> projective_resolution{this,
+                                      "projective_resolution",
+                                      0.25 * M_PI / 180,
+                                      "rad",
                                       "bearing bin width of the projective association",
                                       Range{1e-4, 0.5}};
 
@@ -86,8 +97,7 @@ class PointToLineSlice final : public ScanSliceBase {
   void linearize(const Pose& t, NormalEquations<Space2D>& eq) const override;
   /// The residual and its Jacobian w.r.t. a right perturbation of T (as PointToLineFactor2D).
   static void errorAndJacobian(const Pose& t, const Eigen::Vector2d& p, const Eigen::Vector2d& q,
-                               const Eigen::Vector2d& n, double& e,
-                               Eigen::Matrix<double, 1, 3>& j);
+                               const Eigen::Vector2d& n, double& e, Eigen::Matrix<double, 1, 3>& j);
 };
 
 /// laser2d.PointToPointSlice: e = T p - q, one 2D factor per pair.

@@ -12,7 +12,10 @@
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s LOG [association=kdtree|projective] [odom=1|0] [repeat=N] [module.param=v]...\n", argv[0]);
+    std::fprintf(
+        stderr,
+        "usage: %s LOG [association=kdtree|projective] [odom=1|0] [repeat=N] [module.param=v]...\n",
+        argv[0]);
     return 2;
   }
   try {

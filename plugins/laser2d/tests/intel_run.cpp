@@ -1,14 +1,14 @@
 #include "intel_run.h"
 
+#include <yaml-cpp/yaml.h>
+
 #include <chrono>
 #include <limits>
 
-#include <yaml-cpp/yaml.h>
-
+#include "occupancy_map_writer.h"
 #include "plugslam/errors.h"
 #include "plugslam/multi_tracker.h"
 #include "plugslam/registry.h"
-#include "occupancy_map_writer.h"
 #include "point_map_slice.h"
 #include "readers/carmen_reader.h"
 #include "scan_preprocessor.h"

@@ -13,10 +13,10 @@ namespace plugslam::laser2d::test {
 /// How to run the front-end.
 struct FrontendOptions {
   std::string association = "kdtree";  ///< kdtree | projective
-  bool odometry = true;   ///< predict from the log's ODOM increments, else constant velocity
+  bool odometry = true;         ///< predict from the log's ODOM increments, else constant velocity
   double split_distance = 1.0;  ///< local map split distance [m]
-  int repeat = 1;         ///< runs over the log (timing only; the last run is kept)
-  std::string map_dir;    ///< when set, the occupancy map of the estimate is written there
+  int repeat = 1;               ///< runs over the log (timing only; the last run is kept)
+  std::string map_dir;          ///< when set, the occupancy map of the estimate is written there
   /// Parameter overrides "module.param" -> YAML value text, module one of preprocessor,
   /// slice, map, aligner (e.g. {"slice.max_distance", "0.3"}).
   std::vector<std::pair<std::string, std::string>> overrides;
@@ -24,15 +24,15 @@ struct FrontendOptions {
 
 /// What a run measured.
 struct FrontendRun {
-  size_t scans = 0;            ///< scans tracked (per run)
-  double seconds = 0;          ///< wall time of the front-end alone, best run
+  size_t scans = 0;             ///< scans tracked (per run)
+  double seconds = 0;           ///< wall time of the front-end alone, best run
   double scans_per_second = 0;  ///< scans / seconds
-  size_t aligned = 0;          ///< frames whose alignment was valid
-  size_t local_maps = 0;       ///< local maps created
+  size_t aligned = 0;           ///< frames whose alignment was valid
+  size_t local_maps = 0;        ///< local maps created
   double mean_inlier_ratio = 0;
-  size_t beams = 0;            ///< beams of the first scan
-  Trajectory estimate;         ///< world poses, t = scan index
-  Trajectory reference;        ///< the log's (GMapping-corrected) poses, t = scan index
+  size_t beams = 0;      ///< beams of the first scan
+  Trajectory estimate;   ///< world poses, t = scan index
+  Trajectory reference;  ///< the log's (GMapping-corrected) poses, t = scan index
 };
 
 /// Reads `log` (CARMEN, plain or gzip) and runs the front-end; throws InputError on a bad file.

@@ -99,7 +99,8 @@ TEST(OccupancyMapWriter, SquareRoomMap) {
     for (const Eigen::Vector2d& p : {Eigen::Vector2d(t, 0.0), Eigen::Vector2d(4.0, t),
                                      Eigen::Vector2d(t, 4.0), Eigen::Vector2d(0.0, t)}) {
       const Eigen::Vector2d d = p.x() == t ? Eigen::Vector2d(0, 0.02) : Eigen::Vector2d(0.02, 0);
-      occupied += pixel(p.x() + d.x(), p.y() + d.y()) == 0 || pixel(p.x() - d.x(), p.y() - d.y()) == 0;
+      occupied +=
+          pixel(p.x() + d.x(), p.y() + d.y()) == 0 || pixel(p.x() - d.x(), p.y() - d.y()) == 0;
       ++samples;
     }
   }

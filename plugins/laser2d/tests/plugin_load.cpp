@@ -27,9 +27,9 @@ TEST(Laser2dPlugin, LoadsRegistersAndTracks) {
   pm.addSearchDir(plugslam::testing::buildDir() + "/plugins");
   const auto& info = pm.load("laser2d");
   EXPECT_EQ(info.name, "laser2d");
-  for (const char* t : {"laser2d.ScanPreprocessor", "laser2d.PointToLineSlice",
-                        "laser2d.PointToPointSlice", "laser2d.PointMapSlice",
-                        "laser2d.OccupancyMapWriter"})
+  for (const char* t :
+       {"laser2d.ScanPreprocessor", "laser2d.PointToLineSlice", "laser2d.PointToPointSlice",
+        "laser2d.PointMapSlice", "laser2d.OccupancyMapWriter"})
     EXPECT_TRUE(Registry::instance().find(t)) << t;
   EXPECT_TRUE(ValueTypes::instance().findByTag("laser2d.PointCloud2D"));
 

@@ -15,8 +15,8 @@ namespace {
 
 std::vector<test::Segment> office() {
   std::vector<test::Segment> w = test::box(0, 0, 14, 9);
-  for (const auto& b : {test::box(3, 3, 4, 4), test::box(8, 5.5, 9.5, 6), test::box(11, 2, 11.5, 3.5),
-                        test::box(5.5, 7, 6, 9)})
+  for (const auto& b : {test::box(3, 3, 4, 4), test::box(8, 5.5, 9.5, 6),
+                        test::box(11, 2, 11.5, 3.5), test::box(5.5, 7, 6, 9)})
     w.insert(w.end(), b.begin(), b.end());
   return w;
 }
