@@ -154,7 +154,7 @@ TEST_F(Optimize, LevenbergMarquardtOn3dWithSummaryPathAndQuiet) {
   const std::string in = write("chain.g2o", chain3d());
   const std::string out = path("chain_out.g2o"), summary = path("summary.json");
   const Result r = run("optimize " + in + " -o " + out +
-                       " --solver lm --init odometry --iterations 50 --summary " + summary + " -q");
+                       " --solver lm --init odometry --iterations 50 --factorization supernodal --summary " + summary + " -q");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_EQ(r.out.find("linearize"), std::string::npos) << "-q still printed the table:\n" << r.out;
   EXPECT_FALSE(fs::exists(out + ".json"));
@@ -162,6 +162,7 @@ TEST_F(Optimize, LevenbergMarquardtOn3dWithSummaryPathAndQuiet) {
   EXPECT_LT(jsonNumber(json, "final_chi2"), 1e-10) << json;
   expectHas(json, "\"solver\": \"lm\"");
   expectHas(json, "\"init\": \"odometry\"");
+  expectHas(json, "\"factorization\": \"supernodal\"");
   EXPECT_EQ(jsonNumber(json, "dimension"), 3);
 
   plugslam::FactorGraph graph;
@@ -211,6 +212,9 @@ TEST_F(Optimize, BadArgumentsExitTwo) {
   r = run("optimize " + in + " --robust Welsch");
   EXPECT_EQ(r.code, 2) << r.out;
   expectHas(r.out, "Huber");
+  r = run("optimize " + in + " --factorization qr");
+  EXPECT_EQ(r.code, 2) << r.out;
+  expectHas(r.out, "expected auto, supernodal or simplicial");
   r = run("optimize " + in + " --iterations -3");
   EXPECT_EQ(r.code, 2) << r.out;
   r = run("optimize");

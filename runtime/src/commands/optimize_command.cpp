@@ -19,11 +19,19 @@ namespace plugslam::runtime {
 namespace {
 
 struct OptimizeArgs {
-  std::string input, output, summary, solver = "gn", init = "chordal", robust;
+  std::string input, output, summary, solver = "gn", init = "chordal", robust,
+      factorization = "auto";
   int iterations = 100;
   double robust_scale = 1.0;
   bool project_information = false, se_sync_weights = false;
 };
+
+Factorization parseFactorization(const std::string& name) {
+  if (name == "auto") return Factorization::kAuto;
+  if (name == "supernodal") return Factorization::kSupernodal;
+  if (name == "simplicial") return Factorization::kSimplicial;
+  throw InputError("unknown factorisation '" + name + "'; expected auto, supernodal or simplicial");
+}
 
 std::string jsonString(const std::string& s) {
   std::string out = "\"";
@@ -60,12 +68,14 @@ std::string summaryJson(const OptimizeArgs& a, const OptimizeReport& r, double t
   std::string s = base;
   s += fmt::format(
       ", \"input\": {}, \"output\": {}, \"format\": {}, \"solver\": {}, \"init\": {}, "
-      "\"robust_kernel\": {}, \"robust_scale\": {:.17g}, \"project_information\": {}, "
+      "\"factorization\": {}, \"robust_kernel\": {}, \"robust_scale\": {:.17g}, \"project_information\": {}, "
       "\"projected_information\": {}, \"se_sync_weights\": {}, \"converged\": {}, "
-      "\"time_total\": {:.6f}, \"per_iteration\": [",
+      "\"time_total\": {:.6f}, \"time_setup\": {:.6f}, \"system_size\": {}, "
+      "\"singular_systems\": {}, \"per_iteration\": [",
       jsonString(a.input), jsonString(a.output), jsonString(r.file.format), jsonString(a.solver),
-      jsonString(a.init), jsonString(a.robust), a.robust_scale, a.project_information,
-      r.file.projected_information, a.se_sync_weights, r.result.ok(), time_total);
+      jsonString(a.init), jsonString(a.factorization), jsonString(a.robust), a.robust_scale, a.project_information,
+      r.file.projected_information, a.se_sync_weights, r.result.ok(), time_total, r.result.time_setup, r.result.system_size,
+      r.result.singular_systems);
   for (size_t i = 0; i < r.result.stats.size(); ++i) {
     const IterationStats& st = r.result.stats[i];
     s += fmt::format(
@@ -128,6 +138,10 @@ void addOptimizeCommand(CLI::App& root, int& exit_code) {
                 "positive definite ones (otherwise such a graph is refused)");
   cmd->add_flag("--se-sync-weights", a.se_sync_weights,
                 "minimise SE-Sync's objective (isotropic weights from each information matrix)");
+  cmd->add_option("--factorization", a.factorization,
+                  "CHOLMOD factorisation: auto (by the analysis' flop count), supernodal or "
+                  "simplicial")
+      ->capture_default_str();
   cmd->add_option("--summary", a.summary, "JSON summary file (default: OUT.json)");
   cmd->callback([&exit_code] {
     const auto t_start = std::chrono::steady_clock::now();
@@ -142,6 +156,7 @@ void addOptimizeCommand(CLI::App& root, int& exit_code) {
     o.robust_scale = a.robust_scale;
     o.project_information = a.project_information;
     o.se_sync_weights = a.se_sync_weights;
+    o.factorization = parseFactorization(a.factorization);
     // -q (global) lowers the log level to errors; the table is progress output, so it goes too.
     const bool table = spdlog::default_logger()->level() < spdlog::level::err;
     IterationTable printer(table, o.init == InitMethod::kBest);
