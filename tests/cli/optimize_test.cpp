@@ -1,10 +1,10 @@
 // `plugslam optimize` as a user runs it: the iteration table, the written graph (read back with
 // the solver's reader), the JSON summary, exit codes (0 ok, 2 bad input) and a real graph.
 #include <gtest/gtest.h>
-#include <Eigen/Geometry>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -153,8 +153,10 @@ TEST_F(Optimize, SmallGraphReachesTheKnownOptimumAndWritesGraphAndSummary) {
 TEST_F(Optimize, LevenbergMarquardtOn3dWithSummaryPathAndQuiet) {
   const std::string in = write("chain.g2o", chain3d());
   const std::string out = path("chain_out.g2o"), summary = path("summary.json");
-  const Result r = run("optimize " + in + " -o " + out +
-                       " --solver lm --init odometry --iterations 50 --factorization supernodal --summary " + summary + " -q");
+  const Result r =
+      run("optimize " + in + " -o " + out +
+          " --solver lm --init odometry --iterations 50 --factorization supernodal --summary " +
+          summary + " -q");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_EQ(r.out.find("linearize"), std::string::npos) << "-q still printed the table:\n" << r.out;
   EXPECT_FALSE(fs::exists(out + ".json"));
@@ -178,7 +180,8 @@ TEST_F(Optimize, EdgeOnlyFileIsInitialisedAndRobustKernelAccepted) {
     if (line.rfind("EDGE", 0) == 0) only += line + "\n";
   const std::string in = write("edges.g2o", only);
   const std::string out = path("edges_out.g2o");
-  const Result r = run("optimize " + in + " -o " + out + " --init best --robust Huber --robust-scale 2");
+  const Result r =
+      run("optimize " + in + " -o " + out + " --init best --robust Huber --robust-scale 2");
   ASSERT_EQ(r.code, 0) << r.out;
   expectHas(r.out, "edges only");
   expectHas(r.out, "start 2: chordal");
@@ -188,9 +191,10 @@ TEST_F(Optimize, EdgeOnlyFileIsInitialisedAndRobustKernelAccepted) {
 }
 
 TEST_F(Optimize, MalformedInputExitsTwoWithFileAndLine) {
-  const std::string in = write("bad.g2o",
-                               "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nEDGE_SE2 0 1 1 0 zero 1 0 0 "
-                               "1 0 1\n");
+  const std::string in =
+      write("bad.g2o",
+            "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nEDGE_SE2 0 1 1 0 zero 1 0 0 "
+            "1 0 1\n");
   const Result r = run("optimize " + in + " -o " + path("bad_out.g2o"));
   EXPECT_EQ(r.code, 2) << r.out;
   expectHas(r.out, in + ":3");
@@ -217,6 +221,11 @@ TEST_F(Optimize, BadArgumentsExitTwo) {
   expectHas(r.out, "expected auto, supernodal or simplicial");
   r = run("optimize " + in + " --iterations -3");
   EXPECT_EQ(r.code, 2) << r.out;
+  r = run("optimize " + in + " -o " + path("no/such/dir/out.g2o"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  r = run("optimize " + in + " --summary " + path("no/such/dir/s.json"));
+  EXPECT_EQ(r.code, 2) << r.out;
+  expectHas(r.out, "--summary");
   r = run("optimize");
   EXPECT_EQ(r.code, 2) << r.out;
 }

@@ -20,7 +20,7 @@ namespace {
 
 struct OptimizeArgs {
   std::string input, output, summary, solver = "gn", init = "chordal", robust,
-      factorization = "auto";
+                                      factorization = "auto";
   int iterations = 100;
   double robust_scale = 1.0;
   bool project_information = false, se_sync_weights = false;
@@ -68,14 +68,15 @@ std::string summaryJson(const OptimizeArgs& a, const OptimizeReport& r, double t
   std::string s = base;
   s += fmt::format(
       ", \"input\": {}, \"output\": {}, \"format\": {}, \"solver\": {}, \"init\": {}, "
-      "\"factorization\": {}, \"robust_kernel\": {}, \"robust_scale\": {:.17g}, \"project_information\": {}, "
+      "\"factorization\": {}, \"robust_kernel\": {}, \"robust_scale\": {:.17g}, "
+      "\"project_information\": {}, "
       "\"projected_information\": {}, \"se_sync_weights\": {}, \"converged\": {}, "
       "\"time_total\": {:.6f}, \"time_setup\": {:.6f}, \"system_size\": {}, "
       "\"singular_systems\": {}, \"per_iteration\": [",
       jsonString(a.input), jsonString(a.output), jsonString(r.file.format), jsonString(a.solver),
-      jsonString(a.init), jsonString(a.factorization), jsonString(a.robust), a.robust_scale, a.project_information,
-      r.file.projected_information, a.se_sync_weights, r.result.ok(), time_total, r.result.time_setup, r.result.system_size,
-      r.result.singular_systems);
+      jsonString(a.init), jsonString(a.factorization), jsonString(a.robust), a.robust_scale,
+      a.project_information, r.file.projected_information, a.se_sync_weights, r.result.ok(),
+      time_total, r.result.time_setup, r.result.system_size, r.result.singular_systems);
   for (size_t i = 0; i < r.result.stats.size(); ++i) {
     const IterationStats& st = r.result.stats[i];
     s += fmt::format(
@@ -97,14 +98,15 @@ class IterationTable {
     if (st.iteration == 0) {
       ++run_;
       if (best_of_)
-        fmt::print("start {}: {}\n", run_, run_ == 1 ? "file (odometry if no vertices)" : "chordal");
+        fmt::print("start {}: {}\n", run_,
+                   run_ == 1 ? "file (odometry if no vertices)" : "chordal");
       fmt::print("{:>5} {:>16} {:>16} {:>10} {:>10} {:>11} {:>11} {:>11}\n", "iter", "chi2",
                  "chi2 before", "step", "lambda", "linearize", "solve", "update");
     }
-    fmt::print("{:>5} {:>16.10g} {:>16.10g} {:>10.3g} {:>10.3g} {:>9.3f}ms {:>9.3f}ms {:>9.3f}ms{}\n",
-               st.iteration, st.chi2, st.chi2_before, st.step_norm, st.lambda,
-               1e3 * st.time_linearize, 1e3 * st.time_solve, 1e3 * st.time_update,
-               st.accepted ? "" : "  (rejected)");
+    fmt::print(
+        "{:>5} {:>16.10g} {:>16.10g} {:>10.3g} {:>10.3g} {:>9.3f}ms {:>9.3f}ms {:>9.3f}ms{}\n",
+        st.iteration, st.chi2, st.chi2_before, st.step_norm, st.lambda, 1e3 * st.time_linearize,
+        1e3 * st.time_solve, 1e3 * st.time_update, st.accepted ? "" : "  (rejected)");
     std::fflush(stdout);
   }
 
@@ -131,7 +133,8 @@ void addOptimizeCommand(CLI::App& root, int& exit_code) {
                   "starting point: file (the file's poses), odometry (spanning tree), chordal "
                   "(chordal relaxation), best (file and chordal, keep the lower chi2)")
       ->capture_default_str();
-  cmd->add_option("--robust", a.robust, "robust kernel: Huber, Cauchy, Tukey or DCS (default: none)");
+  cmd->add_option("--robust", a.robust,
+                  "robust kernel: Huber, Cauchy, Tukey or DCS (default: none)");
   cmd->add_option("--robust-scale", a.robust_scale, "robust kernel scale")->capture_default_str();
   cmd->add_flag("--project-information", a.project_information,
                 "project information matrices that are not positive definite to the nearest "
@@ -150,7 +153,8 @@ void addOptimizeCommand(CLI::App& root, int& exit_code) {
     o.output = a.output;
     o.algorithm = parseAlgorithm(a.solver);
     o.init = parseInitMethod(a.init);
-    if (a.iterations < 0) throw InputError("--iterations must be >= 0, got " + std::to_string(a.iterations));
+    if (a.iterations < 0)
+      throw InputError("--iterations must be >= 0, got " + std::to_string(a.iterations));
     o.max_iterations = a.iterations;
     o.robust_kernel = a.robust;
     o.robust_scale = a.robust_scale;
@@ -195,7 +199,16 @@ void addOptimizeCommand(CLI::App& root, int& exit_code) {
 
     std::string summary = a.summary;
     if (summary.empty() && !a.output.empty()) summary = a.output + ".json";
-    if (!summary.empty()) writeTextFileAtomic(summary, summaryJson(a, r, time_total));
+    if (!summary.empty()) {
+      try {
+        writeTextFileAtomic(summary, summaryJson(a, r, time_total));
+      } catch (const InputError&) {
+        throw;
+      } catch (const Error& e) {
+        // An unwritable summary path is a bad argument, like an unwritable -o.
+        throw InputError(std::string("--summary: ") + e.what());
+      }
+    }
     if (table && !a.output.empty()) fmt::print("wrote {}\n", a.output);
     if (table && !summary.empty()) fmt::print("wrote {}\n", summary);
     std::fflush(stdout);
