@@ -8,7 +8,7 @@ PACKAGES=(
   libboost-dev libboost-filesystem-dev libsuitesparse-dev
   libcli11-dev libnanoflann-dev libgtest-dev libgmock-dev
   zlib1g-dev liblz4-dev libbz2-dev libreadline-dev libpng-dev
-  time
+  time python3
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

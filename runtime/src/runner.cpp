@@ -13,6 +13,7 @@
 #include "plugslam/errors.h"
 #include "plugslam/eval/ate.h"
 #include "plugslam/eval/rpe.h"
+#include "plugslam/trajectory.h"
 
 namespace plugslam::runtime {
 
@@ -51,31 +52,31 @@ std::string runReportJson(const RunReport& r) {
                            m.calls ? 1e3 * m.total_s / m.calls : 0.0);
   }
   return fmt::format(
-      "{{\n  \"frames\": {},\n  \"wall_time_s\": {:.6f},\n  \"hz\": {:.3f},\n  \"stopped_by\": "
+      "{{\n  \"frames\": {},\n  \"wall_time_s\": {:.6f},\n  \"hz\": {:.3f},\n  \"pipeline_time_s\": {:.6f},\n  \"pipeline_hz\": {:.3f},\n  \"stopped_by\": "
       "\"{}\",\n  \"tracked_frames\": {},\n  \"local_maps\": {},\n  \"tracking_failures\": {},\n"
-      "  \"ground_truth\": {{\"ate_rmse_m\": {}, \"ate_max_m\": {}, \"rpe_1m_rmse_m\": {}}},\n"
+      "  \"reference\": {{\"ate_rmse_m\": {}, \"ate_max_m\": {}, \"rpe_1m_rmse_m\": {}}},\n"
       "  \"graph\": {{\"nodes\": {}, \"edges\": {}, \"loop_candidates\": {}, \"loops_accepted\": {}, "
       "\"loops_rejected\": {}, \"optimizations\": {}, \"optimization_time_s\": {:.6f}, "
       "\"final_chi2\": {:.6f}}},\n"
       "  \"modules\": {{{}\n  }}\n}}\n",
-      r.frames, r.wall_s, r.hz, r.stopped_by, r.tracked, r.local_maps, r.tracking_failures,
+      r.frames, r.wall_s, r.hz, r.pipeline_s, r.pipeline_hz, r.stopped_by, r.tracked, r.local_maps, r.tracking_failures,
       jsonNumber(r.ate_rmse), jsonNumber(r.ate_max), jsonNumber(r.rpe_rmse), r.graph.nodes,
       r.graph.edges, r.graph.candidates, r.graph.loops_accepted, r.graph.loops_rejected,
       r.graph.optimizations, r.graph.optimization_time, r.graph.final_chi2, modules);
 }
 
 static void scoreAgainstGroundTruth(const RunResult& result, int dimension, RunReport& report) {
-  if (result.ground_truth.size() < 2 || result.trajectory.size() < 2) return;
+  if (result.reference.size() < 2 || result.trajectory.size() < 2) return;
   try {
     AteOptions ate;
     ate.alignment = dimension == 2 ? Alignment::SE2 : Alignment::SE3;
-    AteResult a = computeAte(result.ground_truth, result.trajectory, ate);
+    AteResult a = computeAte(result.reference, result.trajectory, ate);
     report.ate_rmse = a.translation.rmse;
     report.ate_max = a.translation.max;
     RpeOptions rpe;
     rpe.unit = RpeUnit::Meters;
     rpe.delta = 1.0;
-    report.rpe_rmse = computeRpe(result.ground_truth, result.trajectory, rpe).translation.rmse;
+    report.rpe_rmse = computeRpe(result.reference, result.trajectory, rpe).translation.rmse;
   } catch (const InputError& e) {
     spdlog::warn("cannot score against ground truth: {}", e.what());
   }
@@ -136,6 +137,11 @@ RunReport runPipeline(RunConfig& run, const RunOptions& options) {
     report.tracking_failures = pipeline.tracker->stats().failed;
   }
   scoreAgainstGroundTruth(result, pipeline.tracker ? pipeline.tracker->dimension() : 3, report);
+  if (!result.reference.empty())
+    writeTumTrajectory(result.reference,
+                       (fs::path(options.out_dir) / "reference.tum").string());
+  for (const auto& e : pipeline.timings().entries()) report.pipeline_s += e.total_s;
+  report.pipeline_hz = report.pipeline_s > 0 ? report.frames / report.pipeline_s : 0;
   report.wall_s = elapsed();
   report.hz = report.wall_s > 0 ? report.frames / report.wall_s : 0;
   report.modules = io_timings.entries();

@@ -14,6 +14,8 @@ struct RunReport {
   uint64_t frames = 0;
   double wall_s = 0;
   double hz = 0;
+  double pipeline_s = 0;   ///< time inside the pipeline (not the source or the sinks)
+  double pipeline_hz = 0;  ///< frames / pipeline_s: the SLAM system's own rate
   std::vector<TimingEntry> modules;
   std::string stopped_by;  ///< "end of data", "max_frames", ...
   uint64_t tracked = 0;    ///< frames with a pose estimate

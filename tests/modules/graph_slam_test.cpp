@@ -7,6 +7,7 @@
 #include "landmark_cue.h"
 #include "plugslam/loop_closure.h"
 #include "plugslam/registry.h"
+#include "plugslam/solver/graph_io.h"
 
 using namespace plugslam;
 using namespace plugslam::testing;
@@ -230,4 +231,38 @@ TEST(GraphSlam, AFalseLoopIsRejectedByConsistency) {
   for (const auto& e : graph->edges()) EXPECT_FALSE(e.loop && e.to == v->victim && e.from == 0);
   EXPECT_LT((Space2D::from3D(maps.back()->origin).translation() - lw.origins.back().translation()).norm(),
             0.05);
+}
+
+TEST(GraphWriter, WritesLocalMapsAndEdgesAsG2o) {
+  std::vector<std::shared_ptr<const LocalMap>> maps;
+  std::vector<GraphEdge> edges;
+  for (int i = 0; i < 4; ++i) {
+    auto m = std::make_shared<LocalMap>();
+    m->id = i;
+    m->origin = Space2D::to3D(se2(i, 0.5 * i, 0.1 * i));
+    maps.push_back(m);
+    if (i > 0) {
+      GraphEdge e;
+      e.from = i - 1;
+      e.to = i;
+      e.relative = maps[i - 1]->origin.inverse() * m->origin;
+      e.information = Eigen::Matrix3d::Identity() * 50;
+      edges.push_back(e);
+    }
+  }
+  GraphEdge loop;
+  loop.from = 0;
+  loop.to = 3;
+  loop.loop = true;
+  loop.relative = maps[0]->origin.inverse() * maps[3]->origin;
+  loop.information = Eigen::Matrix3d::Identity() * 10;
+  edges.push_back(loop);
+  const std::string path = ::testing::TempDir() + "/plugslam_graph_writer.g2o";
+  writeGraphG2o(path, maps, edges);
+  FactorGraph back;
+  readGraphFile(path, back);
+  EXPECT_EQ(back.numVariables(), 4u);
+  EXPECT_EQ(back.numFactors(), 4u);
+  EXPECT_NEAR(back.chi2(), 0.0, 1e-9);  // the origins satisfy every edge
+  EXPECT_NEAR(toVector(back.get<VariableSE2>(2).estimate())[1], 1.0, 1e-12);
 }

@@ -25,6 +25,14 @@ struct GraphEdge {
   bool loop = false;            ///< a loop closure (else: consecutive maps)
 };
 
+/// An edge's information in the error coordinates of the solver's between factors (identical in
+/// 2D; in 3D the rotation part is the quaternion's vector part, half the rotation vector).
+Eigen::MatrixXd betweenFactorInformation(const GraphEdge& edge, int dimension);
+
+/// Writes local maps (as vertices, at their origins) and edges as a g2o file, atomically.
+void writeGraphG2o(const std::string& path, const std::vector<std::shared_ptr<const LocalMap>>& maps,
+                   const std::vector<GraphEdge>& edges);
+
 /// What a loop detector sees of the graph: every node with its current origin.
 struct GraphView {
   std::vector<std::shared_ptr<const LocalMap>> maps;  ///< by id (maps[i]->id == i)

@@ -25,6 +25,9 @@ class Pipeline : public Configurable {
   SlotList<PreProcessor> preprocessors{this, "preprocessors",
                                        "raw reading -> measurement cue, one per sensor"};
   Slot<Tracker> tracker{this, "tracker", "", "tracks frames against a local map (optional)"};
+  Param<std::string> reference{this, "reference", "ground_truth", "",
+                               "raw entry (Isometry2d/3d) recorded as the reference trajectory: "
+                               "ground truth, or another system's estimate"};
   Slot<GraphBackend> graph{this, "graph", "",
                            "pose graph of local maps, loop closing (optional; needs a tracker)"};
 
@@ -61,7 +64,7 @@ class Pipeline : public Configurable {
     Eigen::Isometry3d in_map;
   };
   std::vector<TrackedFrame> tracked_;
-  std::vector<StampedPose> ground_truth_;
+  std::vector<StampedPose> reference_;
   std::map<int64_t, std::shared_ptr<LocalMap>> local_maps_;
 
  private:

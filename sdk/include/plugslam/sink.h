@@ -21,8 +21,9 @@ struct RunResult {
   std::vector<std::shared_ptr<const LocalMap>> local_maps;
   /// The pose graph's edges between local maps (empty without a graph back-end).
   std::vector<GraphEdge> edges;
-  /// Ground truth, when the source provides it (raw entry "ground_truth", Isometry2d or 3d).
-  Trajectory ground_truth;
+  /// The reference trajectory when the source provides one (the pipeline's `reference` entry:
+  /// ground truth, or e.g. the log's own corrected poses).
+  Trajectory reference;
 };
 
 /// Receives each processed frame and the final result.

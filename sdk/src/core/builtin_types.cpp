@@ -1,5 +1,6 @@
 #include "builtin_types.h"
 
+#include "plugslam/graph_writer.h"
 #include "plugslam/loop_closure.h"
 #include "plugslam/multi_tracker.h"
 #include "plugslam/pipeline.h"
@@ -26,6 +27,7 @@ void registerBuiltinTypes(Registrar& registrar) {
       "AlignmentValidator2D", "accepts a loop when the maps' scenes align with enough overlap");
   registrar.add<AlignmentValidator<Space3D>>(
       "AlignmentValidator3D", "accepts a loop when the maps' scenes align with enough overlap");
+  registrar.add<GraphWriter>("GraphWriter", "writes the pose graph of local maps as g2o");
   registrar.add<DistanceSplitter>("DistanceSplitter",
                                   "closes a local map on distance, angle, time or lost overlap");
 }

@@ -6,6 +6,7 @@
 #include <chrono>
 
 #include "plugslam/errors.h"
+#include "plugslam/solver/graph_io.h"
 #include "plugslam/solver/optimizer.h"
 #include "plugslam/solver/pose_factors.h"
 #include "plugslam/solver/robust_kernel.h"
@@ -26,21 +27,13 @@ template <>
 struct GraphTypes<Space2D> {
   using Variable = VariableSE2;
   using Between = BetweenFactorSE2;
-  // The tracker's information is over (x, y, theta) with a right perturbation, which is the
-  // first-order error of BetweenFactorSE2.
-  static Eigen::Matrix3d information(const Eigen::MatrixXd& h) { return h; }
+  using Information = Eigen::Matrix3d;
 };
 template <>
 struct GraphTypes<Space3D> {
   using Variable = VariableSE3;
   using Between = BetweenFactorSE3;
-  // BetweenFactorSE3's rotation error is the quaternion's vector part (half the rotation
-  // vector), so the rotation block of the information scales by 2 on each side.
-  static Eigen::Matrix<double, 6, 6> information(const Eigen::MatrixXd& h) {
-    Eigen::Matrix<double, 6, 1> d;
-    d << 1, 1, 1, 2, 2, 2;
-    return d.asDiagonal() * Eigen::Matrix<double, 6, 6>(h) * d.asDiagonal();
-  }
+  using Information = Eigen::Matrix<double, 6, 6>;
 };
 
 // A symmetric positive-definite version of an information matrix (tiny eigenvalues lifted), so
@@ -57,6 +50,42 @@ Eigen::MatrixXd conditioned(const Eigen::MatrixXd& h, int dof) {
 }
 
 }  // namespace
+
+Eigen::MatrixXd betweenFactorInformation(const GraphEdge& edge, int dimension) {
+  if (dimension == 2) return edge.information;
+  // The tracker's information is over the rotation vector; the factor's rotation error is half
+  // of it, so the rotation block scales by 2 on each side.
+  Eigen::Matrix<double, 6, 1> d;
+  d << 1, 1, 1, 2, 2, 2;
+  return d.asDiagonal() * edge.information * d.asDiagonal();
+}
+
+void writeGraphG2o(const std::string& path, const std::vector<std::shared_ptr<const LocalMap>>& maps,
+                   const std::vector<GraphEdge>& edges) {
+  FactorGraph graph;
+  const int dim = maps.empty() ? 2 : maps.front()->dimension;
+  for (const auto& m : maps) {
+    if (dim == 2)
+      graph.addVariable<VariableSE2>(m->id, Space2D::from3D(m->origin));
+    else
+      graph.addVariable<VariableSE3>(m->id, m->origin);
+  }
+  if (!maps.empty()) graph.findVariable(maps.front()->id)->setFixed(true);
+  for (const auto& e : edges) {
+    Variable* a = graph.findVariable(e.from);
+    Variable* b = graph.findVariable(e.to);
+    if (!a || !b) continue;
+    if (dim == 2)
+      graph.emplaceFactor<BetweenFactorSE2>(static_cast<VariableSE2*>(a), static_cast<VariableSE2*>(b),
+                                            Space2D::from3D(e.relative),
+                                            Eigen::Matrix3d(betweenFactorInformation(e, 2)));
+    else
+      graph.emplaceFactor<BetweenFactorSE3>(
+          static_cast<VariableSE3*>(a), static_cast<VariableSE3*>(b), e.relative,
+          Eigen::Matrix<double, 6, 6>(betweenFactorInformation(e, 3)));
+  }
+  writeGraphFile(path, graph);
+}
 
 template <class S>
 GraphSlam<S>::GraphSlam() {
@@ -254,7 +283,8 @@ void GraphSlam<S>::runJob(Job& job) const {
   for (const GraphEdge& e : job.edges) {
     auto& f = graph.emplaceFactor<typename T::Between>(vars[e.from], vars[e.to],
                                                        S::from3D(e.relative),
-                                                       T::information(e.information));
+                                                       typename T::Information(
+                                                           betweenFactorInformation(e, S::kDim)));
     if (e.loop && kernel) f.setRobustKernel(kernel);
   }
   Optimizer optimizer(options);

@@ -11,10 +11,10 @@ Pipeline::~Pipeline() = default;
 
 void Pipeline::process(Frame& frame) {
   // Ground truth is recorded as it comes, so any pipeline can be scored against it.
-  if (const auto* gt2 = frame.raw.find<Eigen::Isometry2d>("ground_truth"))
-    ground_truth_.push_back({frame.stamp, Space2D::to3D(*gt2)});
-  else if (const auto* gt3 = frame.raw.find<Eigen::Isometry3d>("ground_truth"))
-    ground_truth_.push_back({frame.stamp, *gt3});
+  if (frame.raw.holds<Eigen::Isometry2d>(reference()))
+    reference_.push_back({frame.stamp, Space2D::to3D(frame.raw.get<Eigen::Isometry2d>(reference()))});
+  else if (frame.raw.holds<Eigen::Isometry3d>(reference()))
+    reference_.push_back({frame.stamp, frame.raw.get<Eigen::Isometry3d>(reference())});
   for (auto& p : preprocessors) guarded(*p, [&] { return p->process(frame); });
   if (!tracker) return;
   guarded(*tracker, [&] { tracker->track(frame); });
@@ -58,10 +58,10 @@ RunResult Pipeline::result() const {
     r.trajectory.push_back(f.stamp, it->second->origin * f.in_map);
   }
   last = -std::numeric_limits<double>::infinity();
-  for (const auto& g : ground_truth_) {
+  for (const auto& g : reference_) {
     if (!(g.t > last)) continue;
     last = g.t;
-    r.ground_truth.push_back(g.t, g.pose);
+    r.reference.push_back(g.t, g.pose);
   }
   return r;
 }

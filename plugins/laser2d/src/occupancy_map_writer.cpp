@@ -1,0 +1,108 @@
+#include "occupancy_map_writer.h"
+
+#include <spdlog/spdlog.h>
+
+#include <sstream>
+
+#include "occupancy_grid.h"
+#include "plugslam/atomic_file.h"
+#include "plugslam/pose_space.h"
+#include "point_cloud2d.h"
+
+namespace plugslam {
+namespace laser2d {
+
+void OccupancyMapWriter::begin(const std::string& out_dir) {
+  out_dir_ = out_dir;
+  scans_.clear();
+  written_.clear();
+  placed_ = 0;
+}
+
+void OccupancyMapWriter::consume(const Frame& frame) {
+  for (const auto& name : measurements()) {
+    const PointCloud2D* cloud = frame.measurement.find<PointCloud2D>(name);
+    if (!cloud || cloud->empty()) continue;
+    KeptScan kept{frame.stamp, frame.seq,
+                  {static_cast<float>(cloud->sensor_origin.x()),
+                   static_cast<float>(cloud->sensor_origin.y())},
+                  {}};
+    kept.xy.reserve(2 * cloud->size());
+    const double max2 = max_range() * max_range();
+    for (const auto& p : cloud->points) {
+      if (max_range() > 0 && (p - cloud->sensor_origin).squaredNorm() > max2) continue;
+      kept.xy.push_back(static_cast<float>(p.x()));
+      kept.xy.push_back(static_cast<float>(p.y()));
+    }
+    scans_.push_back(std::move(kept));
+  }
+}
+
+void OccupancyMapWriter::end(const RunResult& result) {
+  written_.clear();
+  placed_ = 0;
+  // Place every kept scan at its corrected pose.
+  struct Placed {
+    const KeptScan* scan;
+    SE2 pose;
+  };
+  std::vector<Placed> placed;
+  placed.reserve(scans_.size());
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d hi = -lo;
+  for (const auto& s : scans_) {
+    const auto i = result.trajectory.nearest(s.stamp, max_time_offset());
+    if (!i) continue;
+    const SE2 pose = Space2D::from3D(result.trajectory[*i].pose);
+    placed.push_back({&s, pose});
+    const Eigen::Vector2d o = pose * Eigen::Vector2d(s.origin[0], s.origin[1]);
+    lo = lo.cwiseMin(o);
+    hi = hi.cwiseMax(o);
+    for (size_t k = 0; k + 1 < s.xy.size(); k += 2) {
+      const Eigen::Vector2d p = pose * Eigen::Vector2d(s.xy[k], s.xy[k + 1]);
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+  }
+  if (placed.empty()) {
+    spdlog::warn("{}: no scan could be placed on the trajectory ({} kept, {} poses); no map written",
+                 name().empty() ? typeName() : name(), scans_.size(), result.trajectory.size());
+    return;
+  }
+  const double margin = 2 * resolution();
+  OccupancyGrid grid(resolution(), lo - Eigen::Vector2d::Constant(margin),
+                     hi + Eigen::Vector2d::Constant(margin));
+  for (const auto& p : placed) {
+    const Eigen::Vector2d o = p.pose * Eigen::Vector2d(p.scan->origin[0], p.scan->origin[1]);
+    const auto& xy = p.scan->xy;
+    for (size_t k = 0; k + 1 < xy.size(); k += 2)
+      grid.traceRay(o, p.pose * Eigen::Vector2d(xy[k], xy[k + 1]));
+  }
+  placed_ = placed.size();
+
+  const std::string base =
+      !file().empty() && file()[0] == '/' ? file() : (out_dir_.empty() ? "." : out_dir_) + "/" + file();
+  const std::string image_name = base.substr(base.find_last_of('/') + 1) + ".pgm";
+  const std::vector<uint8_t> pixels = grid.image();
+  const std::string pgm = encodePgm(pixels, grid.width(), grid.height());
+  const std::string png = encodePng(pixels, grid.width(), grid.height());
+  std::ostringstream yaml;
+  yaml.precision(10);
+  yaml << "image: " << image_name << "\n"
+       << "resolution: " << grid.resolution() << "\n"
+       << "origin: [" << grid.origin().x() << ", " << grid.origin().y() << ", 0.0]\n"
+       << "negate: 0\n"
+       << "occupied_thresh: 0.65\n"
+       << "free_thresh: 0.196\n";
+  const std::string yaml_text = yaml.str();
+  auto write = [&](const std::string& path, const std::string& bytes) {
+    writeFileAtomically(path, [&](std::ostream& out) { out.write(bytes.data(), bytes.size()); });
+    written_.push_back(path);
+  };
+  write(base + ".pgm", pgm);
+  write(base + ".yaml", yaml_text);
+  write(base + ".png", png);
+}
+
+}  // namespace laser2d
+}  // namespace plugslam

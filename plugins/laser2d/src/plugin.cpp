@@ -1,0 +1,20 @@
+// The laser2d plugin's register function: every type of the cue, by name.
+#include "occupancy_map_writer.h"
+#include "plugslam/plugin.h"
+#include "point_cloud2d.h"
+#include "point_map_slice.h"
+#include "scan_preprocessor.h"
+#include "scan_slices.h"
+
+PLUGSLAM_PLUGIN("laser2d", "1.0.0", "2D laser: scan preprocessing, ICP slices, point map, grid") {
+  using namespace plugslam::laser2d;
+  registrar.addValueType<PointCloud2D>("PointCloud2D");
+  registrar.add<ScanPreprocessor>("ScanPreprocessor",
+                                  "laser scan -> 2D points with normals in the robot frame");
+  registrar.add<PointToLineSlice>("PointToLineSlice", "point-to-line ICP factors (2D)");
+  registrar.add<PointToPointSlice>("PointToPointSlice", "point-to-point ICP factors (2D)");
+  registrar.add<PointMapSlice>("PointMapSlice",
+                               "merges points into the local map with fusion and clipping");
+  registrar.add<OccupancyMapWriter>("OccupancyMapWriter",
+                                    "occupancy grid of the run: PGM + YAML (map_server), PNG");
+}

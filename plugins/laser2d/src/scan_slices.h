@@ -1,0 +1,103 @@
+#pragma once
+// Aligner slices of the laser2d cue: point-to-line and point-to-point ICP factors between the
+// measured cloud (robot frame) and the scene cloud (local-map frame). Both share one base that
+// binds the entries, keeps the search index and does the data association.
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "plugslam/aligner_slice.h"
+#include "plugslam/solver/robust_kernel.h"
+#include "point_cloud2d.h"
+
+namespace plugslam {
+namespace laser2d {
+
+/// Binding, nearest-neighbour association (k-d tree or projective) and the robust weighting
+/// shared by the laser2d aligner slices.
+class ScanSliceBase : public AlignerSlice<Space2D> {
+ public:
+  Param<std::string> measurement{this, "measurement", "front", "", "measurement entry to align"};
+  Param<std::string> scene{this, "scene", "front", "", "scene entry to align against"};
+  Param<double> max_distance{this, "max_distance", 0.5, "m", "association gate",
+                             Range{1e-6, 100}};
+  Param<std::string> association{this, "association", "kdtree", "",
+                                 "nearest neighbour in a k-d tree of the scene, or projective "
+                                 "(scene binned by bearing from the robot)",
+                                 Choices{{"kdtree", "projective"}}};
+  Param<std::string> kernel{this, "kernel", "cauchy", "", "robust kernel",
+                            Choices{{"none", "huber", "cauchy", "tukey"}}};
+  Param<double> kernel_scale{this, "kernel_scale", 0.1, "m",
+                             "kernel scale, and the residual below which a pair is an inlier",
+                             Range{1e-6, 100}};
+  Param<double> sigma{this, "sigma", 0.02, "m", "range noise; each pair weighs 1/sigma^2",
+                      Range{1e-6, 100}};
+  Param<double> max_normal_angle{this, "max_normal_angle", 0.8, "rad",
+                                 "reject pairs whose normals differ more than this (pi: off)",
+                                 Range{0, M_PI}};
+  Param<double> projective_resolution{this, "projective_resolution", 0.25 * M_PI / 180, "rad",
+                                      "bearing bin width of the projective association",
+                                      Range{1e-4, 0.5}};
+
+  ScanSliceBase();
+  ~ScanSliceBase() override;
+  void configure() override;
+  bool bind(const Frame& frame, const PropertyContainer& scene,
+            const AlignContext<Space2D>& context) override;
+  void associate(const Pose& t) override;
+
+  /// The pairs (measured index, scene index) of the last association.
+  const std::vector<std::pair<int, int>>& pairs() const { return pairs_; }
+  /// How many times the k-d tree was built (a scene left unchanged is not rebuilt).
+  size_t treeBuilds() const { return tree_builds_; }
+
+ protected:
+  /// Adds one robustified residual of squared Mahalanobis norm s; returns the IRLS weight.
+  double robustWeight(double s, double abs_error, NormalEquations<Space2D>& eq) const;
+
+  const PointCloud2D* measured_ = nullptr;
+  const PointCloud2D* scene_ = nullptr;
+  std::vector<std::pair<int, int>> pairs_;
+  double information_ = 1.0;  // 1 / sigma^2
+  std::unique_ptr<RobustKernel> kernel_;
+
+ private:
+  void associateKdTree(const Pose& t);
+  void associateProjective(const Pose& t);
+  void accept(int i, int j, const Eigen::Vector2d& normal_in_scene);
+
+  struct KdTree;
+  std::unique_ptr<KdTree> tree_;
+  uint64_t tree_revision_ = 0;
+  size_t tree_builds_ = 0;
+  double cos_normal_ = -1.0;
+  // The parameter values the cached information, kernel and normal gate were made from.
+  std::string made_kernel_;
+  double made_scale_ = -1, made_sigma_ = -1, made_normal_angle_ = -1;
+  // Projective association: per bearing bin, the nearest scene point (index, range).
+  std::vector<int> bin_index_;
+  std::vector<double> bin_range_;
+};
+
+/// laser2d.PointToLineSlice: e = n_q^T (T p - q), one scalar factor per pair.
+class PointToLineSlice final : public ScanSliceBase {
+ public:
+  void linearize(const Pose& t, NormalEquations<Space2D>& eq) const override;
+  /// The residual and its Jacobian w.r.t. a right perturbation of T (as PointToLineFactor2D).
+  static void errorAndJacobian(const Pose& t, const Eigen::Vector2d& p, const Eigen::Vector2d& q,
+                               const Eigen::Vector2d& n, double& e,
+                               Eigen::Matrix<double, 1, 3>& j);
+};
+
+/// laser2d.PointToPointSlice: e = T p - q, one 2D factor per pair.
+class PointToPointSlice final : public ScanSliceBase {
+ public:
+  void linearize(const Pose& t, NormalEquations<Space2D>& eq) const override;
+  /// The residual and its Jacobian w.r.t. a right perturbation of T (as PointToPointFactor2D).
+  static void errorAndJacobian(const Pose& t, const Eigen::Vector2d& p, const Eigen::Vector2d& q,
+                               Eigen::Vector2d& e, Eigen::Matrix<double, 2, 3>& j);
+};
+
+}  // namespace laser2d
+}  // namespace plugslam

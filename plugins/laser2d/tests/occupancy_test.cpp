@@ -1,0 +1,131 @@
+// OccupancyMapWriter: a square room gives occupied walls, free inside, unknown outside; the
+// files exist, the YAML parses and the PNG is well formed.
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "occupancy_grid.h"
+#include "occupancy_map_writer.h"
+#include "plugslam/pose_space.h"
+#include "scan_preprocessor.h"
+#include "synthetic.h"
+
+namespace plugslam::laser2d {
+namespace {
+
+std::string readAll(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+TEST(OccupancyGrid, RayMarksFreeCellsAndTheHit) {
+  OccupancyGrid grid(0.1, Eigen::Vector2d(0, 0), Eigen::Vector2d(5, 5));
+  grid.traceRay(Eigen::Vector2d(0.05, 0.05), Eigen::Vector2d(3.05, 0.05));
+  EXPECT_GT(grid.probability(30, 0), 0.6);
+  for (int x = 0; x < 30; ++x) EXPECT_LT(grid.probability(x, 0), 0.5) << x;
+  EXPECT_TRUE(grid.unknown(31, 0));
+  EXPECT_TRUE(grid.unknown(10, 3));
+}
+
+TEST(OccupancyMapWriter, SquareRoomMap) {
+  const auto world = test::box(0, 0, 4, 4);
+  const auto dir = std::filesystem::temp_directory_path() / "laser2d_occupancy_test";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+
+  ScanPreprocessor pre;
+  pre.configure();
+  OccupancyMapWriter writer;
+  writer.resolution = 0.05;
+  writer.begin(dir.string());
+  RunResult result;
+  // The robot's frames: scans taken in the robot frame; the trajectory places them.
+  std::vector<SE2> poses;
+  for (double x : {1.0, 2.0, 3.0})
+    for (double y : {1.0, 2.0, 3.0}) poses.push_back(se2(x, y, 0.3 * x - 0.7 * y));
+  test::ScanSpec spec;
+  spec.mount = se2(0.2, 0.0, 0.0);
+  for (size_t i = 0; i < poses.size(); ++i) {
+    Frame frame;
+    frame.seq = i;
+    frame.stamp = 10.0 + i;
+    frame.raw.set("front_laser", test::castScan(world, poses[i], spec));
+    pre.process(frame);
+    writer.consume(frame);
+    result.trajectory.push_back(frame.stamp, Space2D::to3D(poses[i]));
+  }
+  writer.end(result);
+  EXPECT_EQ(writer.placedScans(), poses.size());
+  ASSERT_EQ(writer.written().size(), 3u);
+  for (const char* ext : {".pgm", ".yaml", ".png"})
+    EXPECT_TRUE(std::filesystem::exists(dir / (std::string("map") + ext))) << ext;
+
+  const YAML::Node yaml = YAML::LoadFile((dir / "map.yaml").string());
+  EXPECT_EQ(yaml["image"].as<std::string>(), "map.pgm");
+  const double res = yaml["resolution"].as<double>();
+  EXPECT_DOUBLE_EQ(res, 0.05);
+  const auto origin = yaml["origin"].as<std::vector<double>>();
+  ASSERT_EQ(origin.size(), 3u);
+  EXPECT_EQ(yaml["negate"].as<int>(), 0);
+  EXPECT_DOUBLE_EQ(yaml["occupied_thresh"].as<double>(), 0.65);
+  EXPECT_DOUBLE_EQ(yaml["free_thresh"].as<double>(), 0.196);
+
+  // Read the PGM back and look at cells through the map_server convention.
+  const std::string pgm = readAll((dir / "map.pgm").string());
+  std::istringstream in(pgm);
+  std::string magic;
+  int w, h, maxval;
+  in >> magic >> w >> h >> maxval;
+  in.get();
+  ASSERT_EQ(magic, "P5");
+  ASSERT_EQ(maxval, 255);
+  const size_t header = static_cast<size_t>(in.tellg());
+  ASSERT_EQ(pgm.size(), header + static_cast<size_t>(w) * h);
+  auto pixel = [&](double x, double y) {
+    const int cx = static_cast<int>(std::floor((x - origin[0]) / res));
+    const int cy = static_cast<int>(std::floor((y - origin[1]) / res));
+    EXPECT_TRUE(cx >= 0 && cy >= 0 && cx < w && cy < h);
+    return static_cast<uint8_t>(pgm[header + static_cast<size_t>(h - 1 - cy) * w + cx]);
+  };
+  // Walls occupied (sampled away from the exact cell boundary), inside free.
+  int occupied = 0, samples = 0;
+  for (double t = 0.3; t < 3.8; t += 0.25) {
+    // A wall on a cell boundary lands on either side of it: look at both.
+    for (const Eigen::Vector2d& p : {Eigen::Vector2d(t, 0.0), Eigen::Vector2d(4.0, t),
+                                     Eigen::Vector2d(t, 4.0), Eigen::Vector2d(0.0, t)}) {
+      const Eigen::Vector2d d = p.x() == t ? Eigen::Vector2d(0, 0.02) : Eigen::Vector2d(0.02, 0);
+      occupied += pixel(p.x() + d.x(), p.y() + d.y()) == 0 || pixel(p.x() - d.x(), p.y() - d.y()) == 0;
+      ++samples;
+    }
+  }
+  EXPECT_GT(occupied, samples * 9 / 10) << occupied << " of " << samples;
+  for (double x = 0.5; x < 3.6; x += 0.5)
+    for (double y = 0.5; y < 3.6; y += 0.5) EXPECT_EQ(pixel(x, y), 254) << x << ", " << y;
+
+  const std::string png = readAll((dir / "map.png").string());
+  ASSERT_GT(png.size(), 8u + 25u);
+  EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  EXPECT_EQ(png.substr(12, 4), "IHDR");
+  EXPECT_EQ(png.substr(png.size() - 8, 4), "IEND");
+  std::filesystem::remove_all(dir);
+}
+
+TEST(OccupancyMapWriter, NoPlaceableScanWritesNothing) {
+  const auto dir = std::filesystem::temp_directory_path() / "laser2d_occupancy_empty";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  OccupancyMapWriter writer;
+  writer.begin(dir.string());
+  writer.end(RunResult{});
+  EXPECT_TRUE(writer.written().empty());
+  EXPECT_FALSE(std::filesystem::exists(dir / "map.pgm"));
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace plugslam::laser2d
