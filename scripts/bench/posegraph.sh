@@ -7,7 +7,8 @@
 #
 # Environment: PLUGSLAM_DATA (default ../shared/data next to the repository), PLUGSLAM_BUILD_DIR
 # (default build/), BENCH_INIT (default best), BENCH_SOLVER (default gn), BENCH_DOC (default
-# docs/benchmarks.md). Wall time and peak memory come from /usr/bin/time (Debian package `time`).
+# docs/benchmarks.md). Peak memory comes from /usr/bin/time (Debian package `time`); the section is
+# written with scripts/bench/update_section.py (python3).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 data="${PLUGSLAM_DATA:-$root/../shared/data}"
@@ -150,20 +151,13 @@ if [ -f "$sphere" ] && [ -f "$sphere_gt" ]; then
   fi
 fi
 
-commit="$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)"
-if [ -n "$(git -C "$root" status --porcelain --untracked-files=no 2>/dev/null)" ]; then
-  commit="$commit (with uncommitted changes)"
-fi
-cpu="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//')"
-
 section="$work/section.md"
 {
-  echo "<!-- posegraph:begin -->"
   echo "## Pose graphs (\`scripts/bench/posegraph.sh\`)"
   echo
   echo "\`plugslam optimize FILE -o OUT --solver $solver --init $init -q\` on every graph in"
-  echo "\`\$PLUGSLAM_DATA/posegraph\`. Machine: $(nproc) cores, ${cpu:-unknown CPU}; $(date -u '+%Y-%m-%d %H:%M UTC');"
-  echo "commit $commit. chi2 is g2o's (sum of e' Ω e); \"best known\" is the lowest chi2 any peer"
+  echo "\`\$PLUGSLAM_DATA/posegraph\`. $("$root/scripts/bench/machine_info.sh")"
+  echo "chi2 is g2o's (sum of e' Ω e); \"best known\" is the lowest chi2 any peer"
   echo "reached in issue 3's table (× = ours / best known; target ≤ 1.001). Wall time and peak memory"
   echo "(max RSS, from \`/usr/bin/time -f %M\`) are the whole process: read, both starts of --init best, write;"
   echo "\"optimize\" is the optimizer's share (both starts); iterations are those of the start kept."
@@ -179,20 +173,8 @@ section="$work/section.md"
     echo
     printf '%s\n' "${notes[@]}"
   fi
-  echo "<!-- posegraph:end -->"
 } > "$section"
 
 mkdir -p "$(dirname "$doc")"
-if [ ! -f "$doc" ]; then
-  printf '# Benchmarks\n\nMeasured figures; each section is written by the script it names.\n' > "$doc"
-fi
-if grep -q '<!-- posegraph:begin -->' "$doc" && grep -q '<!-- posegraph:end -->' "$doc"; then
-  awk -v sec="$section" '
-    /<!-- posegraph:begin -->/ { while ((getline l < sec) > 0) print l; skip = 1; next }
-    /<!-- posegraph:end -->/ { skip = 0; next }
-    !skip { print }' "$doc" > "$work/doc.md"
-else
-  { cat "$doc"; echo; cat "$section"; } > "$work/doc.md"
-fi
-cp "$work/doc.md" "$doc"
+python3 "$root/scripts/bench/update_section.py" posegraph "$doc" < "$section"
 echo "posegraph.sh: wrote ${#rows[@]} rows to $doc" >&2
