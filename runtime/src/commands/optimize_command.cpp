@@ -70,7 +70,7 @@ std::string summaryJson(const OptimizeArgs& a, const OptimizeReport& r, double t
       ", \"input\": {}, \"output\": {}, \"format\": {}, \"solver\": {}, \"init\": {}, "
       "\"factorization\": {}, \"robust_kernel\": {}, \"robust_scale\": {:.17g}, "
       "\"project_information\": {}, "
-      "\"projected_information\": {}, \"se_sync_weights\": {}, \"converged\": {}, "
+      "\"projected_information\": {}, \"se_sync_weights\": {}, \"ok\": {}, "
       "\"time_total\": {:.6f}, \"time_setup\": {:.6f}, \"system_size\": {}, "
       "\"singular_systems\": {}, \"per_iteration\": [",
       jsonString(a.input), jsonString(a.output), jsonString(r.file.format), jsonString(a.solver),
