@@ -110,8 +110,9 @@ class GraphSlam : public GraphBackend {
   ~GraphSlam() override;
 
   SlotList<LoopDetector> loop_detectors{this, "loop_detectors", "propose loop candidates"};
-  SlotList<LoopValidator> validators{this, "validators",
-                                     "every validator must accept a candidate"};
+  SlotList<LoopValidator> validators{
+      this, "validators",
+      "every validator must accept a candidate; each starts from the pose the previous found"};
   Param<bool> deterministic{this, "deterministic", false, "",
                             "optimize inline on the front-end thread (bit-identical replays)"};
   Param<std::string> solver{this, "solver", "gn", "", "global optimizer", Choices{{"gn", "lm"}}};

@@ -221,11 +221,15 @@ void GraphSlam<S>::mapClosed(const std::shared_ptr<LocalMap>& query) {
       LoopClosure closure;
       std::string reason;
       bool ok = true;
+      // Validators form a chain: each starts from the pose the previous one found, so a coarse
+      // global matcher can hand a large correction to a precise local one.
+      Eigen::Isometry3d current = guess;
       for (auto& validator : validators) {
-        if (!validator->validate(candidate, *query, guess, closure, reason)) {
+        if (!validator->validate(candidate, *query, current, closure, reason)) {
           ok = false;
           break;
         }
+        current = closure.edge.relative;
       }
       if (!ok) {
         ++validator_rejections_;
