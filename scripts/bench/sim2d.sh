@@ -16,11 +16,13 @@ for s in stage-0 stage-1 stage-2 stage-3; do
   for kind in single double; do
     dir="$out/$s-$kind"
     "$bin" run "$root/configs/sim2d_${kind}_laser.yaml" -o "$dir" --set "source.session=$s" --set pipeline.graph.deterministic=true -q > /dev/null
-    cells+=("$(python3 - "$dir/run.json" <<'PY'
+    if [ "$kind" = single ]; then seed="${seed_single[$s]}"; else seed="${seed_double[$s]}"; fi
+    cells+=("$(python3 - "$dir/run.json" "${seed##* }" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
 ref = r["reference"]
-print(f'{ref["ate_rmse_m"]:.3f} / {ref["rpe_1m_rmse_m"]:.3f} / {r["pipeline_hz"]:.0f} ({r["graph"]["loops_accepted"]} loops)')
+ratio = r["pipeline_hz"] / float(sys.argv[2])
+print(f'{ref["ate_rmse_m"]:.3f} / {ref["rpe_1m_rmse_m"]:.3f} / {r["pipeline_hz"]:.0f} (x{ratio:.1f} the seed; {r["graph"]["loops_accepted"]} loops)')
 PY
 )")
   done
