@@ -77,8 +77,9 @@ void addRunCommand(CLI::App& root, int& exit_code) {
     std::cout << fmt::format("{} frames in {:.3f} s ({:.1f} Hz; pipeline alone {:.1f} Hz); outputs in {}\n",
                              report.frames, report.wall_s, report.hz, report.pipeline_hz, out_dir);
     if (report.ate_rmse)
-      std::cout << fmt::format("against the reference: ATE rmse {:.4f} m (max {:.4f} m), RPE(1 m) rmse {:.4f} m\n",
-                               *report.ate_rmse, *report.ate_max, report.rpe_rmse.value_or(NAN));
+      std::cout << fmt::format("against '{}': ATE rmse {:.4f} m (max {:.4f} m), RPE(1 m) rmse {:.4f} m\n",
+                               run->pipeline->reference(), *report.ate_rmse, *report.ate_max,
+                               report.rpe_rmse.value_or(NAN));
     exit_code = kOk;
   });
 }
