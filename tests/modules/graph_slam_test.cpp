@@ -56,6 +56,35 @@ struct LoopWorld {
   }
 };
 
+// Feeds the loop's local maps to `graph` as a tracker would: consecutive maps joined by odometry
+// that turns `bias` rad too far at every step, each map closed when the next one starts.
+// Returns the maps; `dead_reckoning` receives where odometry alone ends.
+std::vector<std::shared_ptr<LocalMap>> driveLoop(const LoopWorld& lw, GraphSlam<Space2D>& graph,
+                                                 double bias, bool poll,
+                                                 Eigen::Isometry2d* dead_reckoning = nullptr) {
+  std::vector<std::shared_ptr<LocalMap>> maps;
+  Eigen::Isometry2d estimate = lw.origins[0];
+  for (size_t k = 0; k < lw.origins.size(); ++k) {
+    auto m = lw.map(k);
+    if (k > 0) {
+      Eigen::Isometry2d rel = lw.origins[k - 1].inverse() * lw.origins[k] * se2(0, 0, bias);
+      estimate = estimate * rel;
+      m->previous = static_cast<int64_t>(k - 1);
+      m->relative = Space2D::to3D(rel);
+      m->information = Eigen::Matrix3d::Identity() * 100.0;
+    }
+    m->origin = Space2D::to3D(estimate);
+    maps.push_back(m);
+    graph.mapStarted(m);
+    if (k > 0) graph.mapClosed(maps[k - 1]);
+    if (poll) graph.poll();
+  }
+  graph.mapClosed(maps.back());
+  graph.finish();
+  if (dead_reckoning) *dead_reckoning = estimate;
+  return maps;
+}
+
 }  // namespace
 
 TEST(GraphSlam, ClosesASyntheticLoopAndRemovesTheDrift) {
@@ -67,28 +96,10 @@ TEST(GraphSlam, ClosesASyntheticLoopAndRemovesTheDrift) {
   graph->validators.assign(makeValidator());
   graph->configure();
 
-  // Odometry between maps with a small heading bias: the estimate drifts around the loop.
-  const Eigen::Isometry2d bias = se2(0.0, 0.0, 0.006);
-  std::vector<std::shared_ptr<LocalMap>> maps;
-  Eigen::Isometry2d estimate = lw.origins[0];
-  for (size_t k = 0; k < lw.origins.size(); ++k) {
-    auto m = lw.map(k);
-    if (k > 0) {
-      Eigen::Isometry2d rel = lw.origins[k - 1].inverse() * lw.origins[k] * bias;
-      estimate = estimate * rel;
-      m->previous = static_cast<int64_t>(k - 1);
-      m->relative = Space2D::to3D(rel);
-      m->information = Eigen::Matrix3d::Identity() * 100.0;
-    }
-    m->origin = Space2D::to3D(estimate);
-    maps.push_back(m);
-    graph->mapStarted(m);
-    if (k > 0) graph->mapClosed(maps[k - 1]);
-  }
+  Eigen::Isometry2d estimate;
+  auto maps = driveLoop(lw, *graph, 0.006, false, &estimate);
   // Dead reckoning alone ends this far from the truth.
   const double drift_before = (estimate.translation() - lw.origins.back().translation()).norm();
-  graph->mapClosed(maps.back());
-  graph->finish();
   const double drift_after =
       (Space2D::from3D(maps.back()->origin).translation() - lw.origins.back().translation()).norm();
   EXPECT_GT(drift_before, 1.0);
@@ -108,25 +119,7 @@ TEST(GraphSlam, BackEndThreadGivesTheSameCorrection) {
       Registry::instance().create("sdk.GraphSlam2D"));
   graph->loop_detectors.assign(Registry::instance().create("sdk.ProximityDetector"));
   graph->validators.assign(makeValidator());
-  std::vector<std::shared_ptr<LocalMap>> maps;
-  Eigen::Isometry2d estimate = lw.origins[0];
-  for (size_t k = 0; k < lw.origins.size(); ++k) {
-    auto m = lw.map(k);
-    if (k > 0) {
-      Eigen::Isometry2d rel = lw.origins[k - 1].inverse() * lw.origins[k] * se2(0, 0, 0.006);
-      estimate = estimate * rel;
-      m->previous = static_cast<int64_t>(k - 1);
-      m->relative = Space2D::to3D(rel);
-      m->information = Eigen::Matrix3d::Identity() * 100.0;
-    }
-    m->origin = Space2D::to3D(estimate);
-    maps.push_back(m);
-    graph->mapStarted(m);
-    if (k > 0) graph->mapClosed(maps[k - 1]);
-    graph->poll();
-  }
-  graph->mapClosed(maps.back());
-  graph->finish();
+  auto maps = driveLoop(lw, *graph, 0.006, true);
   EXPECT_LT((Space2D::from3D(maps.back()->origin).translation() - lw.origins.back().translation()).norm(),
             0.05);
 }
@@ -208,24 +201,7 @@ TEST(GraphSlam, AFalseLoopIsRejectedByConsistency) {
   v->victim = static_cast<int64_t>(lw.origins.size()) - 2;
   v->victim_candidate = 0;
   graph->validators.assign(v);
-  std::vector<std::shared_ptr<LocalMap>> maps;
-  Eigen::Isometry2d estimate = lw.origins[0];
-  for (size_t k = 0; k < lw.origins.size(); ++k) {
-    auto m = lw.map(k);
-    if (k > 0) {
-      Eigen::Isometry2d rel = lw.origins[k - 1].inverse() * lw.origins[k] * se2(0, 0, 0.006);
-      estimate = estimate * rel;
-      m->previous = static_cast<int64_t>(k - 1);
-      m->relative = Space2D::to3D(rel);
-      m->information = Eigen::Matrix3d::Identity() * 100.0;
-    }
-    m->origin = Space2D::to3D(estimate);
-    maps.push_back(m);
-    graph->mapStarted(m);
-    if (k > 0) graph->mapClosed(maps[k - 1]);
-  }
-  graph->mapClosed(maps.back());
-  graph->finish();
+  auto maps = driveLoop(lw, *graph, 0.006, false);
   EXPECT_GE(graph->stats().loops_rejected, 1u);
   EXPECT_GE(graph->stats().loops_accepted, 1u);
   for (const auto& e : graph->edges()) EXPECT_FALSE(e.loop && e.to == v->victim && e.from == 0);

@@ -24,39 +24,12 @@ using plugslam::InputError;
 using plugslam::ParseError;
 using namespace plugslam::io;  // test file only
 
+#include "bag_bytes.h"
+
 namespace {
 
-std::string u32(std::uint32_t v) {
-  std::string s(4, '\0');
-  for (int i = 0; i < 4; ++i) s[i] = static_cast<char>((v >> (8 * i)) & 0xff);
-  return s;
-}
-std::string u64(std::uint64_t v) { return u32(static_cast<std::uint32_t>(v)) + u32(v >> 32); }
-std::string f32(float f) {
-  std::uint32_t b;
-  std::memcpy(&b, &f, 4);
-  return u32(b);
-}
-std::string f64(double d) {
-  std::uint64_t b;
-  std::memcpy(&b, &d, 8);
-  return u64(b);
-}
-std::string str(const std::string& s) { return u32(static_cast<std::uint32_t>(s.size())) + s; }
-std::string field(const std::string& name, const std::string& value) {
-  return str(name + "=" + value);
-}
-std::string record(const std::string& header, const std::string& data) {
-  return str(header) + str(data);
-}
-std::string op(std::uint8_t o) { return field("op", std::string(1, static_cast<char>(o))); }
+using namespace plugslam::io::bagbytes;  // test file only
 
-std::string connection(std::uint32_t id, const std::string& topic, const std::string& type,
-                       const std::string& md5) {
-  return record(op(7) + field("conn", u32(id)) + field("topic", topic),
-                field("topic", topic) + field("type", type) + field("md5sum", md5) +
-                    field("message_definition", "..."));
-}
 std::string message(std::uint32_t conn, std::uint32_t sec, std::uint32_t nsec,
                     const std::string& data) {
   return record(op(2) + field("conn", u32(conn)) + field("time", u32(sec) + u32(nsec)), data);

@@ -22,39 +22,13 @@ using plugslam::LaserScan;
 using plugslam::Odometry2D;
 using plugslam::io::RosbagSource;
 
+#include "bag_bytes.h"
+
 namespace {
 
 // Minimal ROS bag v2.0 writer (uncompressed chunk) for synthetic synchronisation cases.
-std::string u32(std::uint32_t v) {
-  std::string s(4, '\0');
-  for (int i = 0; i < 4; ++i) s[i] = static_cast<char>((v >> (8 * i)) & 0xff);
-  return s;
-}
-std::string u64(std::uint64_t v) { return u32(static_cast<std::uint32_t>(v)) + u32(v >> 32); }
-std::string f32(float f) {
-  std::uint32_t b;
-  std::memcpy(&b, &f, 4);
-  return u32(b);
-}
-std::string f64(double d) {
-  std::uint64_t b;
-  std::memcpy(&b, &d, 8);
-  return u64(b);
-}
-std::string str(const std::string& s) { return u32(static_cast<std::uint32_t>(s.size())) + s; }
-std::string field(const std::string& name, const std::string& value) {
-  return str(name + "=" + value);
-}
-std::string record(const std::string& header, const std::string& data) {
-  return str(header) + str(data);
-}
-std::string op(std::uint8_t o) { return field("op", std::string(1, static_cast<char>(o))); }
-std::string connection(std::uint32_t id, const std::string& topic, const std::string& type,
-                       const std::string& md5) {
-  return record(op(7) + field("conn", u32(id)) + field("topic", topic),
-                field("topic", topic) + field("type", type) + field("md5sum", md5) +
-                    field("message_definition", "..."));
-}
+using namespace plugslam::io::bagbytes;  // test file only
+
 std::uint32_t sec(double t) { return static_cast<std::uint32_t>(t); }
 std::uint32_t nsec(double t) { return static_cast<std::uint32_t>(std::lround((t - sec(t)) * 1e9)); }
 std::string message(std::uint32_t conn, double t, const std::string& data) {
