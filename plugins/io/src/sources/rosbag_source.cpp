@@ -5,6 +5,8 @@
 #include <limits>
 #include <set>
 
+#include <spdlog/spdlog.h>
+
 #include "plugslam/errors.h"
 #include "plugslam/geometry.h"
 #include "readers/ros_messages.h"
@@ -78,6 +80,7 @@ void RosbagSource::open() {
   size_hint_.reset();
   frames_without_odometry_ = 0;
   frames_ = 0;
+  summarized_ = false;
 }
 
 void RosbagSource::noFramesError() const {
@@ -186,6 +189,12 @@ bool RosbagSource::next(Frame& frame) {
     if (!primary_.empty() && ready(primary_.front().t)) break;
     if (finished_) {
       if (frames_ == 0) noFramesError();
+      if (!summarized_ && reader_->stats().out_of_order > 0) {
+        spdlog::warn("ROS bag '{}': {} message(s) older than one already read (clock jump or "
+                     "unsorted chunks); returned in file order",
+                     path(), reader_->stats().out_of_order);
+      }
+      summarized_ = true;
       return false;
     }
     if (!readOne()) finished_ = true;
