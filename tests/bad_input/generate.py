@@ -288,6 +288,9 @@ case("yaml_unknown_type", GOOD_CONFIG.replace("sdk.DistanceSplitter", "sdk.NoSuc
      VALIDATE, 2, r"NoSuchSplitter", "unknown module type", ext=".yaml")
 case("yaml_unknown_plugin", GOOD_CONFIG.replace("[io, odometry]", "[io, odometry, nosuchplugin]"),
      VALIDATE, 2, r"nosuchplugin", "plugin not found", ext=".yaml")
+case("yaml_plugin_name_too_long", GOOD_CONFIG.replace("odometry.WheelOdometry", "e" * 300 + ".WheelOdometry"),
+     VALIDATE, 2, r"plugin 'e+' not found", "type of a plugin whose file name is too long for the "
+     "file system (found by fuzz_config: was an uncaught filesystem_error)", ext=".yaml")
 case("yaml_plugins_wrong_type", GOOD_CONFIG.replace("[io, odometry]", "{a: 1}"), VALIDATE, 2,
      r"plugins", "plugins is a map", ext=".yaml")
 case("yaml_slot_wrong_type", GOOD_CONFIG.replace("motion: {type: odometry.WheelOdometry}",
@@ -434,6 +437,9 @@ case("kitti_inf", KITTI_OK.replace("1 0 0 0.5", "1 0 0 inf"), ATE_KITTI, 2, r"ki
      "infinite translation", ext=".kitti")
 case("kitti_not_rotation", KITTI_OK + "2 0 0 1 0 2 0 0 0 0 2 0\n", ATE_KITTI, 2,
      r"kitti_not_rotation\.kitti:11.*rotation", "scaled rotation block", ext=".kitti")
+case("g2o_traj_huge_id", "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1" + "5" * 130 + " 0 0 0\n", ATE_TUM, 2,
+     r"g2o_traj_huge_id\.g2o:2: column 2 \(vertex id\): expected a non-negative integer up to 2\^53",
+     "vertex id of 1.6e130 (found by fuzz_trajectory: was an overflowing cast, UB)", ext=".g2o")
 case("g2o_traj_duplicate_vertex", "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 1 2 0 0\n",
      ATE_TUM, 2, r"(?i)duplicate|twice", "vertex id repeated in a g2o trajectory", ext=".g2o")
 
