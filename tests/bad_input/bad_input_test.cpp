@@ -63,7 +63,8 @@ std::vector<Case> loadCases() {
 }
 
 void replaceAll(std::string& s, const std::string& from, const std::string& to) {
-  for (std::size_t pos = s.find(from); pos != std::string::npos; pos = s.find(from, pos + to.size()))
+  for (std::size_t pos = s.find(from); pos != std::string::npos;
+       pos = s.find(from, pos + to.size()))
     s.replace(pos, from.size(), to);
 }
 
@@ -145,13 +146,14 @@ TEST_P(BadInput, ExitCodeAndMessage) {
   for (auto& a : splitArgs(command)) args.push_back(a);
 
   const Outcome out = runProcess(args, (tmp / "output.txt").string(), std::chrono::seconds(60));
-  const std::string shown = "case " + c.name + " (" + c.why + ")\ncommand: " + command +
-                            "\noutput:\n" + out.output;
+  const std::string shown =
+      "case " + c.name + " (" + c.why + ")\ncommand: " + command + "\noutput:\n" + out.output;
   ASSERT_FALSE(out.timed_out) << "timed out; " << shown;
   ASSERT_FALSE(out.signalled) << "killed by signal " << out.signal << "; " << shown;
-  for (const char* crash : {"AddressSanitizer", "LeakSanitizer", "runtime error:",
-                            "terminate called", "Segmentation fault"}) {
-    EXPECT_EQ(out.output.find(crash), std::string::npos) << "crash report '" << crash << "'; " << shown;
+  for (const char* crash : {"AddressSanitizer", "LeakSanitizer",
+                            "runtime error:", "terminate called", "Segmentation fault"}) {
+    EXPECT_EQ(out.output.find(crash), std::string::npos)
+        << "crash report '" << crash << "'; " << shown;
   }
   EXPECT_EQ(out.exit_code, c.exit_code) << shown;
   std::string pattern = c.pattern;

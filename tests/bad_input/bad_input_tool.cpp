@@ -28,10 +28,10 @@ int graph(const std::string& file, bool project) {
   options.init = plugslam::InitMethod::kBest;
   options.project_information = project;
   const plugslam::OptimizeReport report = plugslam::optimizeGraphFile(options);
-  std::printf("%s: %s %dD, %zu vertices, %zu edges, projected %zu, chi2 %g -> %g\n",
-              file.c_str(), report.file.format.c_str(), report.file.dimension,
-              report.file.vertices, report.file.edges, report.file.projected_information,
-              report.initial_chi2, report.final_chi2);
+  std::printf("%s: %s %dD, %zu vertices, %zu edges, projected %zu, chi2 %g -> %g\n", file.c_str(),
+              report.file.format.c_str(), report.file.dimension, report.file.vertices,
+              report.file.edges, report.file.projected_information, report.initial_chi2,
+              report.final_chi2);
   if (report.file.skipped_records > 0)
     std::printf("warning: skipped %zu record(s) of types this reader does not know\n",
                 report.file.skipped_records);

@@ -12,8 +12,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::size_t warnings = 0;
     options.on_warning = [&](const plugslam::io::ReaderWarning&) { ++warnings; };
     try {
-      auto reader = plugslam::io::CarmenReader::fromText("fuzz.log", plugslam::fuzz::text(data, size),
-                                                         options);
+      auto reader = plugslam::io::CarmenReader::fromText("fuzz.log",
+                                                         plugslam::fuzz::text(data, size), options);
       plugslam::io::CarmenRecord record;
       while (reader->next(record)) {
       }

@@ -13,8 +13,9 @@
 namespace {
 
 std::string scratch(const char* ext) {
-  static const std::string dir =
-      std::filesystem::is_directory("/dev/shm") ? "/dev/shm" : std::filesystem::temp_directory_path().string();
+  static const std::string dir = std::filesystem::is_directory("/dev/shm")
+                                     ? "/dev/shm"
+                                     : std::filesystem::temp_directory_path().string();
   return dir + "/plugslam-fuzz-" + std::to_string(getpid()) + ext;
 }
 

@@ -88,8 +88,8 @@ TEST_F(PluginFault, PreprocessorThrowingIsReportedWithItsName) {
 }
 
 TEST_F(PluginFault, NonStandardExceptionFromAPreprocessorIsCaught) {
-  const Result r = run("pipeline.preprocessors[0].fail_at=2",
-                       "pipeline.preprocessors[0].fail_with_int=true");
+  const Result r =
+      run("pipeline.preprocessors[0].fail_at=2", "pipeline.preprocessors[0].fail_with_int=true");
   expectReported(r, "pipeline.preprocessors[0]", "fixture.Scale");
   EXPECT_NE(r.out.find("not derived from std::exception"), std::string::npos) << r.out;
 }

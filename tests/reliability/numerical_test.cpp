@@ -18,7 +18,8 @@ Landmarks grid(double step, double extent) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> jitter(-0.3, 0.3);
   for (double x = -extent; x <= extent; x += step)
-    for (double y = -extent; y <= extent; y += step) w.emplace_back(x + jitter(rng), y + jitter(rng));
+    for (double y = -extent; y <= extent; y += step)
+      w.emplace_back(x + jitter(rng), y + jitter(rng));
   return w;
 }
 

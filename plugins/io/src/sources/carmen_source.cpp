@@ -89,10 +89,11 @@ void CarmenSource::summarize() {
   summarized_ = true;
   const CarmenReaderStats& s = reader_->stats();
   if (s.malformed || s.empty_scans || s.truncated) {
-    spdlog::warn("CARMEN log '{}': skipped {} malformed line(s) and {} empty scan(s){}; {} "
-                 "timestamp(s) went backwards",
-                 path(), s.malformed, s.empty_scans,
-                 s.truncated ? ", the gzip stream is truncated" : "", s.time_backwards);
+    spdlog::warn(
+        "CARMEN log '{}': skipped {} malformed line(s) and {} empty scan(s){}; {} "
+        "timestamp(s) went backwards",
+        path(), s.malformed, s.empty_scans, s.truncated ? ", the gzip stream is truncated" : "",
+        s.time_backwards);
   } else if (s.time_backwards) {
     spdlog::info("CARMEN log '{}': {} timestamp(s) went backwards (flagged, kept in file order)",
                  path(), s.time_backwards);
@@ -204,14 +205,13 @@ bool CarmenSource::next(Frame& frame) {
     } else if (!reader_->next(record)) {
       summarize();
       if (!held_ && !any_frame_) {
-        throw InputError("CARMEN log '" + path() +
-                         "' has no front-laser line (FLASER or ROBOTLASER1); " +
-                         std::to_string(reader_->stats().lasers) + " other laser lines, " +
-                         std::to_string(reader_->stats().odometry) + " ODOM lines" +
-                         (reader_->stats().empty_scans
-                              ? ", " + std::to_string(reader_->stats().empty_scans) +
-                                    " empty scans (skipped)"
-                              : std::string()));
+        throw InputError(
+            "CARMEN log '" + path() + "' has no front-laser line (FLASER or ROBOTLASER1); " +
+            std::to_string(reader_->stats().lasers) + " other laser lines, " +
+            std::to_string(reader_->stats().odometry) + " ODOM lines" +
+            (reader_->stats().empty_scans
+                 ? ", " + std::to_string(reader_->stats().empty_scans) + " empty scans (skipped)"
+                 : std::string()));
       }
       if (!held_) return false;
       fill(frame, *held_, have_odom_ ? std::optional<Eigen::Isometry2d>(track_) : std::nullopt);

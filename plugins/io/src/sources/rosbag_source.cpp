@@ -1,11 +1,11 @@
 #include "sources/rosbag_source.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
-
-#include <spdlog/spdlog.h>
 
 #include "plugslam/errors.h"
 #include "plugslam/geometry.h"
@@ -190,9 +190,10 @@ bool RosbagSource::next(Frame& frame) {
     if (finished_) {
       if (frames_ == 0) noFramesError();
       if (!summarized_ && reader_->stats().out_of_order > 0) {
-        spdlog::warn("ROS bag '{}': {} message(s) older than one already read (clock jump or "
-                     "unsorted chunks); returned in file order",
-                     path(), reader_->stats().out_of_order);
+        spdlog::warn(
+            "ROS bag '{}': {} message(s) older than one already read (clock jump or "
+            "unsorted chunks); returned in file order",
+            path(), reader_->stats().out_of_order);
       }
       summarized_ = true;
       return false;
