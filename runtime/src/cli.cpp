@@ -88,6 +88,9 @@ int runCli(int argc, char** argv) {
   } catch (const std::exception& e) {
     spdlog::error("unexpected failure: {}", e.what());
     return kRuntimeFailure;
+  } catch (...) {
+    spdlog::error("unexpected failure: an exception not derived from std::exception");
+    return kRuntimeFailure;
   }
   return exit_code;
 }

@@ -289,8 +289,9 @@ void ConfigBuilder::configure(Configurable& obj, const YAML::Node& node, const s
     if (!node.IsMap()) fail(node, path, "expected a map of parameters");
     std::map<std::string, int> seen;
     for (auto it = node.begin(); it != node.end(); ++it) {
-      const YAML::Node& key = it->first;
-      const YAML::Node& value = it->second;
+      // Copies: yaml-cpp's iterator proxy dies at the end of the statement.
+      const YAML::Node key = it->first;
+      const YAML::Node value = it->second;
       if (!key.IsScalar()) fail(key, path, "expected a parameter name as key");
       const std::string& k = key.Scalar();
       std::string p = join(path, k);

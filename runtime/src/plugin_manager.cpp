@@ -96,10 +96,12 @@ std::vector<std::string> PluginManager::searchPath() const {
 }
 
 std::string PluginManager::resolve(const std::string& name_or_path) const {
-  if (looksLikePath(name_or_path)) return fs::exists(name_or_path) ? name_or_path : "";
+  // Non-throwing checks: a name from a config (too long, odd characters) is simply not found.
+  boost::system::error_code ec;
+  if (looksLikePath(name_or_path)) return fs::exists(name_or_path, ec) ? name_or_path : "";
   for (const auto& dir : searchPath()) {
     fs::path p = fs::path(dir) / pluginFileName(name_or_path);
-    if (fs::exists(p)) return p.string();
+    if (fs::exists(p, ec)) return p.string();
   }
   return "";
 }

@@ -65,6 +65,24 @@ std::string runReportJson(const RunReport& r) {
       r.graph.optimizations, r.graph.optimization_time, r.graph.final_chi2, modules);
 }
 
+// Runs one call into a source or sink (plugin code) so that whatever it throws names the module:
+// InputError passes (bad input, exit 2), anything else becomes a ModuleError (exit 1), including
+// exceptions not derived from std::exception.
+template <class F>
+static auto asModule(const Configurable& m, F&& step) -> decltype(step()) {
+  try {
+    return step();
+  } catch (const InputError&) {
+    throw;
+  } catch (const ModuleError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw ModuleError(m.name(), m.typeName(), e.what());
+  } catch (...) {
+    throw ModuleError(m.name(), m.typeName(), "an exception not derived from std::exception");
+  }
+}
+
 static void scoreAgainstGroundTruth(const RunResult& result, int dimension, RunReport& report) {
   if (result.reference.size() < 2 || result.trajectory.size() < 2) return;
   try {
@@ -89,7 +107,7 @@ RunReport runPipeline(RunConfig& run, const RunOptions& options) {
   Source& source = *run.source;
   Pipeline& pipeline = *run.pipeline;
   pipeline.timings().clear();
-  for (auto& sink : run.outputs) sink->begin(options.out_dir);
+  for (auto& sink : run.outputs) asModule(*sink, [&] { sink->begin(options.out_dir); });
 
   RunReport report;
   report.stopped_by = "end of data";
@@ -109,20 +127,14 @@ RunReport runPipeline(RunConfig& run, const RunOptions& options) {
     bool more;
     {
       ScopedTimer t(io_timings, source.name());
-      try {
-        more = source.next(frame);
-      } catch (const InputError&) {
-        throw;
-      } catch (const std::exception& e) {
-        throw ModuleError(source.name(), source.typeName(), e.what());
-      }
+      more = asModule(source, [&] { return source.next(frame); });
     }
     if (!more) break;
     frame.seq = seq;
     pipeline.process(frame);
     for (auto& sink : run.outputs) {
       ScopedTimer t(io_timings, sink->name());
-      sink->consume(frame);
+      asModule(*sink, [&] { sink->consume(frame); });
     }
     report.frames = seq + 1;
     if (options.progress) options.progress(report.frames, total, elapsed());
@@ -130,7 +142,7 @@ RunReport runPipeline(RunConfig& run, const RunOptions& options) {
   pipeline.finish();
   RunResult result = pipeline.result();
   if (pipeline.graph) report.graph = pipeline.graph->stats();
-  for (auto& sink : run.outputs) sink->end(result);
+  for (auto& sink : run.outputs) asModule(*sink, [&] { sink->end(result); });
   report.tracked = result.trajectory.size();
   if (pipeline.tracker) {
     report.local_maps = pipeline.tracker->stats().local_maps;

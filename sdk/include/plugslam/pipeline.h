@@ -43,7 +43,8 @@ class Pipeline : public Configurable {
   Timings& timings() { return timings_; }
 
  protected:
-  /// Runs `step` as module `m`, timing it and wrapping its exceptions in ModuleError.
+  /// Runs `step` as module `m`, timing it and wrapping its exceptions in ModuleError (also
+  /// those not derived from std::exception, which a plugin may throw).
   template <class F>
   auto guarded(Configurable& m, F&& step) -> decltype(step()) {
     ScopedTimer timer(timings_, m.name());
@@ -53,6 +54,8 @@ class Pipeline : public Configurable {
       throw;
     } catch (const std::exception& e) {
       throwModuleError(m, e.what());
+    } catch (...) {
+      throwModuleError(m, "an exception not derived from std::exception");
     }
   }
   [[noreturn]] static void throwModuleError(const Configurable& m, const std::string& what);

@@ -213,10 +213,13 @@ Trajectory readG2oTrajectory(const std::string& path) {
       requireColumns(path, line, 9, "VERTEX_SE3:QUAT id x y z qx qy qz qw");
     }
     const double id_value = parseNumber(path, line, 1, "vertex id");
-    if (id_value != std::floor(id_value) || id_value < 0) {
-      throw ParseError(
-          path, line.number,
-          "column 2 (vertex id): expected a non-negative integer, got '" + line.tokens[1] + "'");
+    // Ids become timestamps (doubles): above 2^53 they are no longer distinct, and the cast to
+    // an integer below would overflow.
+    constexpr double kMaxExactId = 9007199254740992.0;
+    if (id_value != std::floor(id_value) || id_value < 0 || id_value > kMaxExactId) {
+      throw ParseError(path, line.number,
+                       "column 2 (vertex id): expected a non-negative integer up to 2^53, got '" +
+                           line.tokens[1] + "'");
     }
     const auto id = static_cast<long long>(id_value);
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();

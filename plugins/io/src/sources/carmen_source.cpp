@@ -47,8 +47,25 @@ void CarmenSource::open() {
   // GMapping-corrected logs interleave timestamps out of order; that is not a malformed line.
   options.time_policy = ErrorPolicy::kSkip;
   if (max_range() > 0) options.old_format_max_range = max_range();
-  options.on_warning = [](const ReaderWarning& w) {
-    spdlog::debug("{}:{}: {}", w.file, w.line, w.message);
+  // Every warning is logged at debug level (the corrected logs flag thousands of backwards
+  // timestamps); skipped lines are also warned about (the first few) and everything is summed
+  // up at the end of the log, so nothing is dropped silently.
+  options.on_warning = [this](const ReaderWarning& w) {
+    constexpr std::size_t kMaxWarnings = 5;
+    const std::string text = w.file + ":" + std::to_string(w.line) + ": " + w.message;
+    // The reader counts a skipped line before it warns about it.
+    std::size_t skipped = skipped_seen_;
+    if (reader_) {
+      const CarmenReaderStats& s = reader_->stats();
+      skipped = s.malformed + s.empty_scans + (s.truncated ? 1 : 0);
+    }
+    if (skipped != skipped_seen_ && skipped_warned_ < kMaxWarnings) {
+      spdlog::warn("{}{}", text,
+                   ++skipped_warned_ == kMaxWarnings ? " (further skipped lines at -v)" : "");
+    } else {
+      spdlog::debug("{}", text);
+    }
+    skipped_seen_ = skipped;
   };
   reader_ = std::make_unique<CarmenReader>(path(), options);
   size_hint_.reset();
@@ -62,6 +79,25 @@ void CarmenSource::open() {
   any_frame_ = false;
   synthesized_stamps_ = 0;
   restarts_ = 0;
+  skipped_seen_ = 0;
+  skipped_warned_ = 0;
+  summarized_ = false;
+}
+
+void CarmenSource::summarize() {
+  if (summarized_) return;
+  summarized_ = true;
+  const CarmenReaderStats& s = reader_->stats();
+  if (s.malformed || s.empty_scans || s.truncated) {
+    spdlog::warn(
+        "CARMEN log '{}': skipped {} malformed line(s) and {} empty scan(s){}; {} "
+        "timestamp(s) went backwards",
+        path(), s.malformed, s.empty_scans, s.truncated ? ", the gzip stream is truncated" : "",
+        s.time_backwards);
+  } else if (s.time_backwards) {
+    spdlog::info("CARMEN log '{}': {} timestamp(s) went backwards (flagged, kept in file order)",
+                 path(), s.time_backwards);
+  }
 }
 
 const CarmenReaderStats& CarmenSource::readerStats() const {
@@ -167,11 +203,15 @@ bool CarmenSource::next(Frame& frame) {
       record = std::move(*pushed_back_);
       pushed_back_.reset();
     } else if (!reader_->next(record)) {
+      summarize();
       if (!held_ && !any_frame_) {
-        throw InputError("CARMEN log '" + path() +
-                         "' has no front-laser line (FLASER or ROBOTLASER1); " +
-                         std::to_string(reader_->stats().lasers) + " other laser lines, " +
-                         std::to_string(reader_->stats().odometry) + " ODOM lines");
+        throw InputError(
+            "CARMEN log '" + path() + "' has no front-laser line (FLASER or ROBOTLASER1); " +
+            std::to_string(reader_->stats().lasers) + " other laser lines, " +
+            std::to_string(reader_->stats().odometry) + " ODOM lines" +
+            (reader_->stats().empty_scans
+                 ? ", " + std::to_string(reader_->stats().empty_scans) + " empty scans (skipped)"
+                 : std::string()));
       }
       if (!held_) return false;
       fill(frame, *held_, have_odom_ ? std::optional<Eigen::Isometry2d>(track_) : std::nullopt);

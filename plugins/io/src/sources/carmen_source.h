@@ -90,6 +90,8 @@ class CarmenSource : public Source {
   double maxRangeFor(const CarmenLaser& laser) const;
   LaserScan toScan(const CarmenLaser& laser) const;
   void onOdometry(const CarmenOdometry& odom);
+  // Once, at the end of the log: what was skipped or flagged on the way.
+  void summarize();
 
   std::unique_ptr<CarmenReader> reader_;
   mutable std::optional<int64_t> size_hint_;
@@ -109,6 +111,9 @@ class CarmenSource : public Source {
   bool any_frame_ = false;
   std::size_t synthesized_stamps_ = 0;
   std::size_t restarts_ = 0;
+  std::size_t skipped_seen_ = 0;  // malformed lines + empty scans + truncation already reported
+  std::size_t skipped_warned_ = 0;
+  bool summarized_ = false;
 };
 
 }  // namespace io

@@ -1,5 +1,7 @@
 #include "sources/rosbag_source.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -78,6 +80,7 @@ void RosbagSource::open() {
   size_hint_.reset();
   frames_without_odometry_ = 0;
   frames_ = 0;
+  summarized_ = false;
 }
 
 void RosbagSource::noFramesError() const {
@@ -186,6 +189,13 @@ bool RosbagSource::next(Frame& frame) {
     if (!primary_.empty() && ready(primary_.front().t)) break;
     if (finished_) {
       if (frames_ == 0) noFramesError();
+      if (!summarized_ && reader_->stats().out_of_order > 0) {
+        spdlog::warn(
+            "ROS bag '{}': {} message(s) older than one already read (clock jump or "
+            "unsorted chunks); returned in file order",
+            path(), reader_->stats().out_of_order);
+      }
+      summarized_ = true;
       return false;
     }
     if (!readOne()) finished_ = true;

@@ -69,6 +69,7 @@ class RosbagSource : public Source {
     double t = 0;
     Eigen::Isometry2d pose = Eigen::Isometry2d::Identity();
   };
+  bool summarized_ = false;  // the end-of-bag warnings were given
   void open();
   bool readOne();
   bool ready(double t) const;

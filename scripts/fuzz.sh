@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (tests/fuzz) with clang + ASan + UBSan into build-fuzz/ and runs
+# each for SECONDS (default 60), seeded from tests/bad_input, the small valid files next to it and
+# tests/fuzz/regressions. Prints executions per target; exits 1 if any target found a crash
+# (the input is kept in build-fuzz/artifacts/TARGET/; add it to tests/fuzz/regressions/TARGET/
+# once fixed).
+#   scripts/fuzz.sh [SECONDS] [TARGET...]     e.g. scripts/fuzz.sh 300 fuzz_graph
+# PLUGSLAM_LOCK=FILE wraps the build and every run in `flock FILE` (shared build machines).
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+seconds="${1:-60}"
+shift || true
+targets=("$@")
+[ ${#targets[@]} -eq 0 ] && targets=(fuzz_config fuzz_carmen fuzz_rosbag fuzz_graph fuzz_archive fuzz_trajectory)
+build="${PLUGSLAM_FUZZ_DIR:-$root/build-fuzz}"
+lock=()
+[ -n "${PLUGSLAM_LOCK:-}" ] && lock=(flock "$PLUGSLAM_LOCK")
+cxx="${CXX:-$(command -v clang++ || command -v clang++-14)}"
+cc="${CC:-$(command -v clang || command -v clang-14)}"
+[ -x "$cxx" ] || { echo "fuzz.sh: clang++ not found (apt-get install clang)" >&2; exit 2; }
+
+export CCACHE_BASEDIR="$root"
+"${lock[@]}" cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_C_COMPILER="$cc" -DPLUGSLAM_FUZZ=ON \
+  -DPLUGSLAM_BUILD_TESTS=OFF > "$build.configure.log" 2>&1 || { cat "$build.configure.log"; exit 1; }
+"${lock[@]}" cmake --build "$build" -j "${PLUGSLAM_JOBS:-2}" --target "${targets[@]}"
+
+bad="$root/tests/bad_input"
+seed_files() {  # files seeding one target
+  case "$1" in
+    fuzz_config) ls "$bad"/cases/yaml_*.yaml "$bad"/base/*.yaml "$root"/configs/*.yaml ;;
+    fuzz_carmen) ls "$bad"/cases/carmen_*.log "$bad"/base/good.log ;;
+    fuzz_rosbag) ls "$bad"/cases/bag_*.bag "$bad"/base/good.bag ;;
+    fuzz_graph) ls "$bad"/cases/g2o_*.g2o "$bad"/cases/toro_*.toro "$bad"/base/good.g2o "$bad"/base/good.toro ;;
+    fuzz_archive) ls "$bad"/cases/archive_* "$bad"/base/good.plsb "$bad"/base/good_archive.yaml ;;
+    fuzz_trajectory) ls "$bad"/cases/tum_*.tum "$bad"/cases/kitti_*.kitti "$bad"/cases/g2o_traj_*.g2o \
+                        "$bad"/base/ref.tum "$bad"/base/ref.kitti ;;
+  esac 2>/dev/null || true
+}
+
+status=0
+summary="$build/fuzz-summary.txt"
+: > "$summary"
+for t in "${targets[@]}"; do
+  corpus="$build/corpus/$t"
+  seeds="$build/seeds/$t"
+  artifacts="$build/artifacts/$t"
+  mkdir -p "$corpus" "$seeds" "$artifacts"
+  rm -f "$seeds"/*
+  i=0
+  for f in $(seed_files "$t"); do
+    i=$((i + 1))
+    if [ "$t" = fuzz_trajectory ]; then
+      # The first byte picks the reader (0 TUM, 1 KITTI, 2 g2o, 3 auto-detect).
+      case "$f" in *.tum) b='\x00' ;; *.kitti) b='\x01' ;; *.g2o) b='\x02' ;; *) b='\x03' ;; esac
+      { printf "$b"; cat "$f"; } > "$seeds/$i"
+      { printf '\x03'; cat "$f"; } > "$seeds/$i.auto"
+    else
+      cp "$f" "$seeds/$i"
+    fi
+  done
+  [ -d "$root/tests/fuzz/regressions/$t" ] && cp "$root/tests/fuzz/regressions/$t"/* "$seeds/" 2>/dev/null || true
+  log="$build/$t.log"
+  echo "== $t: ${seconds}s, $(ls "$seeds" | wc -l) seeds"
+  set +e
+  ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=1" UBSAN_OPTIONS="print_stacktrace=1" \
+    "${lock[@]}" "$build/fuzz/$t" "$corpus" "$seeds" -max_total_time="$seconds" -rss_limit_mb=2048 \
+    -max_len=65536 -timeout=20 -print_final_stats=1 -artifact_prefix="$artifacts/" > "$log" 2>&1
+  rc=$?
+  set -e
+  execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' | tail -1)
+  cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | grep -o '[0-9]*')
+  line="$t: ${execs:-?} execs in ${seconds}s, cov ${cov:-?}, corpus $(ls "$corpus" | wc -l), exit $rc"
+  echo "$line" | tee -a "$summary"
+  if [ $rc -ne 0 ]; then
+    status=1
+    grep -m5 -E 'ERROR|SUMMARY|==[0-9]+==|Test unit written' "$log" || true
+  fi
+done
+echo "summary: $summary"
+exit $status
