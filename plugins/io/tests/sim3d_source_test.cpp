@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "plugslam/errors.h"
+#include "plugslam/pipeline.h"
 #include "plugslam/trajectory.h"
 #include "sim3d/mixed.h"
 #include "sim3d/renderer.h"
@@ -37,6 +38,24 @@ TEST(Simulator3DSource, RgbdFramesCarryImagesCameraAndGroundTruth) {
   int frames = 1;
   while (source.next(f)) ++frames;
   EXPECT_EQ(frames, 31);
+}
+
+TEST(Simulator3DSource, PipelineRecordsTheThreeDimensionalGroundTruth) {
+  Simulator3DSource source;
+  source.duration = 0.5;
+  source.configure();
+  Pipeline pipeline;
+  pipeline.configure();
+  Frame f;
+  std::vector<Eigen::Isometry3d, Eigen::aligned_allocator<Eigen::Isometry3d>> truth;
+  while (source.next(f)) {
+    pipeline.process(f);
+    truth.push_back(f.raw.get<Eigen::Isometry3d>("ground_truth"));
+    f = Frame();
+  }
+  const RunResult r = pipeline.result();
+  ASSERT_EQ(r.ground_truth.size(), truth.size());
+  for (size_t k = 0; k < truth.size(); ++k) EXPECT_TRUE(r.ground_truth[k].pose.isApprox(truth[k], 0.0));
 }
 
 TEST(Simulator3DSource, StereoFramesAreKittiLike) {

@@ -11,10 +11,12 @@ Pipeline::~Pipeline() = default;
 
 void Pipeline::process(Frame& frame) {
   // Ground truth is recorded as it comes, so any pipeline can be scored against it.
-  if (const auto* gt2 = frame.raw.find<Eigen::Isometry2d>("ground_truth"))
-    ground_truth_.push_back({frame.stamp, Space2D::to3D(*gt2)});
-  else if (const auto* gt3 = frame.raw.find<Eigen::Isometry3d>("ground_truth"))
-    ground_truth_.push_back({frame.stamp, *gt3});
+  // find<T> throws on another type, so ask which one the source wrote (2D or 3D) first.
+  if (frame.raw.holds<Eigen::Isometry2d>("ground_truth"))
+    ground_truth_.push_back(
+        {frame.stamp, Space2D::to3D(frame.raw.get<Eigen::Isometry2d>("ground_truth"))});
+  else if (frame.raw.holds<Eigen::Isometry3d>("ground_truth"))
+    ground_truth_.push_back({frame.stamp, frame.raw.get<Eigen::Isometry3d>("ground_truth")});
   for (auto& p : preprocessors) guarded(*p, [&] { return p->process(frame); });
   if (!tracker) return;
   guarded(*tracker, [&] { tracker->track(frame); });

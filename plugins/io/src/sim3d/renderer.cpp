@@ -197,7 +197,12 @@ void render(const World& world, const PinholeCamera& cam, const Eigen::Isometry3
       if (!shade) continue;
       const Eigen::Vector3d pw = c_w + z * ray_w;
       const Eigen::Vector3d q = pw - f.origin;
-      const Eigen::Vector3d rgb = albedo(f.material, f.u.dot(q), f.v.dot(q), pw) * face_light[fi];
+      // One pixel's size on the surface: the distance over the focal length, stretched at
+      // oblique incidence (capped so grazing floors keep some texture).
+      const double footprint =
+          ray_w.norm() * z / cam.fx / std::max(buf->incidence[p], 0.25);
+      const Eigen::Vector3d rgb =
+          albedo(f.material, f.u.dot(q), f.v.dot(q), pw, footprint) * face_light[fi];
       if (channels == 1) {
         row[i] = toByte(0.299 * rgb.x() + 0.587 * rgb.y() + 0.114 * rgb.z());
       } else {

@@ -91,11 +91,73 @@ const std::array<Eigen::Vector3d, 8>& palette() {
 
 }  // namespace
 
-Eigen::Vector3d albedo(const Material& m, double s, double t, const Eigen::Vector3d& p) {
+namespace {
+
+// The pattern's smallest feature [m] and its average colour: when a pixel covers more than
+// about a feature, the detail would alias into noise that flickers from frame to frame (and
+// gives detectors features that are not on the surface), so it fades to the average.
+void lodOf(const Material& m, double* feature, Eigen::Vector3d* mean) {
+  switch (m.pattern) {
+    case Pattern::kChecker:
+      *feature = m.scale;
+      *mean = 0.5 * (m.color_a + m.color_b);
+      return;
+    case Pattern::kBricks:
+      *feature = m.scale / 3.0;
+      *mean = 0.8 * m.color_a + 0.155 * m.color_b;
+      return;
+    case Pattern::kNoise:
+      *feature = 0.25 * m.scale;
+      *mean = 0.5 * (m.color_a + m.color_b);
+      return;
+    case Pattern::kWindows:
+      *feature = 0.2 * m.scale;
+      *mean = 0.7 * m.color_a + 0.3 * m.color_b;
+      return;
+    case Pattern::kPlanks:
+      *feature = 0.2 * m.scale;
+      *mean = 0.95 * (0.75 * m.color_a + 0.25 * m.color_b);
+      return;
+    case Pattern::kTiles:
+      *feature = 0.2 * m.scale;
+      *mean = 0.9 * 0.95 * m.color_a + 0.1 * m.color_b;
+      return;
+    case Pattern::kPoster:
+      *feature = m.scale;
+      *mean = Eigen::Vector3d(0.5875, 0.4875, 0.4175);
+      return;
+    case Pattern::kPlain:
+      *feature = 1e9;
+      *mean = m.color_a;
+      return;
+  }
+  *feature = 1e9;
+  *mean = m.color_a;
+}
+
+Eigen::Vector3d detail(const Material& m, double s, double t);
+
+}  // namespace
+
+Eigen::Vector3d albedo(const Material& m, double s, double t, const Eigen::Vector3d& p,
+                       double footprint) {
   if (m.world_uv) {
     s = p.x();
     t = p.y();
   }
+  if (footprint <= 0.0) return detail(m, s, t);
+  double feature;
+  Eigen::Vector3d mean;
+  lodOf(m, &feature, &mean);
+  const double k = smoothstep(0.3, 1.0, footprint / feature);
+  if (k >= 1.0) return mean;
+  if (k <= 0.0) return detail(m, s, t);
+  return (1.0 - k) * detail(m, s, t) + k * mean;
+}
+
+namespace {
+
+Eigen::Vector3d detail(const Material& m, double s, double t) {
   const double x = s / m.scale, y = t / m.scale;
   // Each seed looks at another part of the noise tile.
   const double ox = (m.seed & 0xFFu) * 7.31, oy = ((m.seed >> 8) & 0xFFu) * 5.17;
@@ -157,6 +219,8 @@ Eigen::Vector3d albedo(const Material& m, double s, double t, const Eigen::Vecto
   }
   return m.color_a;
 }
+
+}  // namespace
 
 }  // namespace sim3d
 }  // namespace io

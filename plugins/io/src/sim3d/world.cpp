@@ -207,9 +207,9 @@ World World::livingRoom(uint64_t seed) {
   w.addQuad({0, 0, 0}, X, Y, L, W, mat(Pattern::kPlanks, c(0.62, 0.42, 0.25), c(0.30, 0.18, 0.10), 1.0, s + 1), "floor", false);
   w.addQuad({0, W, H}, X, -Y, L, W, mat(Pattern::kTiles, c(0.92, 0.92, 0.88), c(0.55, 0.55, 0.55), 0.6, s + 2), "ceiling", false);
   w.addQuad({L, 0, 0}, -X, Z, L, H, mat(Pattern::kBricks, c(0.65, 0.30, 0.22), c(0.80, 0.78, 0.72), 0.3, s + 3), "wall_south", false);
-  w.addQuad({0, W, 0}, X, Z, L, H, mat(Pattern::kNoise, c(0.85, 0.82, 0.70), c(0.55, 0.62, 0.70), 0.8, s + 4), "wall_north", false);
+  w.addQuad({0, W, 0}, X, Z, L, H, mat(Pattern::kNoise, c(0.85, 0.82, 0.70), c(0.55, 0.62, 0.70), 0.35, s + 4), "wall_north", false);
   w.addQuad({0, 0, 0}, Y, Z, W, H, mat(Pattern::kChecker, c(0.80, 0.75, 0.55), c(0.55, 0.45, 0.35), 0.4, s + 5), "wall_west", false);
-  w.addQuad({L, W, 0}, -Y, Z, W, H, mat(Pattern::kNoise, c(0.75, 0.85, 0.80), c(0.35, 0.50, 0.45), 0.6, s + 6), "wall_east", false);
+  w.addQuad({L, W, 0}, -Y, Z, W, H, mat(Pattern::kNoise, c(0.75, 0.85, 0.80), c(0.35, 0.50, 0.45), 0.35, s + 6), "wall_east", false);
   // Things on the walls, 1 cm in front of them.
   w.addQuad({3.3, W - 0.01, 0.9}, X, Z, 2.2, 1.4, mat(Pattern::kWindows, c(0.95, 0.95, 0.95), c(0.25, 0.40, 0.60), 0.55, s + 7), "window", false);
   w.addQuad({L - 0.01, 4.9, 0.0}, -Y, Z, 1.0, 2.1, mat(Pattern::kPlanks, c(0.55, 0.35, 0.20), c(0.25, 0.15, 0.08), 0.5, s + 8), "door", false);
@@ -457,7 +457,7 @@ World World::street(const RoadPath& path, const StreetOptions& o, uint64_t seed)
       placed.push_back(fp);
       const double yaw = std::atan2(dir.y(), dir.x());
       const double base = p.z() - 1.0;  // sunk a metre so slopes leave no gap underneath
-      Material facade = mat(facades[style], tint, {0.20, 0.28, 0.38}, style == 1 ? 0.4 : 2.5,
+      Material facade = mat(facades[style], tint, {0.20, 0.28, 0.38}, style == 1 ? 0.9 : 2.5,
                             s + 100 + static_cast<uint32_t>(building));
       if (style == 1) facade.color_b = {0.75, 0.72, 0.68};
       w.addBox(at(fp.c.x(), fp.c.y(), base + 0.5 * (height + 1.0), yaw),

@@ -128,7 +128,10 @@ class World {
 };
 
 /// The albedo (RGB in [0, 1]) of a face's material at face coordinates (s, t) and world point p.
-Eigen::Vector3d albedo(const Material& m, double s, double t, const Eigen::Vector3d& p);
+/// `footprint` is the surface size of one pixel there [m]; detail smaller than about a pixel
+/// fades to the pattern's average colour (0 = full detail).
+Eigen::Vector3d albedo(const Material& m, double s, double t, const Eigen::Vector3d& p,
+                       double footprint = 0.0);
 
 /// A flat rounded-rectangle loop of `length` x `width` metres centred at the origin, sampled
 /// every `step` metres (the built-in street's road path).

@@ -22,7 +22,9 @@ void ImageSequenceWriter::begin(const std::string& out_dir) {
 }
 
 void ImageSequenceWriter::consume(const Frame& frame) {
-  const auto* pose = frame.raw.find<Eigen::Isometry3d>(ground_truth());
+  const Eigen::Isometry3d* pose = frame.raw.holds<Eigen::Isometry3d>(ground_truth())
+                                      ? &frame.raw.get<Eigen::Isometry3d>(ground_truth())
+                                      : nullptr;
   if (!pose)
     throw InputError("io.ImageSequenceWriter: frame has no Isometry3d raw entry '" +
                      ground_truth() + "' for the camera pose");
