@@ -170,8 +170,10 @@ void render(const World& world, const PinholeCamera& cam, const Eigen::Isometry3
   for (size_t k = 0; k < face_light.size(); ++k) face_light[k] = lighting(faces[k].normal);
   const Eigen::Matrix3d R_wc = T_wc.linear();
   const Eigen::Vector3d c_w = T_wc.translation();
+  const Eigen::Vector3d r0 = R_wc.col(0);
   for (int j = 0; j < H; ++j) {
     uint8_t* row = shade ? &image->data[static_cast<size_t>(j) * image->stride] : nullptr;
+    const Eigen::Vector3d ray_row = b[j] * R_wc.col(1) + R_wc.col(2);
     for (int i = 0; i < W; ++i) {
       const size_t p = static_cast<size_t>(j) * W + i;
       const int fi = buf->face[p];
@@ -192,15 +194,16 @@ void render(const World& world, const PinholeCamera& cam, const Eigen::Isometry3
       }
       const Face& f = faces[fi];
       const double z = buf->depth[p];
-      const Eigen::Vector3d ray_w = R_wc * Eigen::Vector3d(a[i], b[j], 1.0);
-      buf->incidence[p] = std::abs(f.normal.dot(ray_w)) / ray_w.norm();
+      const Eigen::Vector3d ray_w = a[i] * r0 + ray_row;
+      const double ray_norm = ray_w.norm();
+      buf->incidence[p] = std::abs(f.normal.dot(ray_w)) / ray_norm;
       if (!shade) continue;
       const Eigen::Vector3d pw = c_w + z * ray_w;
       const Eigen::Vector3d q = pw - f.origin;
       // One pixel's size on the surface: the distance over the focal length, stretched at
       // oblique incidence (capped so grazing floors keep some texture).
       const double footprint =
-          ray_w.norm() * z / cam.fx / std::max(buf->incidence[p], 0.25);
+          ray_norm * z / cam.fx / std::max(buf->incidence[p], 0.25);
       const Eigen::Vector3d rgb =
           albedo(f.material, f.u.dot(q), f.v.dot(q), pw, footprint) * face_light[fi];
       if (channels == 1) {
