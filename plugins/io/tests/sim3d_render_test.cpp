@@ -48,7 +48,8 @@ TEST(Sim3DRender, TiltedPlaneDepthsBackProjectOntoThePlane) {
       const double z = buf.depth[y * cam.width + x];
       if (z == 0.0) continue;
       ++hits;
-      const Eigen::Vector3d p = T * Eigen::Vector3d((x - cam.cx) / cam.fx * z, (y - cam.cy) / cam.fy * z, z);
+      const Eigen::Vector3d p =
+          T * Eigen::Vector3d((x - cam.cx) / cam.fx * z, (y - cam.cy) / cam.fy * z, z);
       EXPECT_NEAR(f.normal.dot(p - f.origin), 0.0, 1e-11) << x << "," << y;
     }
   EXPECT_GT(hits, 5000);
@@ -105,8 +106,9 @@ TEST(Sim3DRender, BoxCornerMatchesTheSlabMethodAtEveryPixel) {
 
 TEST(Sim3DRender, AxisPixelHitsTheNearestBoxEdgeAtItsKnownDistance) {
   World w;
-  w.addBox(Eigen::Translation3d(3.0, 0.0, 0.0) * Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitZ()),
-           {1.0, 1.0, 1.0}, Material{}, "cube");
+  w.addBox(
+      Eigen::Translation3d(3.0, 0.0, 0.0) * Eigen::AngleAxisd(M_PI / 4, Eigen::Vector3d::UnitZ()),
+      {1.0, 1.0, 1.0}, Material{}, "cube");
   const PinholeCamera cam = centredVga();
   RenderBuffers buf;
   render(w, cam, lookAlong({0, 0, 0}, {1, 0, 0}), &buf, nullptr);
@@ -213,8 +215,9 @@ TEST(Sim3DRender, TimingVgaRgbdAndKittiStereo) {
     dnoise += std::chrono::duration<double, std::milli>(e - d).count() / n;
   }
   std::printf("[timing] VGA RGB-D frame (render + shading + noise + depth): %.2f ms\n", rgbd_ms);
-  std::printf("[timing]   visibility %.2f ms, shading %.2f ms, image noise %.2f ms, depth noise %.2f ms\n",
-              vis, shade, inoise, dnoise);
+  std::printf(
+      "[timing]   visibility %.2f ms, shading %.2f ms, image noise %.2f ms, depth noise %.2f ms\n",
+      vis, shade, inoise, dnoise);
   std::printf("[timing] KITTI 1241x376 stereo pair (two renders + noise): %.2f ms\n", stereo_ms);
   RecordProperty("rgbd_ms", std::to_string(rgbd_ms));
   RecordProperty("stereo_ms", std::to_string(stereo_ms));

@@ -55,7 +55,8 @@ TEST(Simulator3DSource, PipelineRecordsTheThreeDimensionalGroundTruth) {
   }
   const RunResult r = pipeline.result();
   ASSERT_EQ(r.ground_truth.size(), truth.size());
-  for (size_t k = 0; k < truth.size(); ++k) EXPECT_TRUE(r.ground_truth[k].pose.isApprox(truth[k], 0.0));
+  for (size_t k = 0; k < truth.size(); ++k)
+    EXPECT_TRUE(r.ground_truth[k].pose.isApprox(truth[k], 0.0));
 }
 
 TEST(Simulator3DSource, StereoFramesAreKittiLike) {

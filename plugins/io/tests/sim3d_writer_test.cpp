@@ -1,13 +1,12 @@
 // KITTI and TUM RGB-D layouts written from the simulator, read back.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-
-#include <unistd.h>
 
 #include "plugslam/errors.h"
 #include "plugslam/trajectory.h"
@@ -21,7 +20,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path tempDir(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("plugslam_sim3d_" + name + "_" + std::to_string(::getpid()));
+  fs::path p =
+      fs::temp_directory_path() / ("plugslam_sim3d_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(p);
   return p;
 }
@@ -39,7 +39,8 @@ TEST(Sim3DWriter, TumLayoutReadsBack) {
   const Simulator3D sim = Simulator3D::fromOptions(o);
   const fs::path dir = tempDir("tum");
   writeTumSequence(sim, dir.string(), 3);
-  for (const char* f : {"rgb.txt", "depth.txt", "groundtruth.txt"}) EXPECT_TRUE(fs::exists(dir / f)) << f;
+  for (const char* f : {"rgb.txt", "depth.txt", "groundtruth.txt"})
+    EXPECT_TRUE(fs::exists(dir / f)) << f;
   const auto rgb_lines = lines(dir / "rgb.txt");
   ASSERT_EQ(rgb_lines.size(), 6u);  // 3 comment lines + 3 frames
   EXPECT_EQ(rgb_lines[3], "0.000000 rgb/0.000000.png");
@@ -53,7 +54,8 @@ TEST(Sim3DWriter, TumLayoutReadsBack) {
   EXPECT_EQ(rgb.bit_depth, 8);
   for (size_t i = 0; i < f.left.data.size(); ++i) ASSERT_EQ(rgb.samples[i], f.left.data[i]);
   const auto depth_lines = lines(dir / "depth.txt");
-  const PngImage depth = readPng((dir / depth_lines[4].substr(depth_lines[4].find(' ') + 1)).string());
+  const PngImage depth =
+      readPng((dir / depth_lines[4].substr(depth_lines[4].find(' ') + 1)).string());
   EXPECT_EQ(depth.channels, 1);
   EXPECT_EQ(depth.bit_depth, 16);
   ASSERT_EQ(depth.samples.size(), f.depth.data.size());
@@ -77,8 +79,8 @@ TEST(Sim3DWriter, KittiLayoutReadsBack) {
   const Simulator3D sim = Simulator3D::fromOptions(o);
   const fs::path dir = tempDir("kitti");
   writeKittiSequence(sim, dir.string(), 3);
-  for (const char* f : {"calib.txt", "times.txt", "poses/00.txt", "image_0/000000.png",
-                        "image_1/000002.png"})
+  for (const char* f :
+       {"calib.txt", "times.txt", "poses/00.txt", "image_0/000000.png", "image_1/000002.png"})
     EXPECT_TRUE(fs::exists(dir / f)) << f;
   const PngImage left = readPng((dir / "image_0" / "000002.png").string());
   EXPECT_EQ(left.width, 1241);
@@ -101,7 +103,8 @@ TEST(Sim3DWriter, KittiLayoutReadsBack) {
   const auto times = lines(dir / "times.txt");
   ASSERT_EQ(times.size(), 3u);
   EXPECT_NEAR(std::stod(times[1]), 0.1, 1e-9);
-  const Trajectory poses = readTrajectory((dir / "poses" / "00.txt").string(), TrajectoryFormat::Kitti);
+  const Trajectory poses =
+      readTrajectory((dir / "poses" / "00.txt").string(), TrajectoryFormat::Kitti);
   ASSERT_EQ(poses.size(), 3u);
   EXPECT_TRUE(poses[0].pose.isApprox(Eigen::Isometry3d::Identity(), 1e-9));
   Sim3DFrame f0;

@@ -39,7 +39,8 @@ std::string toBase64(const uint8_t* p, size_t n) {
 bool fromBase64(const std::string& s, std::vector<uint8_t>& out) {
   int8_t value[256];
   std::memset(value, -1, sizeof(value));
-  for (int i = 0; i < 64; ++i) value[static_cast<unsigned char>(kBase64[i])] = static_cast<int8_t>(i);
+  for (int i = 0; i < 64; ++i)
+    value[static_cast<unsigned char>(kBase64[i])] = static_cast<int8_t>(i);
   if (s.size() % 4 != 0) return false;
   out.clear();
   out.reserve(s.size() / 4 * 3);
@@ -138,7 +139,8 @@ void load(InArchive& ar, Image& im) {
   ar.field("data", text);
   if (!fromBase64(text, im.data)) ar.fail("image data is not valid base64");
   if (im.data.size() != static_cast<size_t>(im.stride) * static_cast<size_t>(im.height))
-    ar.fail("image data holds " + std::to_string(im.data.size()) + " bytes, expected stride * height = " +
+    ar.fail("image data holds " + std::to_string(im.data.size()) +
+            " bytes, expected stride * height = " +
             std::to_string(static_cast<size_t>(im.stride) * static_cast<size_t>(im.height)));
   ar.endObject();
 }
@@ -170,8 +172,8 @@ void load(InArchive& ar, DepthImage& d) {
   if (!fromBase64(text, bytes)) ar.fail("depth data is not valid base64");
   const size_t n = static_cast<size_t>(d.width) * static_cast<size_t>(d.height);
   if (bytes.size() != 4 * n)
-    ar.fail("depth data holds " + std::to_string(bytes.size()) + " bytes, expected 4 * width * height = " +
-            std::to_string(4 * n));
+    ar.fail("depth data holds " + std::to_string(bytes.size()) +
+            " bytes, expected 4 * width * height = " + std::to_string(4 * n));
   d.data.resize(n);
   for (size_t i = 0; i < n; ++i) {
     uint32_t bits = 0;

@@ -15,8 +15,8 @@ Eigen::Isometry3d MixedOptions::defaultCameraMount() {
   base_R_optical.col(1) = -Eigen::Vector3d::UnitZ();  // image y: down
   base_R_optical.col(2) = Eigen::Vector3d::UnitX();   // optical axis: forward
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = base_R_optical * Eigen::AngleAxisd(-10.0 * M_PI / 180.0, Eigen::Vector3d::UnitX())
-                                    .toRotationMatrix();
+  T.linear() = base_R_optical *
+               Eigen::AngleAxisd(-10.0 * M_PI / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
   T.translation() = Eigen::Vector3d(0.1, 0.0, 1.0);
   return T;
 }
@@ -24,9 +24,8 @@ Eigen::Isometry3d MixedOptions::defaultCameraMount() {
 void castPlanarScan(const World& world, const Eigen::Isometry3d& base, double height,
                     const sim2d::LaserConfig& laser, sim2d::Rng* rng, LaserScan* scan) {
   const double yaw0 = std::atan2(base.linear()(1, 0), base.linear()(0, 0));
-  const Eigen::Vector3d origin =
-      base * Eigen::Vector3d(laser.mount.x(), laser.mount.y(), 0.0) +
-      Eigen::Vector3d(0.0, 0.0, height - base.translation().z());
+  const Eigen::Vector3d origin = base * Eigen::Vector3d(laser.mount.x(), laser.mount.y(), 0.0) +
+                                 Eigen::Vector3d(0.0, 0.0, height - base.translation().z());
   scan->angle_min = laser.angleMin();
   scan->angle_increment = laser.angleIncrement();
   scan->range_min = laser.min_range;
@@ -102,7 +101,8 @@ bool MixedSimulator::step(MixedFrame* f) {
   f->index = s.index;
   f->stamp = s.time;
   f->base = Eigen::Isometry3d::Identity();
-  f->base.linear() = Eigen::AngleAxisd(s.ground_truth.z(), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  f->base.linear() =
+      Eigen::AngleAxisd(s.ground_truth.z(), Eigen::Vector3d::UnitZ()).toRotationMatrix();
   f->base.translation() = Eigen::Vector3d(s.ground_truth.x(), s.ground_truth.y(), 0.0);
   f->odometry = sim2d::toIsometry(s.odometry);
   f->scan.stamp = s.time;

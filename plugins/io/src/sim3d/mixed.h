@@ -20,10 +20,10 @@ namespace sim3d {
 
 /// Everything that defines a mixed session.
 struct MixedOptions {
-  double path_length = 40.0;   ///< the tour ends at the first frame past this [m]
-  double rate = 10.0;          ///< frame rate of odometry, laser and camera [Hz]
-  sim2d::LaserConfig laser;    ///< the planar laser (mount x, y, yaw in the robot frame)
-  double laser_height = 0.3;   ///< height of the scan plane above the floor [m]
+  double path_length = 40.0;  ///< the tour ends at the first frame past this [m]
+  double rate = 10.0;         ///< frame rate of odometry, laser and camera [Hz]
+  sim2d::LaserConfig laser;   ///< the planar laser (mount x, y, yaw in the robot frame)
+  double laser_height = 0.3;  ///< height of the scan plane above the floor [m]
   /// Camera pose in the robot base frame (optical frame); default: 1 m up, 10 deg down.
   Eigen::Isometry3d camera_mount = defaultCameraMount();
   double odometry_noise = 1.0;  ///< scale on sim2d's preset odometry errors
@@ -37,13 +37,13 @@ struct MixedOptions {
 
 /// One step of the mixed simulator.
 struct MixedFrame {
-  size_t index = 0;                                        ///< 0-based frame number
-  double stamp = 0.0;                                      ///< [s]
-  Eigen::Isometry3d base = Eigen::Isometry3d::Identity();  ///< true robot base pose (z = 0)
+  size_t index = 0;                                            ///< 0-based frame number
+  double stamp = 0.0;                                          ///< [s]
+  Eigen::Isometry3d base = Eigen::Isometry3d::Identity();      ///< true robot base pose (z = 0)
   Eigen::Isometry2d odometry = Eigen::Isometry2d::Identity();  ///< wheel odometry pose
-  LaserScan scan;      ///< the planar scan (NaN = no return)
-  Image rgb;           ///< RGB image
-  DepthImage depth;    ///< depth [m]
+  LaserScan scan;    ///< the planar scan (NaN = no return)
+  Image rgb;         ///< RGB image
+  DepthImage depth;  ///< depth [m]
 };
 
 /// Drives the robot through the living room and produces synchronised laser, RGB-D and odometry.

@@ -52,7 +52,8 @@ void DepthNoise::validate() const {
   if (!(sigma_a >= 0) || !(sigma_b >= 0)) throw InputError("depth noise: sigmas must be >= 0");
   if (!(min_range >= 0) || !(max_range > min_range))
     throw InputError("depth noise: expected 0 <= min_range < max_range");
-  if (!(grazing_deg > 0 && grazing_deg <= 90)) throw InputError("depth noise: grazing_deg must be in (0, 90]");
+  if (!(grazing_deg > 0 && grazing_deg <= 90))
+    throw InputError("depth noise: grazing_deg must be in (0, 90]");
   if (!(dropout >= 0 && dropout <= 1)) throw InputError("depth noise: dropout must be in [0, 1]");
   if (quantize && (!(disparity_baseline > 0) || !(disparity_focal > 0) || !(subpixel > 0)))
     throw InputError("depth noise: quantisation needs positive baseline, focal and subpixel");
@@ -60,7 +61,8 @@ void DepthNoise::validate() const {
 
 void ImageNoise::validate() const {
   if (!(sigma >= 0)) throw InputError("image noise: sigma must be >= 0");
-  if (!(gain_sigma >= 0 && gain_sigma < 2)) throw InputError("image noise: gain_sigma must be in [0, 2)");
+  if (!(gain_sigma >= 0 && gain_sigma < 2))
+    throw InputError("image noise: gain_sigma must be in [0, 2)");
   if (!(gain_period > 0)) throw InputError("image noise: gain_period must be positive");
 }
 
@@ -93,8 +95,8 @@ void makeDepthImage(const RenderBuffers& buf, const DepthNoise& noise, uint64_t 
     const uint64_t r = rng.next();  // 13 bits for the normal, 51 for the dropout uniform
     const double g = FastRng::tableNormal(r);
     const double u = static_cast<double>(r >> 13) * (1.0 / 2251799813685248.0);
-    if (z <= 0.0 || z < noise.min_range || z > noise.max_range ||
-        buf.incidence[i] < cos_grazing || u < noise.dropout) {
+    if (z <= 0.0 || z < noise.min_range || z > noise.max_range || buf.incidence[i] < cos_grazing ||
+        u < noise.dropout) {
       depth->data[i] = 0.0f;
       continue;
     }
@@ -121,7 +123,8 @@ void applyImageNoise(const ImageNoise& noise, uint64_t seed, uint64_t frame, uin
   if (noise_lut_sigma != noise.sigma) {
     noise_lut.resize(8192);
     for (uint64_t k = 0; k < 8192; ++k)
-      noise_lut[k] = static_cast<int32_t>(std::lround(noise.sigma * FastRng::tableNormal(k) * 256.0));
+      noise_lut[k] =
+          static_cast<int32_t>(std::lround(noise.sigma * FastRng::tableNormal(k) * 256.0));
     noise_lut_sigma = noise.sigma;
   }
   const int n = image->width * image->channels;

@@ -13,18 +13,18 @@ namespace sim3d {
 
 /// Kinect-like depth errors.
 struct DepthNoise {
-  bool enabled = true;       ///< false: depth is exact
-  double sigma_a = 0.0012;   ///< sigma(z) = sigma_a + sigma_b * (z - z0)^2 [m]
-  double sigma_b = 0.0019;   ///< [1/m]
-  double z0 = 0.4;           ///< [m]
-  bool quantize = true;      ///< round to the structured-light disparity steps
+  bool enabled = true;                ///< false: depth is exact
+  double sigma_a = 0.0012;            ///< sigma(z) = sigma_a + sigma_b * (z - z0)^2 [m]
+  double sigma_b = 0.0019;            ///< [1/m]
+  double z0 = 0.4;                    ///< [m]
+  bool quantize = true;               ///< round to the structured-light disparity steps
   double disparity_baseline = 0.075;  ///< emitter-camera baseline for quantisation [m]
   double disparity_focal = 580.0;     ///< focal length for quantisation [px]
-  double subpixel = 8.0;     ///< disparity steps per pixel
-  double min_range = 0.4;    ///< closer: no reading [m]
-  double max_range = 6.0;    ///< farther: no reading [m]
-  double grazing_deg = 78.0;  ///< incidence beyond this from the normal: no reading [deg]
-  double dropout = 0.002;    ///< probability of a missing pixel
+  double subpixel = 8.0;              ///< disparity steps per pixel
+  double min_range = 0.4;             ///< closer: no reading [m]
+  double max_range = 6.0;             ///< farther: no reading [m]
+  double grazing_deg = 78.0;          ///< incidence beyond this from the normal: no reading [deg]
+  double dropout = 0.002;             ///< probability of a missing pixel
   /// Throws InputError naming the field when a value is out of range.
   void validate() const;
 };

@@ -54,7 +54,8 @@ void writeRows(const std::string& path, int width, int height, int color_type, i
   png_write_rows(png, const_cast<png_bytepp>(rows.data()), static_cast<png_uint_32>(height));
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
-  if (std::fflush(file.get()) != 0) throw InputError("cannot write PNG '" + path + "' (disk full?)");
+  if (std::fflush(file.get()) != 0)
+    throw InputError("cannot write PNG '" + path + "' (disk full?)");
 }
 
 }  // namespace

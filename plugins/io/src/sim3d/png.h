@@ -12,17 +12,18 @@ namespace sim3d {
 
 /// A decoded PNG: 8 or 16 bits per sample, samples row-major, channels interleaved.
 struct PngImage {
-  int width = 0;                ///< [px]
-  int height = 0;               ///< [px]
-  int channels = 0;             ///< 1 grey, 2 grey+alpha, 3 RGB, 4 RGBA
-  int bit_depth = 0;            ///< 8 or 16
+  int width = 0;                  ///< [px]
+  int height = 0;                 ///< [px]
+  int channels = 0;               ///< 1 grey, 2 grey+alpha, 3 RGB, 4 RGBA
+  int bit_depth = 0;              ///< 8 or 16
   std::vector<uint16_t> samples;  ///< width * height * channels values
 };
 
 /// Writes an 8-bit grey (1 channel) or RGB (3 channels) PNG; throws InputError on failure.
 void writePng(const std::string& path, const Image& image);
 /// Writes a 16-bit grey PNG of width x height values; throws InputError on failure.
-void writePng16(const std::string& path, int width, int height, const std::vector<uint16_t>& values);
+void writePng16(const std::string& path, int width, int height,
+                const std::vector<uint16_t>& values);
 /// Reads a PNG (any colour type is expanded to 8 or 16 bit samples; palette to RGB); throws
 /// InputError if unreadable, ParseError if not a valid PNG.
 PngImage readPng(const std::string& path);

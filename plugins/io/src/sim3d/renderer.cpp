@@ -49,7 +49,8 @@ inline uint8_t toByte(double v) {
 void PinholeCamera::validate() const {
   if (!(fx > 0.0) || !(fy > 0.0) || !std::isfinite(fx) || !std::isfinite(fy))
     throw InputError("sim3d camera: fx and fy must be positive");
-  if (!std::isfinite(cx) || !std::isfinite(cy)) throw InputError("sim3d camera: cx, cy must be finite");
+  if (!std::isfinite(cx) || !std::isfinite(cy))
+    throw InputError("sim3d camera: cx, cy must be finite");
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     throw InputError("sim3d camera: width and height must be in 1..16384");
 }
@@ -84,7 +85,8 @@ void render(const World& world, const PinholeCamera& cam, const Eigen::Isometry3
     {
       int out_near = 0, out_far = 0, out_l = 0, out_r = 0, out_t = 0, out_b = 0;
       for (int k = 0; k < 8; ++k) {
-        const Eigen::Vector3d c = T_cw * obj.bounds.corner(static_cast<Eigen::AlignedBox3d::CornerType>(k));
+        const Eigen::Vector3d c =
+            T_cw * obj.bounds.corner(static_cast<Eigen::AlignedBox3d::CornerType>(k));
         out_near += c.z() < opt.near;
         out_far += c.z() > opt.far;
         out_l += cam.fx * c.x() + (cam.cx + 0.5) * c.z() < 0.0;
@@ -100,10 +102,11 @@ void render(const World& world, const PinholeCamera& cam, const Eigen::Isometry3
       const Eigen::Vector3d o = R * f.origin + t;
       const Eigen::Vector3d n = R * f.normal;
       const Eigen::Vector3d u = R * f.u, v = R * f.v;
-      const double nd = n.dot(o);  // plane: n . X = nd
+      const double nd = n.dot(o);               // plane: n . X = nd
       if (!f.two_sided && nd >= 0.0) continue;  // camera behind a one-sided face
       if (nd == 0.0) continue;                  // camera in the plane: seen edge-on
-      Eigen::Vector3d poly[4] = {o, o + f.width * u, o + f.width * u + f.height * v, o + f.height * v};
+      Eigen::Vector3d poly[4] = {o, o + f.width * u, o + f.width * u + f.height * v,
+                                 o + f.height * v};
       Eigen::Vector3d clipped[8];
       const int m = clipNear(poly, 4, opt.near, clipped);
       if (m < 3) continue;
@@ -202,8 +205,7 @@ void render(const World& world, const PinholeCamera& cam, const Eigen::Isometry3
       const Eigen::Vector3d q = pw - f.origin;
       // One pixel's size on the surface: the distance over the focal length, stretched at
       // oblique incidence (capped so grazing floors keep some texture).
-      const double footprint =
-          ray_norm * z / cam.fx / std::max(buf->incidence[p], 0.25);
+      const double footprint = ray_norm * z / cam.fx / std::max(buf->incidence[p], 0.25);
       const Eigen::Vector3d rgb =
           albedo(f.material, f.u.dot(q), f.v.dot(q), pw, footprint) * face_light[fi];
       if (channels == 1) {

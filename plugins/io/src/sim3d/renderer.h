@@ -32,25 +32,26 @@ struct PinholeCamera {
 
 /// Per-pixel results of one render, row-major.
 struct RenderBuffers {
-  int width = 0;                 ///< [px]
-  int height = 0;                ///< [px]
-  std::vector<double> depth;     ///< z along the optical axis [m], 0 = no hit
-  std::vector<int32_t> face;     ///< face index, -1 = no hit
+  int width = 0;                  ///< [px]
+  int height = 0;                 ///< [px]
+  std::vector<double> depth;      ///< z along the optical axis [m], 0 = no hit
+  std::vector<int32_t> face;      ///< face index, -1 = no hit
   std::vector<double> incidence;  ///< |cos| of the angle between ray and surface normal
 };
 
 /// Options of one render.
 struct RenderOptions {
-  double near = 0.05;    ///< nothing closer along z is drawn [m]
-  double far = 250.0;    ///< objects entirely beyond this along z are skipped [m]
-  bool shade = true;     ///< false: depth only (image untouched)
+  double near = 0.05;  ///< nothing closer along z is drawn [m]
+  double far = 250.0;  ///< objects entirely beyond this along z are skipped [m]
+  bool shade = true;   ///< false: depth only (image untouched)
 };
 
 /// Renders `world` seen by a camera at `T_world_camera` (optical frame: x right, y down,
 /// z forward). Fills `buffers` and, when `image` is not null and options.shade, an 8-bit image
 /// with image->channels 1 (grey) or 3 (RGB; any other value is taken as 3).
-void render(const World& world, const PinholeCamera& camera, const Eigen::Isometry3d& T_world_camera,
-            RenderBuffers* buffers, Image* image, const RenderOptions& options = {});
+void render(const World& world, const PinholeCamera& camera,
+            const Eigen::Isometry3d& T_world_camera, RenderBuffers* buffers, Image* image,
+            const RenderOptions& options = {});
 
 }  // namespace sim3d
 }  // namespace io

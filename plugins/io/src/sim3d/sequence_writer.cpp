@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
 #include "sim3d/png.h"
 
@@ -22,11 +23,9 @@ void makeDirs(const fs::path& p) {
   if (ec) throw InputError("cannot create folder '" + p.string() + "': " + ec.message());
 }
 
+// Index files are written last and atomically: a folder whose index exists is complete.
 void writeText(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  out << text;
-  out.flush();
-  if (!out) throw InputError("cannot write '" + p.string() + "'");
+  writeFileAtomically(p.string(), [&](std::ostream& out) { out << text; });
 }
 
 // TUM names files by their stamp with 6 decimals.
@@ -36,7 +35,8 @@ std::string stampName(double t) { return fmt::format("{:.6f}", t); }
 
 KittiWriter::KittiWriter(std::string dir, const CameraInfo& camera, std::string sequence)
     : dir_(std::move(dir)), camera_(camera), sequence_(std::move(sequence)) {
-  if (!(camera_.baseline > 0.0)) throw InputError("KittiWriter: the camera needs a stereo baseline");
+  if (!(camera_.baseline > 0.0))
+    throw InputError("KittiWriter: the camera needs a stereo baseline");
   if (sequence_.empty() || sequence_.find('/') != std::string::npos)
     throw InputError("KittiWriter: the sequence name must be a plain file name like 00");
   makeDirs(fs::path(dir_) / "image_0");

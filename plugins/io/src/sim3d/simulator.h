@@ -34,9 +34,9 @@ struct ScenarioOptions {
   /// Camera rate [Hz]; 0 = 30 (RGB-D) or 10 (stereo) for generated loops, and the file's own
   /// poses for loaded trajectories.
   double rate = 0.0;
-  double duration = 0.0;  ///< generated living-room loop length [s]; 0 = 30 s
-  double speed = 8.0;     ///< generated street drive speed [m/s]
-  uint64_t seed = 0;      ///< textures, buildings and every noise stream
+  double duration = 0.0;   ///< generated living-room loop length [s]; 0 = 30 s
+  double speed = 8.0;      ///< generated street drive speed [m/s]
+  uint64_t seed = 0;       ///< textures, buildings and every noise stream
   DepthNoise depth_noise;  ///< RGB-D depth errors
   ImageNoise image_noise;  ///< image noise and exposure
 };
@@ -46,9 +46,9 @@ struct Sim3DFrame {
   size_t index = 0;                                        ///< 0-based frame number
   double stamp = 0.0;                                      ///< [s]
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< camera (left / RGB) in the world
-  Image left;         ///< stereo: left grey image; RGB-D: the RGB image
-  Image right;        ///< stereo: right grey image; RGB-D: empty
-  DepthImage depth;   ///< RGB-D: depth [m]; stereo: empty
+  Image left;        ///< stereo: left grey image; RGB-D: the RGB image
+  Image right;       ///< stereo: right grey image; RGB-D: empty
+  DepthImage depth;  ///< RGB-D: depth [m]; stereo: empty
 };
 
 /// Renders the frames of one scenario.

@@ -164,7 +164,8 @@ Eigen::Vector3d detail(const Material& m, double s, double t) {
   const double n = noise(16.0 * x + ox, 16.0 * y + oy);
   switch (m.pattern) {
     case Pattern::kChecker: {
-      const bool odd = ((static_cast<int64_t>(std::floor(x)) + static_cast<int64_t>(std::floor(y))) & 1) != 0;
+      const bool odd =
+          ((static_cast<int64_t>(std::floor(x)) + static_cast<int64_t>(std::floor(y))) & 1) != 0;
       return (odd ? m.color_b : m.color_a) * (0.8 + 0.4 * n);
     }
     case Pattern::kBricks: {
@@ -183,7 +184,8 @@ Eigen::Vector3d detail(const Material& m, double s, double t) {
     }
     case Pattern::kWindows: {
       const double wy = y / 1.3;
-      const int64_t col = static_cast<int64_t>(std::floor(x)), row = static_cast<int64_t>(std::floor(wy));
+      const int64_t col = static_cast<int64_t>(std::floor(x)),
+                    row = static_cast<int64_t>(std::floor(wy));
       const double fx = x - col, fy = wy - row;
       const Eigen::Vector3d wall = m.color_a * (0.85 + 0.3 * n);
       if (fx > 0.2 && fx < 0.8 && fy > 0.25 && fy < 0.8) {
@@ -204,13 +206,15 @@ Eigen::Vector3d detail(const Material& m, double s, double t) {
       return (m.color_a * (1.0 - 0.5 * grain) + m.color_b * 0.5 * grain) * tone;
     }
     case Pattern::kTiles: {
-      const int64_t col = static_cast<int64_t>(std::floor(x)), row = static_cast<int64_t>(std::floor(y));
+      const int64_t col = static_cast<int64_t>(std::floor(x)),
+                    row = static_cast<int64_t>(std::floor(y));
       const double fx = x - col, fy = y - row;
       if (fx < 0.05 || fy < 0.05) return m.color_b;
       return m.color_a * (0.75 + 0.4 * unit(hash3(col, row, m.seed))) * (0.9 + 0.2 * n);
     }
     case Pattern::kPoster: {
-      const int64_t col = static_cast<int64_t>(std::floor(x)), row = static_cast<int64_t>(std::floor(y));
+      const int64_t col = static_cast<int64_t>(std::floor(x)),
+                    row = static_cast<int64_t>(std::floor(y));
       const uint32_t h = hash3(col, row, m.seed);
       return palette()[h & 7u] * (0.8 + 0.4 * n);
     }

@@ -24,7 +24,8 @@ Eigen::Isometry3d lookAlong(const Eigen::Vector3d& position, const Eigen::Vector
 }
 
 Trajectory livingRoomLoop(double duration, double rate) {
-  if (!(duration > 0) || !(rate > 0)) throw InputError("sim3d livingRoomLoop: expected duration, rate > 0");
+  if (!(duration > 0) || !(rate > 0))
+    throw InputError("sim3d livingRoomLoop: expected duration, rate > 0");
   Trajectory out;
   const int n = static_cast<int>(std::floor(duration * rate));
   for (int k = 0; k <= n; ++k) {
@@ -66,9 +67,7 @@ Trajectory driveAlong(const RoadPath& path, double height, double speed, double 
   return out;
 }
 
-Eigen::Isometry3d livingRoomStart() {
-  return lookAlong({3.2, 2.6, 1.5}, {-0.3, -1.0, -0.15});
-}
+Eigen::Isometry3d livingRoomStart() { return lookAlong({3.2, 2.6, 1.5}, {-0.3, -1.0, -0.15}); }
 
 Eigen::Isometry3d streetStart() { return lookAlong({0.0, 0.0, 1.65}, {1.0, 0.0, 0.0}); }
 
@@ -107,7 +106,8 @@ RoadPath roadUnder(const Trajectory& tr, double height, double step) {
     if (path.empty() || (g - path.back()).head<2>().norm() >= step) path.push_back(g);
   }
   if (!tr.empty()) {
-    const Eigen::Vector3d g = tr.poses().back().pose.translation() - height * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d g =
+        tr.poses().back().pose.translation() - height * Eigen::Vector3d::UnitZ();
     if ((g - path.back()).head<2>().norm() > 1e-6) path.push_back(g);
   }
   return path;

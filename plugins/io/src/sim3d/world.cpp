@@ -204,48 +204,85 @@ World World::livingRoom(uint64_t seed) {
   const double L = 8.0, W = 6.0, H = 2.7;
   auto c = [](double r, double g, double b) { return Eigen::Vector3d(r, g, b); };
   // Shell: floor, ceiling, four walls, all one-sided with normals (u x v) into the room.
-  w.addQuad({0, 0, 0}, X, Y, L, W, mat(Pattern::kPlanks, c(0.62, 0.42, 0.25), c(0.30, 0.18, 0.10), 1.0, s + 1), "floor", false);
-  w.addQuad({0, W, H}, X, -Y, L, W, mat(Pattern::kTiles, c(0.92, 0.92, 0.88), c(0.55, 0.55, 0.55), 0.6, s + 2), "ceiling", false);
-  w.addQuad({L, 0, 0}, -X, Z, L, H, mat(Pattern::kBricks, c(0.65, 0.30, 0.22), c(0.80, 0.78, 0.72), 0.3, s + 3), "wall_south", false);
-  w.addQuad({0, W, 0}, X, Z, L, H, mat(Pattern::kNoise, c(0.85, 0.82, 0.70), c(0.55, 0.62, 0.70), 0.35, s + 4), "wall_north", false);
-  w.addQuad({0, 0, 0}, Y, Z, W, H, mat(Pattern::kChecker, c(0.80, 0.75, 0.55), c(0.55, 0.45, 0.35), 0.4, s + 5), "wall_west", false);
-  w.addQuad({L, W, 0}, -Y, Z, W, H, mat(Pattern::kNoise, c(0.75, 0.85, 0.80), c(0.35, 0.50, 0.45), 0.35, s + 6), "wall_east", false);
+  w.addQuad({0, 0, 0}, X, Y, L, W,
+            mat(Pattern::kPlanks, c(0.62, 0.42, 0.25), c(0.30, 0.18, 0.10), 1.0, s + 1), "floor",
+            false);
+  w.addQuad({0, W, H}, X, -Y, L, W,
+            mat(Pattern::kTiles, c(0.92, 0.92, 0.88), c(0.55, 0.55, 0.55), 0.6, s + 2), "ceiling",
+            false);
+  w.addQuad({L, 0, 0}, -X, Z, L, H,
+            mat(Pattern::kBricks, c(0.65, 0.30, 0.22), c(0.80, 0.78, 0.72), 0.3, s + 3),
+            "wall_south", false);
+  w.addQuad({0, W, 0}, X, Z, L, H,
+            mat(Pattern::kNoise, c(0.85, 0.82, 0.70), c(0.55, 0.62, 0.70), 0.35, s + 4),
+            "wall_north", false);
+  w.addQuad({0, 0, 0}, Y, Z, W, H,
+            mat(Pattern::kChecker, c(0.80, 0.75, 0.55), c(0.55, 0.45, 0.35), 0.4, s + 5),
+            "wall_west", false);
+  w.addQuad({L, W, 0}, -Y, Z, W, H,
+            mat(Pattern::kNoise, c(0.75, 0.85, 0.80), c(0.35, 0.50, 0.45), 0.35, s + 6),
+            "wall_east", false);
   // Things on the walls, 1 cm in front of them.
-  w.addQuad({3.3, W - 0.01, 0.9}, X, Z, 2.2, 1.4, mat(Pattern::kWindows, c(0.95, 0.95, 0.95), c(0.25, 0.40, 0.60), 0.55, s + 7), "window", false);
-  w.addQuad({L - 0.01, 4.9, 0.0}, -Y, Z, 1.0, 2.1, mat(Pattern::kPlanks, c(0.55, 0.35, 0.20), c(0.25, 0.15, 0.08), 0.5, s + 8), "door", false);
-  w.addQuad({4.4, 0.01, 1.3}, -X, Z, 1.2, 0.8, mat(Pattern::kPoster, c(1, 1, 1), c(0, 0, 0), 0.2, s + 9), "picture_south", false);
-  w.addQuad({0.01, 3.7, 1.2}, Y, Z, 0.9, 0.7, mat(Pattern::kPoster, c(1, 1, 1), c(0, 0, 0), 0.15, s + 10), "picture_west", false);
-  w.addQuad({2.4, W - 0.01, 1.1}, X, Z, 1.0, 1.0, mat(Pattern::kChecker, c(0.95, 0.95, 0.95), c(0.05, 0.05, 0.05), 0.125, s + 11), "chart_north", false);
-  w.addQuad({L - 0.01, 2.5, 1.0}, -Y, Z, 1.5, 1.0, mat(Pattern::kPoster, c(1, 1, 1), c(0, 0, 0), 0.25, s + 12), "picture_east", false);
-  w.addQuad({1.3, 3.0, 0.005}, X, Y, 2.6, 1.8, mat(Pattern::kTiles, c(0.70, 0.20, 0.20), c(0.90, 0.85, 0.60), 0.3, s + 13), "rug", false);
+  w.addQuad({3.3, W - 0.01, 0.9}, X, Z, 2.2, 1.4,
+            mat(Pattern::kWindows, c(0.95, 0.95, 0.95), c(0.25, 0.40, 0.60), 0.55, s + 7), "window",
+            false);
+  w.addQuad({L - 0.01, 4.9, 0.0}, -Y, Z, 1.0, 2.1,
+            mat(Pattern::kPlanks, c(0.55, 0.35, 0.20), c(0.25, 0.15, 0.08), 0.5, s + 8), "door",
+            false);
+  w.addQuad({4.4, 0.01, 1.3}, -X, Z, 1.2, 0.8,
+            mat(Pattern::kPoster, c(1, 1, 1), c(0, 0, 0), 0.2, s + 9), "picture_south", false);
+  w.addQuad({0.01, 3.7, 1.2}, Y, Z, 0.9, 0.7,
+            mat(Pattern::kPoster, c(1, 1, 1), c(0, 0, 0), 0.15, s + 10), "picture_west", false);
+  w.addQuad({2.4, W - 0.01, 1.1}, X, Z, 1.0, 1.0,
+            mat(Pattern::kChecker, c(0.95, 0.95, 0.95), c(0.05, 0.05, 0.05), 0.125, s + 11),
+            "chart_north", false);
+  w.addQuad({L - 0.01, 2.5, 1.0}, -Y, Z, 1.5, 1.0,
+            mat(Pattern::kPoster, c(1, 1, 1), c(0, 0, 0), 0.25, s + 12), "picture_east", false);
+  w.addQuad({1.3, 3.0, 0.005}, X, Y, 2.6, 1.8,
+            mat(Pattern::kTiles, c(0.70, 0.20, 0.20), c(0.90, 0.85, 0.60), 0.3, s + 13), "rug",
+            false);
   // Sofa against the north wall.
-  const Material fabric = mat(Pattern::kNoise, c(0.25, 0.35, 0.55), c(0.15, 0.20, 0.35), 0.25, s + 20);
+  const Material fabric =
+      mat(Pattern::kNoise, c(0.25, 0.35, 0.55), c(0.15, 0.20, 0.35), 0.25, s + 20);
   w.addBox(at(1.6, 5.3, 0.225), {2.2, 0.9, 0.45}, fabric, "sofa_seat", false);
   w.addBox(at(1.6, 5.65, 0.675), {2.2, 0.2, 0.45}, fabric, "sofa_back", false);
   w.addBox(at(0.4, 5.3, 0.3), {0.2, 0.9, 0.6}, fabric, "sofa_arm_left", false);
   w.addBox(at(2.8, 5.3, 0.3), {0.2, 0.9, 0.6}, fabric, "sofa_arm_right", false);
-  w.addBox(at(1.2, 5.05, 0.55), {0.45, 0.15, 0.4}, mat(Pattern::kChecker, c(0.9, 0.8, 0.2), c(0.8, 0.3, 0.1), 0.1, s + 21), "cushion", true);
+  w.addBox(at(1.2, 5.05, 0.55), {0.45, 0.15, 0.4},
+           mat(Pattern::kChecker, c(0.9, 0.8, 0.2), c(0.8, 0.3, 0.1), 0.1, s + 21), "cushion",
+           true);
   // Coffee table with legs.
-  const Material wood = mat(Pattern::kPlanks, c(0.50, 0.32, 0.18), c(0.28, 0.16, 0.08), 0.8, s + 30);
+  const Material wood =
+      mat(Pattern::kPlanks, c(0.50, 0.32, 0.18), c(0.28, 0.16, 0.08), 0.8, s + 30);
   w.addBox(at(2.2, 3.9, 0.425), {1.2, 0.6, 0.05}, wood, "coffee_table_top");
   for (double dx : {-0.55, 0.55})
     for (double dy : {-0.25, 0.25})
       w.addBox(at(2.2 + dx, 3.9 + dy, 0.2), {0.05, 0.05, 0.4}, wood, "coffee_table_leg", false);
-  w.addBox(at(2.0, 3.85, 0.5), {0.3, 0.22, 0.05}, mat(Pattern::kPoster, c(1, 1, 1), c(0, 0, 0), 0.06, s + 31), "book_on_table");
+  w.addBox(at(2.0, 3.85, 0.5), {0.3, 0.22, 0.05},
+           mat(Pattern::kPoster, c(1, 1, 1), c(0, 0, 0), 0.06, s + 31), "book_on_table");
   // TV stand and TV against the south wall.
-  w.addBox(at(1.8, 0.25, 0.25), {1.6, 0.45, 0.5}, mat(Pattern::kTiles, c(0.30, 0.30, 0.32), c(0.10, 0.10, 0.10), 0.4, s + 40), "tv_stand", false);
-  w.addBox(at(1.8, 0.15, 0.9), {1.2, 0.08, 0.7}, mat(Pattern::kPlain, c(0.08, 0.08, 0.09), c(0, 0, 0), 0.5, s + 41), "tv");
-  w.addQuad({2.35, 0.1901, 0.6}, -X, Z, 1.1, 0.6, mat(Pattern::kPoster, c(1, 1, 1), c(0, 0, 0), 0.12, s + 42), "tv_screen", false);
+  w.addBox(at(1.8, 0.25, 0.25), {1.6, 0.45, 0.5},
+           mat(Pattern::kTiles, c(0.30, 0.30, 0.32), c(0.10, 0.10, 0.10), 0.4, s + 40), "tv_stand",
+           false);
+  w.addBox(at(1.8, 0.15, 0.9), {1.2, 0.08, 0.7},
+           mat(Pattern::kPlain, c(0.08, 0.08, 0.09), c(0, 0, 0), 0.5, s + 41), "tv");
+  w.addQuad({2.35, 0.1901, 0.6}, -X, Z, 1.1, 0.6,
+            mat(Pattern::kPoster, c(1, 1, 1), c(0, 0, 0), 0.12, s + 42), "tv_screen", false);
   // Bookshelf on the west wall: a case and rows of books.
-  w.addBox(at(0.2, 2.4, 1.0), {0.4, 1.8, 2.0}, mat(Pattern::kPlanks, c(0.70, 0.55, 0.35), c(0.40, 0.30, 0.18), 0.6, s + 50), "bookshelf", false);
+  w.addBox(at(0.2, 2.4, 1.0), {0.4, 1.8, 2.0},
+           mat(Pattern::kPlanks, c(0.70, 0.55, 0.35), c(0.40, 0.30, 0.18), 0.6, s + 50),
+           "bookshelf", false);
   for (int row = 0; row < 4; ++row)
-    w.addBox(at(0.43, 2.4, 0.3 + 0.45 * row), {0.06, 1.6, 0.3}, mat(Pattern::kPoster, c(1, 1, 1), c(0, 0, 0), 0.07, s + 51 + row), "books", false);
+    w.addBox(at(0.43, 2.4, 0.3 + 0.45 * row), {0.06, 1.6, 0.3},
+             mat(Pattern::kPoster, c(1, 1, 1), c(0, 0, 0), 0.07, s + 51 + row), "books", false);
   // Dining table with legs and two chairs near the east wall.
   w.addBox(at(6.0, 2.0, 0.75), {1.6, 0.9, 0.05}, wood, "dining_table_top");
   for (double dx : {-0.75, 0.75})
     for (double dy : {-0.4, 0.4})
-      w.addBox(at(6.0 + dx, 2.0 + dy, 0.3625), {0.06, 0.06, 0.725}, wood, "dining_table_leg", false);
-  const Material chair = mat(Pattern::kChecker, c(0.75, 0.20, 0.15), c(0.35, 0.10, 0.08), 0.12, s + 60);
+      w.addBox(at(6.0 + dx, 2.0 + dy, 0.3625), {0.06, 0.06, 0.725}, wood, "dining_table_leg",
+               false);
+  const Material chair =
+      mat(Pattern::kChecker, c(0.75, 0.20, 0.15), c(0.35, 0.10, 0.08), 0.12, s + 60);
   for (double y : {1.2, 2.8}) {
     const double back = y < 2.0 ? y - 0.22 : y + 0.22;
     w.addBox(at(6.0, y, 0.45), {0.45, 0.45, 0.05}, chair, "chair_seat");
@@ -255,11 +292,19 @@ World World::livingRoom(uint64_t seed) {
         w.addBox(at(6.0 + dx, y + dy, 0.2125), {0.04, 0.04, 0.425}, chair, "chair_leg", false);
   }
   // Cabinet in the north-east corner, a floor lamp, a plant pot.
-  w.addBox(at(7.6, 5.2, 0.6), {0.7, 1.2, 1.2}, mat(Pattern::kTiles, c(0.85, 0.85, 0.80), c(0.20, 0.20, 0.20), 0.3, s + 70), "cabinet", false);
-  w.addBox(at(3.3, 5.6, 0.8), {0.04, 0.04, 1.6}, mat(Pattern::kPlain, c(0.2, 0.2, 0.2), c(0, 0, 0), 0.5, s + 71), "lamp_pole", false);
-  w.addBox(at(3.3, 5.6, 1.7), {0.4, 0.4, 0.3}, mat(Pattern::kChecker, c(0.95, 0.90, 0.70), c(0.80, 0.70, 0.45), 0.1, s + 72), "lamp_shade");
-  w.addBox(at(4.6, 0.4, 0.25, 0.3), {0.4, 0.4, 0.5}, mat(Pattern::kBricks, c(0.70, 0.40, 0.25), c(0.30, 0.20, 0.15), 0.2, s + 73), "plant_pot", false);
-  w.addBox(at(4.6, 0.4, 0.8, 0.7), {0.5, 0.5, 0.6}, mat(Pattern::kNoise, c(0.20, 0.55, 0.20), c(0.05, 0.25, 0.08), 0.15, s + 74), "plant");
+  w.addBox(at(7.6, 5.2, 0.6), {0.7, 1.2, 1.2},
+           mat(Pattern::kTiles, c(0.85, 0.85, 0.80), c(0.20, 0.20, 0.20), 0.3, s + 70), "cabinet",
+           false);
+  w.addBox(at(3.3, 5.6, 0.8), {0.04, 0.04, 1.6},
+           mat(Pattern::kPlain, c(0.2, 0.2, 0.2), c(0, 0, 0), 0.5, s + 71), "lamp_pole", false);
+  w.addBox(at(3.3, 5.6, 1.7), {0.4, 0.4, 0.3},
+           mat(Pattern::kChecker, c(0.95, 0.90, 0.70), c(0.80, 0.70, 0.45), 0.1, s + 72),
+           "lamp_shade");
+  w.addBox(at(4.6, 0.4, 0.25, 0.3), {0.4, 0.4, 0.5},
+           mat(Pattern::kBricks, c(0.70, 0.40, 0.25), c(0.30, 0.20, 0.15), 0.2, s + 73),
+           "plant_pot", false);
+  w.addBox(at(4.6, 0.4, 0.8, 0.7), {0.5, 0.5, 0.6},
+           mat(Pattern::kNoise, c(0.20, 0.55, 0.20), c(0.05, 0.25, 0.08), 0.15, s + 74), "plant");
   return w;
 }
 
@@ -280,14 +325,38 @@ RoadPath blockLoop(double length, double width, double r, double step) {
     while (k < 7 && d > seg[k]) d -= seg[k++];
     Eigen::Vector2d p;
     switch (k) {
-      case 0: p = {-a + d, -b - r}; break;
-      case 1: { const double t = -M_PI / 2 + d / r; p = {a + r * std::cos(t), -b + r * std::sin(t)}; break; }
-      case 2: p = {a + r, -b + d}; break;
-      case 3: { const double t = d / r; p = {a + r * std::cos(t), b + r * std::sin(t)}; break; }
-      case 4: p = {a - d, b + r}; break;
-      case 5: { const double t = M_PI / 2 + d / r; p = {-a + r * std::cos(t), b + r * std::sin(t)}; break; }
-      case 6: p = {-a - r, b - d}; break;
-      default: { const double t = M_PI + d / r; p = {-a + r * std::cos(t), -b + r * std::sin(t)}; break; }
+      case 0:
+        p = {-a + d, -b - r};
+        break;
+      case 1: {
+        const double t = -M_PI / 2 + d / r;
+        p = {a + r * std::cos(t), -b + r * std::sin(t)};
+        break;
+      }
+      case 2:
+        p = {a + r, -b + d};
+        break;
+      case 3: {
+        const double t = d / r;
+        p = {a + r * std::cos(t), b + r * std::sin(t)};
+        break;
+      }
+      case 4:
+        p = {a - d, b + r};
+        break;
+      case 5: {
+        const double t = M_PI / 2 + d / r;
+        p = {-a + r * std::cos(t), b + r * std::sin(t)};
+        break;
+      }
+      case 6:
+        p = {-a - r, b - d};
+        break;
+      default: {
+        const double t = M_PI + d / r;
+        p = {-a + r * std::cos(t), -b + r * std::sin(t)};
+        break;
+      }
     }
     path.emplace_back(p.x(), p.y(), 0.0);
   }
@@ -361,8 +430,8 @@ class PathIndex {
 World World::street(const RoadPath& path, const StreetOptions& o, uint64_t seed) {
   if (path.size() < 2) throw InputError("sim3d street: the road path needs at least two points");
   if (!(o.road_half_width > 0) || !(o.sidewalk >= 0) || !(o.min_building > 0) ||
-      !(o.max_building >= o.min_building) || !(o.min_height > 0) || !(o.max_height >= o.min_height) ||
-      !(o.gap >= 0))
+      !(o.max_building >= o.min_building) || !(o.min_height > 0) ||
+      !(o.max_height >= o.min_height) || !(o.gap >= 0))
     throw InputError("sim3d street: building and road sizes must be positive, min <= max");
   World w;
   sim2d::Rng rng(seed, 31);
@@ -387,8 +456,7 @@ World World::street(const RoadPath& path, const StreetOptions& o, uint64_t seed)
     const Eigen::Vector3d start = p0 - ext * u;
     const double rw = o.road_half_width;
     w.beginObject("road");
-    auto quad = [&](const Eigen::Vector3d& origin, double width, double height,
-                    const Material& m) {
+    auto quad = [&](const Eigen::Vector3d& origin, double width, double height, const Material& m) {
       Face q;
       q.origin = origin;
       q.u = u;
@@ -401,7 +469,8 @@ World World::street(const RoadPath& path, const StreetOptions& o, uint64_t seed)
       w.pushFace(q);
     };
     quad(start - rw * lat, len + 2 * ext, 2 * rw, asphalt);
-    quad(start - (rw + o.sidewalk + 4.0) * lat + 0.12 * Z, len + 2 * ext, o.sidewalk + 4.0, pavement);
+    quad(start - (rw + o.sidewalk + 4.0) * lat + 0.12 * Z, len + 2 * ext, o.sidewalk + 4.0,
+         pavement);
     quad(start + rw * lat + 0.12 * Z, len + 2 * ext, o.sidewalk + 4.0, pavement);
     // Dashed lane lines 1.8 m either side of the path: 3 m painted every 9 m.
     for (double a = -dash_phase; a < len; a += 9.0) {
@@ -418,7 +487,8 @@ World World::street(const RoadPath& path, const StreetOptions& o, uint64_t seed)
   const double clearance = o.road_half_width + o.sidewalk - 0.5;
   std::vector<Footprint> placed;
   std::vector<double> arc(path.size(), 0.0);
-  for (size_t i = 1; i < path.size(); ++i) arc[i] = arc[i - 1] + (path[i] - path[i - 1]).head<2>().norm();
+  for (size_t i = 1; i < path.size(); ++i)
+    arc[i] = arc[i - 1] + (path[i] - path[i - 1]).head<2>().norm();
   auto sample = [&](double a, Eigen::Vector3d* p, Eigen::Vector2d* dir) {
     size_t k = std::upper_bound(arc.begin(), arc.end(), a) - arc.begin();
     k = std::clamp<size_t>(k, 1, path.size() - 1);
@@ -452,7 +522,8 @@ World World::street(const RoadPath& path, const StreetOptions& o, uint64_t seed)
         if (ok && (other.c - fp.c).norm() < 60.0 && overlaps(fp, other)) ok = false;
       const double car = rng.uniform();
       const int style = static_cast<int>(rng.index(3));
-      const Eigen::Vector3d tint(rng.uniform(0.5, 1.0), rng.uniform(0.45, 0.9), rng.uniform(0.4, 0.85));
+      const Eigen::Vector3d tint(rng.uniform(0.5, 1.0), rng.uniform(0.45, 0.9),
+                                 rng.uniform(0.4, 0.85));
       if (!ok) continue;
       placed.push_back(fp);
       const double yaw = std::atan2(dir.y(), dir.x());
@@ -466,9 +537,11 @@ World World::street(const RoadPath& path, const StreetOptions& o, uint64_t seed)
       if (car < o.parked_cars) {
         const Eigen::Vector2d cc = p.head<2>() + side * (o.road_half_width - 1.2) * lat;
         if (index.distance(cc, 3.0) >= 3.0) {
-          const Eigen::Vector3d paint_color(rng.uniform(0.1, 0.9), rng.uniform(0.1, 0.9), rng.uniform(0.1, 0.9));
+          const Eigen::Vector3d paint_color(rng.uniform(0.1, 0.9), rng.uniform(0.1, 0.9),
+                                            rng.uniform(0.1, 0.9));
           w.addBox(at(cc.x(), cc.y(), p.z() + 0.75, yaw), {4.2, 1.8, 1.5},
-                   mat(Pattern::kChecker, paint_color, paint_color * 0.4, 0.7, s + 5000 + static_cast<uint32_t>(building)),
+                   mat(Pattern::kChecker, paint_color, paint_color * 0.4, 0.7,
+                       s + 5000 + static_cast<uint32_t>(building)),
                    "car", false);
         }
       }

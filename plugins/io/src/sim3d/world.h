@@ -27,11 +27,11 @@ enum class Pattern {
 
 /// What a surface looks like. Colours are RGB albedos in [0, 1].
 struct Material {
-  Pattern pattern = Pattern::kNoise;        ///< the pattern
-  Eigen::Vector3d color_a{0.7, 0.7, 0.7};   ///< main colour
-  Eigen::Vector3d color_b{0.3, 0.3, 0.3};   ///< second colour (squares, mortar, windows)
-  double scale = 0.5;                       ///< pattern cell size [m]
-  uint32_t seed = 0;                        ///< varies the pattern between faces
+  Pattern pattern = Pattern::kNoise;       ///< the pattern
+  Eigen::Vector3d color_a{0.7, 0.7, 0.7};  ///< main colour
+  Eigen::Vector3d color_b{0.3, 0.3, 0.3};  ///< second colour (squares, mortar, windows)
+  double scale = 0.5;                      ///< pattern cell size [m]
+  uint32_t seed = 0;                       ///< varies the pattern between faces
   bool world_uv = false;  ///< texture by world (x, y) instead of face coordinates (roads)
 };
 
@@ -50,17 +50,17 @@ struct Face {
 
 /// A named group of faces (one box, one wall) with its bounding box.
 struct Object {
-  std::string name;           ///< for debugging and tests
+  std::string name;            ///< for debugging and tests
   Eigen::AlignedBox3d bounds;  ///< bounding box of its faces
-  int first_face = 0;         ///< faces [first_face, first_face + face_count)
-  int face_count = 0;         ///< number of faces
+  int first_face = 0;          ///< faces [first_face, first_face + face_count)
+  int face_count = 0;          ///< number of faces
 };
 
 /// Result of World::castRay.
 struct RayHit {
-  double distance = 0.0;              ///< along the (unit) ray [m]
-  int face = -1;                      ///< index of the face hit
-  Eigen::Vector3d point{0, 0, 0};     ///< hit point in the world
+  double distance = 0.0;           ///< along the (unit) ray [m]
+  int face = -1;                   ///< index of the face hit
+  Eigen::Vector3d point{0, 0, 0};  ///< hit point in the world
 };
 
 /// A road path sample for World::street: the road surface centre [m].
@@ -68,14 +68,14 @@ using RoadPath = std::vector<Eigen::Vector3d>;
 
 /// Layout of a street world.
 struct StreetOptions {
-  double road_half_width = 6.0;   ///< asphalt from the path centre to the kerb [m]
-  double sidewalk = 3.0;          ///< kerb to the first building line [m]
-  double min_building = 8.0;      ///< building frontage range [m]
-  double max_building = 22.0;     ///< [m]
-  double min_height = 6.0;        ///< building height range [m]
-  double max_height = 24.0;       ///< [m]
-  double gap = 2.0;               ///< mean gap between buildings [m]
-  double parked_cars = 0.3;       ///< probability of a parked car box per building
+  double road_half_width = 6.0;  ///< asphalt from the path centre to the kerb [m]
+  double sidewalk = 3.0;         ///< kerb to the first building line [m]
+  double min_building = 8.0;     ///< building frontage range [m]
+  double max_building = 22.0;    ///< [m]
+  double min_height = 6.0;       ///< building height range [m]
+  double max_height = 24.0;      ///< [m]
+  double gap = 2.0;              ///< mean gap between buildings [m]
+  double parked_cars = 0.3;      ///< probability of a parked car box per building
 };
 
 /// A world of rectangles and boxes (z up).
@@ -115,8 +115,7 @@ class World {
   /// A street along `path` (road surface centres, metres apart): a road ribbon following the
   /// path's heights, lane markings, and building boxes on both sides, kept off the road even
   /// where the path passes again; `seed` draws the buildings and textures.
-  static World street(const RoadPath& path, const StreetOptions& options = {},
-                      uint64_t seed = 0);
+  static World street(const RoadPath& path, const StreetOptions& options = {}, uint64_t seed = 0);
 
  private:
   int beginObject(const std::string& name);

@@ -16,7 +16,8 @@ void ImageSequenceWriter::configure() {
 
 void ImageSequenceWriter::begin(const std::string& out_dir) {
   const std::filesystem::path f(folder());
-  dir_ = f.is_absolute() ? f.string() : (std::filesystem::path(out_dir.empty() ? "." : out_dir) / f).string();
+  dir_ = f.is_absolute() ? f.string()
+                         : (std::filesystem::path(out_dir.empty() ? "." : out_dir) / f).string();
   kitti_.reset();
   tum_.reset();
 }

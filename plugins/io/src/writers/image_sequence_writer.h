@@ -14,7 +14,10 @@ namespace io {
 /// folder of the run's output; poses from the raw ground truth (Eigen::Isometry3d).
 class ImageSequenceWriter : public Sink {
  public:
-  Param<std::string> layout{this, "layout", "tum", "",
+  Param<std::string> layout{this,
+                            "layout",
+                            "tum",
+                            "",
                             "kitti: image_0/, image_1/, calib.txt, times.txt, poses/00.txt; "
                             "tum: rgb/, depth/, rgb.txt, depth.txt, groundtruth.txt",
                             Choices{{"kitti", "tum"}}};
