@@ -153,6 +153,28 @@ TEST(Sim3DRender, LivingRoomIsClosedAndTextured) {
   }
 }
 
+TEST(Sim3DWorld, SliceOfABoxIsItsFootprint) {
+  World w;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(1.0, 2.0, 0.5);
+  w.addBox(pose, {2.0, 1.0, 1.0}, Material{}, "box");
+  const auto segments = w.slice(0.3);
+  ASSERT_EQ(segments.size(), 4u);  // four sides; top and bottom are parallel to the cut
+  double length = 0.0;
+  for (const auto& [a, b] : segments) {
+    length += (b - a).norm();
+    for (const Eigen::Vector2d& p : {a, b}) {
+      // Every end point is a footprint corner: local coordinates (+-1, +-0.5).
+      const Eigen::Vector2d local = Eigen::Rotation2Dd(-0.5) * (p - Eigen::Vector2d(1.0, 2.0));
+      EXPECT_NEAR(std::abs(local.x()), 1.0, 1e-12);
+      EXPECT_NEAR(std::abs(local.y()), 0.5, 1e-12);
+    }
+  }
+  EXPECT_NEAR(length, 6.0, 1e-12);
+  EXPECT_TRUE(w.slice(1.5).empty());
+}
+
 TEST(Sim3DRender, StreetKeepsBuildingsOffTheRoad) {
   const RoadPath road = blockLoop(160.0, 100.0, 12.0, 2.0);
   const World w = World::street(road, {}, 5);

@@ -13,6 +13,8 @@
 #include "sim3d/png.h"
 #include "sim3d/sequence_writer.h"
 #include "sim3d/simulator.h"
+#include "sources/simulator3d_source.h"
+#include "writers/image_sequence_writer.h"
 
 namespace plugslam::io::sim3d {
 namespace {
@@ -111,6 +113,44 @@ TEST(Sim3DWriter, KittiLayoutReadsBack) {
   sim.render(0, &f0);
   EXPECT_TRUE(poses[2].pose.isApprox(f0.pose.inverse() * f.pose, 1e-6));
   fs::remove_all(dir);
+}
+
+TEST(Sim3DWriter, ImageSequenceWriterSinkWritesWhatTheSourceEmits) {
+  const fs::path out = tempDir("sink");
+  for (const char* layout : {"tum", "kitti"}) {
+    Simulator3DSource source;
+    const bool kitti = std::string(layout) == "kitti";
+    if (kitti) {
+      source.world = std::string("street");
+      source.camera = std::string("stereo");
+    } else {
+      source.duration = 0.1;
+    }
+    source.configure();
+    ImageSequenceWriter sink;
+    sink.layout = std::string(layout);
+    sink.folder = std::string(layout);
+    sink.configure();
+    sink.begin(out.string());
+    Frame f;
+    for (int k = 0; k < 3 && source.next(f); ++k) sink.consume(f);
+    sink.end(RunResult{});
+    if (kitti) {
+      EXPECT_TRUE(fs::exists(out / "kitti" / "image_1" / "000002.png"));
+      EXPECT_EQ(lines(out / "kitti" / "poses" / "00.txt").size(), 3u);
+    } else {
+      EXPECT_EQ(lines(out / "tum" / "groundtruth.txt").size(), 4u);  // header + 3 poses
+      EXPECT_EQ(readPng((out / "tum" / "depth" / "0.000000.png").string()).bit_depth, 16);
+    }
+  }
+  // A frame without images is refused with a message.
+  ImageSequenceWriter sink;
+  sink.configure();
+  sink.begin(out.string());
+  Frame empty;
+  empty.raw.set<Eigen::Isometry3d>("ground_truth", Eigen::Isometry3d::Identity());
+  EXPECT_THROW(sink.consume(empty), InputError);
+  fs::remove_all(out);
 }
 
 TEST(Sim3DWriter, PngErrors) {
