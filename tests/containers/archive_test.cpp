@@ -253,6 +253,30 @@ PropertyContainer everyBuiltIn() {
   scan.mount = i2;
   c.set<LaserScan>("LaserScan", scan);
   c.set<Odometry2D>("Odometry2D", Odometry2D{3.25, i2});
+  Image image;
+  image.stamp = 4.5;
+  image.resize(5, 3, 3);  // 45 bytes: exercises every base64 padding case with the others
+  for (size_t k = 0; k < image.data.size(); ++k) image.data[k] = static_cast<uint8_t>(k * 37 + 1);
+  c.set<Image>("Image", image);
+  Image grey;
+  grey.resize(4, 1, 1);
+  grey.data = {0, 255, 128, 7};
+  c.set<Image>("Image grey", grey);
+  DepthImage depth;
+  depth.stamp = 4.5;
+  depth.resize(3, 2);
+  depth.data = {0.0f, 1.25f, 3.1f, std::numeric_limits<float>::quiet_NaN(), 12.0f, 0.5f};
+  c.set<DepthImage>("DepthImage", depth);
+  CameraInfo camera;
+  camera.fx = 718.856;
+  camera.fy = 718.856;
+  camera.cx = 607.1928;
+  camera.cy = 185.2157;
+  camera.width = 1241;
+  camera.height = 376;
+  camera.baseline = 0.54;
+  camera.mount = i3;
+  c.set<CameraInfo>("CameraInfo", camera);
   return c;
 }
 
@@ -278,6 +302,34 @@ bool equalAs(const PropertyContainer& a, const PropertyContainer& b, const std::
     EXPECT_EQ(x.range_min, y.range_min);
     EXPECT_EQ(x.range_max, y.range_max);
     EXPECT_EQ(x.ranges, y.ranges);
+    EXPECT_EQ(x.mount.matrix(), y.mount.matrix());
+  } else if constexpr (std::is_same_v<T, Image>) {
+    const auto &x = a.get<T>(n), &y = b.get<T>(n);
+    EXPECT_EQ(x.stamp, y.stamp);
+    EXPECT_EQ(x.width, y.width);
+    EXPECT_EQ(x.height, y.height);
+    EXPECT_EQ(x.channels, y.channels);
+    EXPECT_EQ(x.stride, y.stride);
+    EXPECT_EQ(x.data, y.data);
+  } else if constexpr (std::is_same_v<T, DepthImage>) {
+    const auto &x = a.get<T>(n), &y = b.get<T>(n);
+    EXPECT_EQ(x.stamp, y.stamp);
+    EXPECT_EQ(x.width, y.width);
+    EXPECT_EQ(x.height, y.height);
+    EXPECT_EQ(x.data.size(), y.data.size());
+    // Bit-exact, NaN included.
+    if (x.data.size() == y.data.size()) {
+      EXPECT_EQ(0, std::memcmp(x.data.data(), y.data.data(), x.data.size() * sizeof(float)));
+    }
+  } else if constexpr (std::is_same_v<T, CameraInfo>) {
+    const auto &x = a.get<T>(n), &y = b.get<T>(n);
+    EXPECT_EQ(x.fx, y.fx);
+    EXPECT_EQ(x.fy, y.fy);
+    EXPECT_EQ(x.cx, y.cx);
+    EXPECT_EQ(x.cy, y.cy);
+    EXPECT_EQ(x.width, y.width);
+    EXPECT_EQ(x.height, y.height);
+    EXPECT_EQ(x.baseline, y.baseline);
     EXPECT_EQ(x.mount.matrix(), y.mount.matrix());
   } else if constexpr (std::is_same_v<T, Odometry2D>) {
     EXPECT_EQ(a.get<T>(n).stamp, b.get<T>(n).stamp);
@@ -308,7 +360,8 @@ void expectEqualContainers(const PropertyContainer& a, const PropertyContainer& 
         equalAs<std::vector<Eigen::Vector2d>>(a, b, n) ||
         equalAs<std::vector<Eigen::Vector3d>>(a, b, n) || equalAs<PropertyContainer>(a, b, n) ||
         equalAs<testplugin::Scan>(a, b, n) || equalAs<LaserScan>(a, b, n) ||
-        equalAs<Odometry2D>(a, b, n);
+        equalAs<Odometry2D>(a, b, n) || equalAs<Image>(a, b, n) ||
+        equalAs<DepthImage>(a, b, n) || equalAs<CameraInfo>(a, b, n);
     EXPECT_TRUE(checked) << "no comparison for property '" << n << "' of type "
                          << a.at(n).typeName();
   }

@@ -75,6 +75,9 @@ ValueTypes::ValueTypes() {
   add<PropertyContainer>("container", sdk, "plugslam::PropertyContainer");
   add<LaserScan>("LaserScan", sdk, "plugslam::LaserScan");
   add<Odometry2D>("Odometry2D", sdk, "plugslam::Odometry2D");
+  add<Image>("Image", sdk, "plugslam::Image");
+  add<DepthImage>("DepthImage", sdk, "plugslam::DepthImage");
+  add<CameraInfo>("CameraInfo", sdk, "plugslam::CameraInfo");
 }
 
 void ValueTypes::addEntry(ValueTypeInfo info) {

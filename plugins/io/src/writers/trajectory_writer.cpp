@@ -27,11 +27,11 @@ std::string TrajectoryWriter::resolve(const std::string& name) const {
 std::string TrajectoryWriter::outputPath() const { return resolve(file()); }
 
 void TrajectoryWriter::end(const RunResult& result) {
+  const Trajectory& t = trajectory() == "ground_truth" ? result.ground_truth : result.trajectory;
   if (format() == "kitti") {
-    writeKittiTrajectory(result.trajectory, outputPath(),
-                         times_file().empty() ? std::string() : resolve(times_file()));
+    writeKittiTrajectory(t, outputPath(), times_file().empty() ? std::string() : resolve(times_file()));
   } else {
-    writeTumTrajectory(result.trajectory, outputPath());
+    writeTumTrajectory(t, outputPath());
   }
 }
 

@@ -7,7 +7,7 @@
 namespace plugslam {
 namespace io {
 
-/// Writes RunResult::trajectory atomically at the end of the run.
+/// Writes RunResult::trajectory (or ::ground_truth) atomically at the end of the run.
 class TrajectoryWriter : public Sink {
  public:
   Param<std::string> file{this, "file", "trajectory.tum", "",
@@ -18,6 +18,12 @@ class TrajectoryWriter : public Sink {
                             "",
                             "tum: t x y z qx qy qz qw; kitti: 3x4 rows",
                             Choices{{"tum", "kitti"}}};
+  Param<std::string> trajectory{this,
+                                "trajectory",
+                                "estimate",
+                                "",
+                                "which trajectory: the run's estimate or the source's ground truth",
+                                Choices{{"estimate", "ground_truth"}}};
   Param<std::string> times_file{this, "times_file", "", "",
                                 "kitti only: also write the timestamps to this file"};
 
