@@ -54,9 +54,9 @@ TEST(Simulator3DSource, PipelineRecordsTheThreeDimensionalGroundTruth) {
     f = Frame();
   }
   const RunResult r = pipeline.result();
-  ASSERT_EQ(r.ground_truth.size(), truth.size());
+  ASSERT_EQ(r.reference.size(), truth.size());
   for (size_t k = 0; k < truth.size(); ++k)
-    EXPECT_TRUE(r.ground_truth[k].pose.isApprox(truth[k], 0.0));
+    EXPECT_TRUE(r.reference[k].pose.isApprox(truth[k], 0.0));
 }
 
 TEST(Simulator3DSource, StereoFramesAreKittiLike) {

@@ -27,7 +27,7 @@ std::string TrajectoryWriter::resolve(const std::string& name) const {
 std::string TrajectoryWriter::outputPath() const { return resolve(file()); }
 
 void TrajectoryWriter::end(const RunResult& result) {
-  const Trajectory& t = trajectory() == "ground_truth" ? result.ground_truth : result.trajectory;
+  const Trajectory& t = trajectory() == "reference" ? result.reference : result.trajectory;
   if (format() == "kitti") {
     writeKittiTrajectory(t, outputPath(), times_file().empty() ? std::string() : resolve(times_file()));
   } else {

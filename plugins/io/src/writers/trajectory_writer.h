@@ -22,8 +22,9 @@ class TrajectoryWriter : public Sink {
                                 "trajectory",
                                 "estimate",
                                 "",
-                                "which trajectory: the run's estimate or the source's ground truth",
-                                Choices{{"estimate", "ground_truth"}}};
+                                "which trajectory: the run's estimate or the pipeline's reference "
+                                "(ground truth, or the log's own poses)",
+                                Choices{{"estimate", "reference"}}};
   Param<std::string> times_file{this, "times_file", "", "",
                                 "kitti only: also write the timestamps to this file"};
 
