@@ -173,3 +173,20 @@ TEST_F(Cli, EvalAteRpeRelations) {
   EXPECT_EQ(r.code, 2) << r.out;
   expectHas(r.out, "bad.tum:1");
 }
+
+TEST_F(Cli, EveryShippedConfigValidates) {
+  const fs::path configs = fs::path(plugslam::testing::sourceDir()) / "configs";
+  int seen = 0;
+  for (const auto& entry : fs::directory_iterator(configs)) {
+    if (entry.path().extension() != ".yaml") continue;
+    ++seen;
+    // From the repository root, as the configs' relative data paths expect.
+    auto r = run("validate " + entry.path().string(),
+                 "cd " + plugslam::testing::sourceDir() + " &&");
+    if (r.out.find("cannot open") != std::string::npos ||
+        r.out.find("does not exist") != std::string::npos)
+      continue;  // a config pointing at ../shared/data on a machine without it
+    EXPECT_EQ(r.code, 0) << entry.path() << "\n" << r.out;
+  }
+  EXPECT_GE(seen, 6);
+}
