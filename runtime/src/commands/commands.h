@@ -15,5 +15,6 @@ void addReferenceCommand(CLI::App& root, int& exit_code);
 void addValidateCommand(CLI::App& root, int& exit_code);
 void addRunCommand(CLI::App& root, int& exit_code);
 void addEvalCommand(CLI::App& root, int& exit_code);
+void addShellCommand(CLI::App& root, int& exit_code);
 
 }  // namespace plugslam::runtime

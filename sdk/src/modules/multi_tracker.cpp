@@ -2,12 +2,22 @@
 
 #include <spdlog/spdlog.h>
 
+#include <limits>
+
 #include "plugslam/errors.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
 
 Tracker::~Tracker() = default;
+
+void Tracker::continueSession(int64_t) {
+  throw InputError("tracker '" + name() + "' (" + typeName() + ") cannot extend a saved session");
+}
+
+void Tracker::localizeIn(std::vector<std::shared_ptr<const LocalMap>>) {
+  throw InputError("tracker '" + name() + "' (" + typeName() + ") cannot localize in saved maps");
+}
 Splitter::~Splitter() = default;
 template <class S>
 TrackerSlice<S>::~TrackerSlice() = default;
@@ -21,7 +31,14 @@ bool DistanceSplitter::split(const SplitQuery& q) const {
 }
 
 template <class S>
-MultiTracker<S>::MultiTracker() = default;
+MultiTracker<S>::MultiTracker() {
+  addAction("reset", "close the current local map and start over from the next frame",
+            [this](const std::vector<std::string>&) {
+              reset();
+              return std::string("tracker reset; the next frame starts local map ") +
+                     std::to_string(next_id_);
+            });
+}
 template <class S>
 MultiTracker<S>::~MultiTracker() = default;
 
@@ -36,15 +53,74 @@ void MultiTracker<S>::configure() {
 
 template <class S>
 void MultiTracker<S>::reset() {
+  // The current map is handed over as closed, so the back-end still looks for loops from it.
+  if (map_) closed_.push_back(map_);
   map_.reset();
-  closed_.clear();
+  located_.reset();
   pose_ = last_motion_ = Pose::Identity();
   frames_in_map_ = 0;
   if (motion) motion->reset();
 }
 
 template <class S>
+void MultiTracker<S>::continueSession(int64_t next_id) {
+  if (map_ || !frozen_.empty())
+    throw InputError("a session can only be restored before the first frame");
+  if (next_id < 0) throw InputError("next local map id must be >= 0");
+  next_id_ = next_id;
+}
+
+template <class S>
+void MultiTracker<S>::localizeIn(std::vector<std::shared_ptr<const LocalMap>> maps) {
+  if (map_) throw InputError("localization can only start before the first frame");
+  if (maps.empty()) throw InputError("localization needs at least one saved local map");
+  for (const auto& m : maps)
+    if (!m || m->dimension != S::kDim)
+      throw InputError("localization: a saved map is not " + std::to_string(S::kDim) + "D");
+  frozen_ = std::move(maps);
+  located_.reset();
+}
+
+template <class S>
+void MultiTracker<S>::trackFrozen(Frame& frame) {
+  // Localization: the nearest frozen map (by origin, in the world) is the scene to align with;
+  // the pose is re-expressed when the robot moves on to another map. Nothing is merged or split.
+  ++stats_.frames;
+  const Eigen::Isometry3d at = located_ ? located_->origin : Eigen::Isometry3d::Identity();
+  const Eigen::Isometry3d previous_world = at * S::to3D(pose_);
+  const Eigen::Isometry3d guess_world = at * S::to3D(predict(frame));
+  std::shared_ptr<const LocalMap> best;
+  double best_d = std::numeric_limits<double>::infinity();
+  for (const auto& m : frozen_) {
+    const double d = (m->origin.translation() - guess_world.translation()).norm();
+    if (d < best_d) {
+      best_d = d;
+      best = m;
+    }
+  }
+  located_ = best;
+  const Eigen::Isometry3d to_map = best->origin.inverse();
+  const Pose previous = S::normalized(S::from3D(to_map * previous_world));
+  const Pose guess = S::normalized(S::from3D(to_map * guess_world));
+  AlignResult<S> aligned = aligner->align(frame, best->scene, AlignContext<S>{previous, guess});
+  if (aligned.valid) {
+    pose_ = aligned.pose;
+    ++stats_.aligned;
+    stats_.inlier_ratio_sum += aligned.inlierRatio();
+  } else {
+    pose_ = guess;
+    ++stats_.failed;
+  }
+  last_motion_ = S::normalized(previous.inverse() * pose_);
+  frame.estimate.valid = true;
+  frame.estimate.local_map = best->id;
+  frame.estimate.in_map = S::to3D(pose_);
+  frame.estimate.world = best->origin * frame.estimate.in_map;
+}
+
+template <class S>
 void MultiTracker<S>::track(Frame& frame) {
+  if (!frozen_.empty()) return trackFrozen(frame);
   ++stats_.frames;
   const Pose previous = pose_;
   const Pose guess = predict(frame);
