@@ -99,7 +99,7 @@ Shell::Shell(std::ostream& out, ShellOptions options) : out_(out), options_(std:
 Shell::~Shell() {
   if (worker_.joinable()) {
     {
-      std::lock_guard<std::mutex> lk(mutex_);
+      auto lk = lockBetweenFrames();
       stop_requested_ = true;
     }
     cv_.notify_all();
@@ -190,7 +190,7 @@ RunConfig& Shell::tree() {
 }
 
 bool Shell::active() const {
-  std::lock_guard<std::mutex> lk(mutex_);
+  auto lk = lockBetweenFrames();
   return exec_ && state_ != State::kFinished && state_ != State::kIdle;
 }
 
@@ -199,7 +199,7 @@ void Shell::requireIdle(const std::string& what) const {
     throw InputError("cannot " + what + " while a run is in progress (stop it first)");
 }
 
-std::unique_lock<std::mutex> Shell::lockBetweenFrames() {
+std::unique_lock<std::mutex> Shell::lockBetweenFrames() const {
   ++waiting_;
   std::unique_lock<std::mutex> lk(mutex_);
   --waiting_;
@@ -211,7 +211,7 @@ void Shell::joinWorker() {
 }
 
 void Shell::reportWorkerError() {
-  std::lock_guard<std::mutex> lk(mutex_);
+  auto lk = lockBetweenFrames();
   if (!worker_error_.empty()) {
     ++errors_;
     out_ << "error: the run failed: " << oneLine(worker_error_) << "\n";
@@ -232,7 +232,7 @@ void Shell::startExecution(int64_t budget) {
   o.out_dir = options_.out_dir;
   auto exec = std::make_unique<Execution>(*run_, o);
   {
-    std::lock_guard<std::mutex> lk(mutex_);
+    auto lk = lockBetweenFrames();
     exec_ = std::move(exec);
     state_ = State::kRunning;
     budget_ = budget;
@@ -310,7 +310,7 @@ void Shell::cmdValidate() {
 
 void Shell::cmdRun() {
   {
-    std::lock_guard<std::mutex> lk(mutex_);
+    auto lk = lockBetweenFrames();
     if (exec_ && state_ == State::kRunning) throw InputError("already running");
     if (exec_ && state_ == State::kPaused)
       throw InputError("a run is paused: resume, step N or stop it");
@@ -353,7 +353,7 @@ void Shell::cmdStep(const Args& a) {
   }
   if (start) startExecution(n);
   cv_.notify_all();
-  std::unique_lock<std::mutex> lk(mutex_);
+  auto lk = lockBetweenFrames();
   cv_.wait(lk, [&] { return state_ != State::kRunning; });
   if (state_ == State::kFinished) {
     lk.unlock();
@@ -365,20 +365,20 @@ void Shell::cmdStep(const Args& a) {
 
 void Shell::cmdStop() {
   {
-    std::lock_guard<std::mutex> lk(mutex_);
+    auto lk = lockBetweenFrames();
     if (!exec_ || state_ == State::kIdle) throw InputError("no run to stop");
     if (state_ != State::kFinished) stop_requested_ = true;
   }
   cv_.notify_all();
   joinWorker();
   reportWorkerError();
-  std::lock_guard<std::mutex> lk(mutex_);
+  auto lk = lockBetweenFrames();
   if (report_) printReport(*report_);
 }
 
 void Shell::cmdWait() {
   {
-    std::unique_lock<std::mutex> lk(mutex_);
+    auto lk = lockBetweenFrames();
     if (!exec_) throw InputError("no run to wait for");
     cv_.wait(lk, [&] { return state_ != State::kRunning; });
     if (state_ == State::kPaused) {
@@ -388,7 +388,7 @@ void Shell::cmdWait() {
   }
   joinWorker();
   reportWorkerError();
-  std::lock_guard<std::mutex> lk(mutex_);
+  auto lk = lockBetweenFrames();
   if (report_) printReport(*report_);
 }
 
@@ -496,7 +496,7 @@ void Shell::cmdReload(const Args& a) {
   // (same path) is mapped afresh; session scenes may hold its value types too.
   joinWorker();
   {
-    std::lock_guard<std::mutex> lk(mutex_);
+    auto lk = lockBetweenFrames();
     exec_.reset();
     state_ = State::kIdle;
   }

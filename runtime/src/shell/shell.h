@@ -80,7 +80,9 @@ class Shell {
   void workerLoop();
   void joinWorker();
   void reportWorkerError();
-  std::unique_lock<std::mutex> lockBetweenFrames();
+  // Every lock taken by the command thread: the worker lets go of the mutex between frames
+  // while someone waits (std::mutex is not fair, so a plain lock could wait for the whole run).
+  std::unique_lock<std::mutex> lockBetweenFrames() const;
   void printReport(const RunReport& r);
 
   std::ostream& out_;
@@ -108,7 +110,7 @@ class Shell {
   bool stop_requested_ = false;
   std::string worker_error_;
   std::optional<RunReport> report_;
-  std::atomic<int> waiting_{0};  // commands waiting for the worker to let go between frames
+  mutable std::atomic<int> waiting_{0};  // commands waiting for the worker to let go between frames
 
   int errors_ = 0;
 };
