@@ -25,10 +25,9 @@ class LandmarkSource : public Source {
   Param<double> laps{this, "laps", 2.0, "", "laps driven", Range{0, 100}};
   Param<int> landmarks{this, "landmarks", 600, "", "landmarks scattered around", Range{1, 1e6}};
   Param<double> range{this, "range", 6.0, "m", "sensing range", Range{0.1, 1e3}};
-  Param<double> noise{this, "noise", 0.02, "m", "std. dev. of each landmark reading",
-                      Range{0, 10}};
+  Param<double> noise{this, "noise", 0.02, "m", "std. dev. of each landmark reading", Range{0, 10}};
   Param<int> seed{this, "seed", 3, "", "random seed", Range{0, 1e9}};
-  Param<double> delay{this, "delay", 0.0, "s", "wait before each frame, like a live sensor",
+  Param<double> delay{this,        "delay", 0.0, "s", "wait before each frame, like a live sensor",
                       Range{0, 10}};
 
   void configure() override {
@@ -81,8 +80,8 @@ class LandmarkCue : public PreProcessor {
 class WeightedLandmarkSlice : public AlignerSlice<Space2D> {
  public:
   Param<std::string> entry{this, "entry", "landmarks", "", "measurement and scene entry"};
-  Param<double> weight{this, "weight", 2500.0, "1/m^2", "information of each landmark",
-                       Range{1e-9, 1e12}};
+  Param<double> weight{
+      this, "weight", 2500.0, "1/m^2", "information of each landmark", Range{1e-9, 1e12}};
   void configure() override {
     inner_.entry = entry();
     inner_.sigma = 1.0 / std::sqrt(weight());

@@ -1,19 +1,22 @@
 // Sessions in-process: save then load gives bit-identical optimization, other format versions
 // are refused, a second run extends a session (multi-session) and localization-only tracks in
 // the frozen maps without adding to them. Pipelines run on the lmsim test plugin.
+#include "session/session.h"
+
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 
 #include "config_builder.h"
 #include "plugin_manager.h"
 #include "plugslam/errors.h"
+#include "plugslam/eval/ate.h"
 #include "run_config.h"
 #include "runner.h"
-#include "session/session.h"
 #include "test_paths.h"
 
 using namespace plugslam;
@@ -179,4 +182,43 @@ TEST_F(Session, LocalizationTracksInTheFrozenMaps) {
   EXPECT_GT(rep.tracked, 100u);
   ASSERT_TRUE(rep.ate_rmse);
   EXPECT_LT(*rep.ate_rmse, 0.05);
+}
+
+// Real data: map the intel log with the laser front-end, save, then localize the same log in the
+// frozen maps. Localization must follow the mapped trajectory (same world frame, no alignment)
+// without creating maps. Needs the io, laser2d and odometry plugins and the intel log.
+TEST_F(Session, IntelLocalizationFollowsTheMappedTrajectory) {
+  const std::string log =
+      plugslam::testing::dataDir() + "/laser2d/intel-gfs-corrected/intel-corrected.log.gz";
+  if (!fs::exists(log)) GTEST_SKIP() << "intel log not found: " << log << " (set PLUGSLAM_DATA)";
+  const std::string plugin_dir = plugslam::testing::buildDir() + "/plugins";
+  for (const char* p : {"io", "laser2d", "odometry"})
+    if (!fs::exists(plugin_dir + "/plugslam_" + p + ".so"))
+      GTEST_SKIP() << "plugin '" << p << "' is not built in " << plugin_dir;
+  plugins_.addSearchDir(plugin_dir);
+  ConfigDocument doc =
+      loadConfigFile(plugslam::testing::sourceDir() + "/configs/laser2d_carmen.yaml");
+  applyOverride(doc, "source.path=" + log);
+  applyOverride(doc, "outputs=[]");
+  auto mapping = build(doc);
+  RunReport mapped = run(*mapping, "map");
+  ASSERT_GT(mapped.frames, 800u);
+  const Trajectory reference = mapping->pipeline->result().trajectory;
+  const SessionSummary saved =
+      saveSession((dir_ / "intel").string(), YAML::Dump(doc.root) + "\n", *mapping->pipeline);
+  EXPECT_GT(saved.maps, 10u);
+  // The scenes hold laser2d point clouds: they went through the value-type registry.
+  auto loc = restore((dir_ / "intel").string(), true);
+  RunReport localized = run(*loc, "loc");
+  EXPECT_EQ(loc->pipeline->tracker->stats().local_maps, 0u);
+  EXPECT_LE(localized.tracking_failures, localized.frames / 50);
+  AteOptions ate;
+  ate.alignment = Alignment::None;
+  const AteResult a = computeAte(reference, loc->pipeline->result().trajectory, ate);
+  RecordProperty("localization_ate_rmse_m", std::to_string(a.translation.rmse));
+  std::cout << "intel: " << saved.maps << " maps, localization vs mapping ATE rmse "
+            << a.translation.rmse << " m, max " << a.translation.max << " m, "
+            << localized.tracking_failures << " failures, " << localized.hz << " Hz\n";
+  EXPECT_LT(a.translation.rmse, 0.10);
+  EXPECT_LT(a.translation.max, 0.50);
 }

@@ -90,43 +90,70 @@ class ShellTest : public ::testing::Test {
 TEST_F(ShellTest, EveryCommandThroughStdin) {
   const std::string cfg = lmsimConfig(2);
   const std::string slice = "pipeline.tracker.aligner.slices[0]";
-  Result r = shell("help\n"
-                   "load " + cfg + "\n"
-                   "validate\n"
-                   "plugins\n"
-                   "list actions\n"
-                   "get " + slice + ".sigma\n"
-                   "set " + slice + ".sigma 0.03\n"
-                   "get " + slice + ".sigma\n"
-                   "set source.delay 0.001\n"  // 0.4 s per run: pause lands mid-run
-                   "step 5\n"
-                   "status\n"
-                   "step 10\n"
-                   "do pipeline.tracker.reset\n"
-                   "resume\n"
-                   "pause\n"
-                   "status\n"
-                   "stop\n"
-                   "run\n"
-                   "wait\n"
-                   "status\n"
-                   "save " + path("s1") + "\n"
-                   "do pipeline.graph.optimize_now\n"
-                   "do pipeline.graph.save_graph " + path("g1.g2o") + "\n"
-                   "load-session " + path("s1") + "\n"
-                   "status\n"
-                   "do pipeline.graph.optimize_now\n"
-                   "do pipeline.graph.save_graph " + path("g2.g2o") + "\n"
-                   "swap " + slice + " lmsim.WeightedLandmarkSlice\n"
-                   "get " + slice + "\n"
-                   "load " + cfg + "\n"
-                   "swap " + slice + " lmsim.WeightedLandmarkSlice\n"
-                   "run\n"
-                   "wait\n"
-                   "reload lmsim\n"
-                   "get " + slice + ".weight\n"
-                   "quit\n"
-                   "status\n");
+  Result r = shell(
+      "help\n"
+      "load " +
+      cfg +
+      "\n"
+      "validate\n"
+      "plugins\n"
+      "list actions\n"
+      "get " +
+      slice +
+      ".sigma\n"
+      "set " +
+      slice +
+      ".sigma 0.03\n"
+      "get " +
+      slice +
+      ".sigma\n"
+      "set source.delay 0.001\n"  // 0.4 s per run: pause lands mid-run
+      "step 5\n"
+      "status\n"
+      "step 10\n"
+      "do pipeline.tracker.reset\n"
+      "resume\n"
+      "pause\n"
+      "status\n"
+      "stop\n"
+      "run\n"
+      "wait\n"
+      "status\n"
+      "save " +
+      path("s1") +
+      "\n"
+      "do pipeline.graph.optimize_now\n"
+      "do pipeline.graph.save_graph " +
+      path("g1.g2o") +
+      "\n"
+      "load-session " +
+      path("s1") +
+      "\n"
+      "status\n"
+      "do pipeline.graph.optimize_now\n"
+      "do pipeline.graph.save_graph " +
+      path("g2.g2o") +
+      "\n"
+      "swap " +
+      slice +
+      " lmsim.WeightedLandmarkSlice\n"
+      "get " +
+      slice +
+      "\n"
+      "load " +
+      cfg +
+      "\n"
+      "swap " +
+      slice +
+      " lmsim.WeightedLandmarkSlice\n"
+      "run\n"
+      "wait\n"
+      "reload lmsim\n"
+      "get " +
+      slice +
+      ".weight\n"
+      "quit\n"
+      "status\n");
   EXPECT_EQ(r.code, 0) << r.out;
   expectHas(r.out, "load-session DIR [--localize]");
   expectHas(r.out, ": OK (");
@@ -170,34 +197,49 @@ TEST_F(ShellTest, EveryCommandThroughStdin) {
 TEST_F(ShellTest, ErrorsLeaveTheShellAliveAndTheStateIntact) {
   const std::string cfg = lmsimConfig(0.3);
   const std::string slice = "pipeline.tracker.aligner.slices[0]";
-  Result r = shell("frobnicate\n"
-                   "get pipeline\n"
-                   "load /nonexistent/config.yaml\n"
-                   "load " + cfg + "\n"
-                   "set source.laps -1\n"
-                   "set " + slice + ".sigmaa 1\n"
-                   "get " + slice + ".sigma\n"
-                   "get source.laps\n"
-                   "get pipeline.nope\n"
-                   "get pipeline.tracker.aligner.slices[3]\n"
-                   "do pipeline.graph.nope\n"
-                   "do nomodule.act\n"
-                   "swap " + slice + " sdk.DistanceSplitter\n"
-                   "swap " + slice + " lmsim.NoSuchSlice\n"
-                   "step 0\n"
-                   "step abc\n"
-                   "pause\n"
-                   "resume\n"
-                   "load-session /nonexistent\n"
-                   "reload nosuch\n"
-                   "step 2\n"
-                   "set " + slice + ".sigma 0.05\n"
-                   "run\n"
-                   "stop\n"
-                   "validate\n"
-                   "get " + slice + ".sigma\n"
-                   "run\n"
-                   "wait\n");
+  Result r = shell(
+      "frobnicate\n"
+      "get pipeline\n"
+      "load /nonexistent/config.yaml\n"
+      "load " +
+      cfg +
+      "\n"
+      "set source.laps -1\n"
+      "set " +
+      slice +
+      ".sigmaa 1\n"
+      "get " +
+      slice +
+      ".sigma\n"
+      "get source.laps\n"
+      "get pipeline.nope\n"
+      "get pipeline.tracker.aligner.slices[3]\n"
+      "do pipeline.graph.nope\n"
+      "do nomodule.act\n"
+      "swap " +
+      slice +
+      " sdk.DistanceSplitter\n"
+      "swap " +
+      slice +
+      " lmsim.NoSuchSlice\n"
+      "step 0\n"
+      "step abc\n"
+      "pause\n"
+      "resume\n"
+      "load-session /nonexistent\n"
+      "reload nosuch\n"
+      "step 2\n"
+      "set " +
+      slice +
+      ".sigma 0.05\n"
+      "run\n"
+      "stop\n"
+      "validate\n"
+      "get " +
+      slice +
+      ".sigma\n"
+      "run\n"
+      "wait\n");
   EXPECT_EQ(r.code, 1) << r.out;  // a script with failing commands
   expectHas(r.out, "error: unknown command 'frobnicate'");
   expectHas(r.out, "error: no config loaded (load CONFIG)");
@@ -208,7 +250,8 @@ TEST_F(ShellTest, ErrorsLeaveTheShellAliveAndTheStateIntact) {
   expectHas(r.out, "the list has 1 modules");
   expectHas(r.out, "has no action 'nope'");
   expectHas(r.out, "error: no module 'nomodule'");
-  expectHas(r.out, "'sdk.DistanceSplitter' is a Splitter, but '" + slice + "' takes a AlignerSlice2D");
+  expectHas(r.out,
+            "'sdk.DistanceSplitter' is a Splitter, but '" + slice + "' takes a AlignerSlice2D");
   expectHas(r.out, "error: unknown type 'lmsim.NoSuchSlice'");
   expectHas(r.out, "error: expected a positive number of frames, got '0'");
   expectHas(r.out, "error: no run in progress");
@@ -230,11 +273,12 @@ TEST_F(ShellTest, ReloadPicksUpARebuiltPluginFromTheShell) {
   // (renamed over it, as a build does) while the shell runs.
   const std::string so = path("plugslam_fixture.so");
   fs::copy_file(pluginDir() + "/plugslam_fixture.so", so);
-  const std::string cfg =
-      write("fixture.yaml", "plugins: [" + so + "]\n"
-                            "source: {type: fixture.CountingSource, frames: 20}\n"
-                            "pipeline:\n  preprocessors:\n    - {type: fixture.Scale, factor: 0.5}\n"
-                            "outputs: [fixture.SumWriter]\n");
+  const std::string cfg = write(
+      "fixture.yaml", "plugins: [" + so +
+                          "]\n"
+                          "source: {type: fixture.CountingSource, frames: 20}\n"
+                          "pipeline:\n  preprocessors:\n    - {type: fixture.Scale, factor: 0.5}\n"
+                          "outputs: [fixture.SumWriter]\n");
   const std::string log = path("shell.log");
   FILE* in = popen((bin() + " shell -o " + path("out") + " > " + log + " 2>&1").c_str(), "w");
   ASSERT_NE(in, nullptr);
@@ -265,8 +309,11 @@ TEST_F(ShellTest, ReloadPicksUpARebuiltPluginFromTheShell) {
 
 TEST_F(ShellTest, LocalizationOnlyFromTheShell) {
   const std::string cfg = lmsimConfig(2);
-  Result r = shell("load " + cfg + "\nrun\nwait\nsave " + path("s") + "\nstatus\n"
-                   "load-session " + path("s") + " --localize\n"
+  Result r = shell("load " + cfg + "\nrun\nwait\nsave " + path("s") +
+                   "\nstatus\n"
+                   "load-session " +
+                   path("s") +
+                   " --localize\n"
                    "set source.laps 1\n"
                    "run\nwait\nstatus\n");
   EXPECT_EQ(r.code, 0) << r.out;

@@ -105,7 +105,7 @@ SessionSummary saveSession(const std::string& dir, const std::string& config_yam
   summary.maps = result.local_maps.size();
   summary.edges = result.edges.size();
   summary.poses = result.trajectory.size();
-  const int dimension = pipeline.tracker ? pipeline.tracker->dimension()
+  const int dimension = pipeline.tracker            ? pipeline.tracker->dimension()
                         : result.local_maps.empty() ? 0
                                                     : result.local_maps.front()->dimension;
   writeText((d / "config.yaml").string(), config_yaml);
@@ -132,18 +132,18 @@ SessionSummary saveSession(const std::string& dir, const std::string& config_yam
     }
   }
   // Written last: a folder without it (a save cut short) is not a session.
-  writeText((d / "session.yaml").string(),
-            fmt::format("# plugslam session (docs/shell.md)\n"
-                        "plugslam_session: {}\n"
-                        "written_by: plugslam {}\n"
-                        "dimension: {}\n"
-                        "maps: {}\n"
-                        "edges: {}\n"
-                        "poses: {}\n"
-                        "files: {{config: config.yaml, maps: maps.bin, trajectory: trajectory.tum{}}}\n",
-                        kSessionFormatVersion, PLUGSLAM_VERSION_STRING, dimension, summary.maps,
-                        summary.edges, summary.poses,
-                        summary.graph_file ? ", graph: graph.g2o" : ""));
+  writeText(
+      (d / "session.yaml").string(),
+      fmt::format("# plugslam session (docs/shell.md)\n"
+                  "plugslam_session: {}\n"
+                  "written_by: plugslam {}\n"
+                  "dimension: {}\n"
+                  "maps: {}\n"
+                  "edges: {}\n"
+                  "poses: {}\n"
+                  "files: {{config: config.yaml, maps: maps.bin, trajectory: trajectory.tum{}}}\n",
+                  kSessionFormatVersion, PLUGSLAM_VERSION_STRING, dimension, summary.maps,
+                  summary.edges, summary.poses, summary.graph_file ? ", graph: graph.g2o" : ""));
   return summary;
 }
 

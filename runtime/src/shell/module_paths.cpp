@@ -45,9 +45,9 @@ PathTarget resolvePath(Configurable& root, const std::string& path) {
       for (auto* prm : cur.params()) keys.push_back(prm->name());
       for (auto* s : cur.slots()) keys.push_back(s->name());
       std::string near = closestMatch(p, keys);
-      throw InputError("no parameter or module '" + p + "' in " + where +
-                       (near.empty() ? " (keys: " + keysOf(cur) + ")"
-                                     : "; did you mean '" + near + "'?"));
+      throw InputError(
+          "no parameter or module '" + p + "' in " + where +
+          (near.empty() ? " (keys: " + keysOf(cur) + ")" : "; did you mean '" + near + "'?"));
     }
     auto items = slot->items();
     size_t index = 0;
@@ -98,9 +98,9 @@ Configurable& findModule(Configurable& root, const std::string& name) {
   std::vector<std::string> names;
   walkModules(root, [&](Configurable&, const std::string& path) { names.push_back(path); });
   std::string near = closestMatch(name, names);
-  throw InputError("no module '" + name + "'" +
-                   (near.empty() ? std::string(" (see: list actions)")
-                                 : "; did you mean '" + near + "'?"));
+  throw InputError(
+      "no module '" + name + "'" +
+      (near.empty() ? std::string(" (see: list actions)") : "; did you mean '" + near + "'?"));
 }
 
 std::string invokeAction(Configurable& root, const std::string& target,

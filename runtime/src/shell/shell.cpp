@@ -195,8 +195,7 @@ bool Shell::active() const {
 }
 
 void Shell::requireIdle(const std::string& what) const {
-  if (active())
-    throw InputError("cannot " + what + " while a run is in progress (stop it first)");
+  if (active()) throw InputError("cannot " + what + " while a run is in progress (stop it first)");
 }
 
 std::unique_lock<std::mutex> Shell::lockBetweenFrames() const {
@@ -276,9 +275,11 @@ void Shell::workerLoop() {
 }
 
 void Shell::printReport(const RunReport& r) {
-  out_ << fmt::format("run finished ({}): {} frames in {:.3f} s ({:.1f} Hz), {} local maps, {} loops closed; outputs in {}\n",
-                      r.stopped_by, r.frames, r.wall_s, r.hz, r.local_maps,
-                      r.graph.loops_accepted, options_.out_dir);
+  out_ << fmt::format(
+      "run finished ({}): {} frames in {:.3f} s ({:.1f} Hz), {} local maps, {} loops closed; "
+      "outputs in {}\n",
+      r.stopped_by, r.frames, r.wall_s, r.hz, r.local_maps, r.graph.loops_accepted,
+      options_.out_dir);
   if (r.ate_rmse)
     out_ << fmt::format("against ground truth: ATE rmse {:.4f} m (max {:.4f} m)\n", *r.ate_rmse,
                         *r.ate_max);
@@ -614,10 +615,10 @@ void Shell::cmdLoadSession(const Args& a) {
     session_ = std::move(saved);
     throw;
   }
-  out_ << fmt::format("loaded session {}: {} local maps, {} edges ({})\n", a[0],
-                      session_->maps.maps.size(), session_->maps.edges.size(),
-                      session_->localize ? "localization: the maps are frozen"
-                                         : "mapping: new maps are appended");
+  out_ << fmt::format(
+      "loaded session {}: {} local maps, {} edges ({})\n", a[0], session_->maps.maps.size(),
+      session_->maps.edges.size(),
+      session_->localize ? "localization: the maps are frozen" : "mapping: new maps are appended");
 }
 
 void Shell::cmdHelp() {
