@@ -441,8 +441,14 @@ void Shell::cmdSet(const std::string& rest) {
   applyOverride(doc, assignment);
   const std::string path = assignment.substr(0, assignment.find('='));
   commit(std::move(doc));
-  PathTarget t = resolvePath(*run_, path);
-  out_ << path << " = " << (t.param ? t.param->valueText() : t.module->typeName()) << "\n";
+  // The value as the rebuilt module holds it; a list slot (e.g. "outputs") echoes the input.
+  std::string shown = trim(assignment.substr(assignment.find('=') + 1));
+  try {
+    PathTarget t = resolvePath(*run_, path);
+    shown = t.param ? t.param->valueText() : t.module->typeName();
+  } catch (const InputError&) {
+  }
+  out_ << path << " = " << shown << "\n";
 }
 
 void Shell::cmdGet(const Args& a) {

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <limits>
 
 #include "plugslam/errors.h"
@@ -83,39 +84,60 @@ void MultiTracker<S>::localizeIn(std::vector<std::shared_ptr<const LocalMap>> ma
 
 template <class S>
 void MultiTracker<S>::trackFrozen(Frame& frame) {
-  // Localization: the nearest frozen map (by origin, in the world) is the scene to align with;
-  // the pose is re-expressed when the robot moves on to another map. Nothing is merged or split.
+  // Localization: the frame is aligned against the map it is in and the maps whose origins are
+  // nearest its predicted world pose; the valid alignment explaining most of the frame wins (maps
+  // of different passes need not agree where the mapping run closed no loop). The pose is kept in
+  // the winning map's frame. Nothing is merged or split.
+  constexpr size_t kNearest = 3;
   ++stats_.frames;
   const Eigen::Isometry3d at = located_ ? located_->origin : Eigen::Isometry3d::Identity();
   const Eigen::Isometry3d previous_world = at * S::to3D(pose_);
   const Eigen::Isometry3d guess_world = at * S::to3D(predict(frame));
+  std::vector<std::pair<double, std::shared_ptr<const LocalMap>>> near;
+  for (const auto& m : frozen_)
+    if (m != located_)
+      near.emplace_back((m->origin.translation() - guess_world.translation()).norm(), m);
+  const size_t k = std::min(kNearest, near.size());
+  std::partial_sort(near.begin(), near.begin() + k, near.end(),
+                    [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::shared_ptr<const LocalMap>> candidates;
+  if (located_) candidates.push_back(located_);
+  for (size_t i = 0; i < k; ++i) candidates.push_back(near[i].second);
   std::shared_ptr<const LocalMap> best;
-  double best_d = std::numeric_limits<double>::infinity();
-  for (const auto& m : frozen_) {
-    const double d = (m->origin.translation() - guess_world.translation()).norm();
-    if (d < best_d) {
-      best_d = d;
+  AlignResult<S> best_result;
+  Pose best_previous = Pose::Identity(), fallback_guess = Pose::Identity();
+  std::shared_ptr<const LocalMap> fallback = k > 0 ? near[0].second : located_;
+  for (const auto& m : candidates) {
+    const Eigen::Isometry3d to_map = m->origin.inverse();
+    const Pose previous = S::normalized(S::from3D(to_map * previous_world));
+    const Pose guess = S::normalized(S::from3D(to_map * guess_world));
+    if (m == fallback) fallback_guess = guess;
+    AlignResult<S> r = aligner->align(frame, m->scene, AlignContext<S>{previous, guess});
+    if (r.valid && (!best || r.inlierRatio() > best_result.inlierRatio())) {
       best = m;
+      best_result = r;
+      best_previous = previous;
     }
   }
-  located_ = best;
-  const Eigen::Isometry3d to_map = best->origin.inverse();
-  const Pose previous = S::normalized(S::from3D(to_map * previous_world));
-  const Pose guess = S::normalized(S::from3D(to_map * guess_world));
-  AlignResult<S> aligned = aligner->align(frame, best->scene, AlignContext<S>{previous, guess});
-  if (aligned.valid) {
-    pose_ = aligned.pose;
+  if (best) {
+    located_ = best;
+    pose_ = best_result.pose;
     ++stats_.aligned;
-    stats_.inlier_ratio_sum += aligned.inlierRatio();
+    stats_.inlier_ratio_sum += best_result.inlierRatio();
+    last_motion_ = S::normalized(best_previous.inverse() * pose_);
   } else {
-    pose_ = guess;
+    const Eigen::Isometry3d to_map = fallback->origin.inverse();
+    const Pose previous = S::normalized(S::from3D(to_map * previous_world));
+    located_ = fallback;
+    pose_ = fallback_guess;
+    last_motion_ = S::normalized(previous.inverse() * pose_);
     ++stats_.failed;
+    spdlog::debug("frame {}: localization failed in maps near {}", frame.seq, fallback->id);
   }
-  last_motion_ = S::normalized(previous.inverse() * pose_);
   frame.estimate.valid = true;
-  frame.estimate.local_map = best->id;
+  frame.estimate.local_map = located_->id;
   frame.estimate.in_map = S::to3D(pose_);
-  frame.estimate.world = best->origin * frame.estimate.in_map;
+  frame.estimate.world = located_->origin * frame.estimate.in_map;
 }
 
 template <class S>
