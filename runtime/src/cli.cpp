@@ -51,6 +51,7 @@ int runCli(int argc, char** argv) {
   addRunCommand(app, exit_code);
   addEvalCommand(app, exit_code);
   addOptimizeCommand(app, exit_code);
+  addShellCommand(app, exit_code);
 
   app.parse_complete_callback([&] {
     auto console = spdlog::stderr_color_mt("plugslam");

@@ -5,7 +5,7 @@
 namespace plugslam::runtime {
 
 /// Exit codes of every command.
-enum ExitCode : int { kOk = 0, kRuntimeFailure = 1, kBadInput = 2 };
+enum ExitCode : int { kOk = 0, kRuntimeFailure = 1, kBadInput = 2, kInterrupted = 130 };
 
 /// Runs the CLI on argv; never throws.
 int runCli(int argc, char** argv);

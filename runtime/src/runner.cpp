@@ -100,49 +100,67 @@ static void scoreAgainstGroundTruth(const RunResult& result, int dimension, RunR
   }
 }
 
-RunReport runPipeline(RunConfig& run, const RunOptions& options) {
+Execution::Execution(RunConfig& run, RunOptions options)
+    : run_(run), options_(std::move(options)) {
   boost::system::error_code ec;
-  fs::create_directories(options.out_dir, ec);
-  if (ec) throw InputError("cannot create output folder '" + options.out_dir + "': " + ec.message());
-  Source& source = *run.source;
-  Pipeline& pipeline = *run.pipeline;
-  pipeline.timings().clear();
-  for (auto& sink : run.outputs) asModule(*sink, [&] { sink->begin(options.out_dir); });
+  fs::create_directories(options_.out_dir, ec);
+  if (ec)
+    throw InputError("cannot create output folder '" + options_.out_dir + "': " + ec.message());
+  run_.pipeline->timings().clear();
+  for (auto& sink : run_.outputs) asModule(*sink, [&] { sink->begin(options_.out_dir); });
+  report_.stopped_by = "end of data";
+  total_ = run_.source->sizeHint();
+  start_ = std::chrono::steady_clock::now();
+}
 
-  RunReport report;
-  report.stopped_by = "end of data";
-  const int64_t total = source.sizeHint();
-  const auto start = std::chrono::steady_clock::now();
-  auto elapsed = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  };
-  Timings io_timings;
-  for (uint64_t seq = 0;; ++seq) {
-    if (run.max_frames() > 0 && seq >= static_cast<uint64_t>(run.max_frames())) {
-      report.stopped_by = "max_frames";
-      break;
-    }
-    Frame frame;
-    frame.seq = seq;
-    bool more;
-    {
-      ScopedTimer t(io_timings, source.name());
-      more = asModule(source, [&] { return source.next(frame); });
-    }
-    if (!more) break;
-    frame.seq = seq;
-    pipeline.process(frame);
-    for (auto& sink : run.outputs) {
-      ScopedTimer t(io_timings, sink->name());
-      asModule(*sink, [&] { sink->consume(frame); });
-    }
-    report.frames = seq + 1;
-    if (options.progress) options.progress(report.frames, total, elapsed());
+double Execution::elapsed() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+bool Execution::step() {
+  if (exhausted_ || finished_) return false;
+  const uint64_t seq = report_.frames;
+  if (run_.max_frames() > 0 && seq >= static_cast<uint64_t>(run_.max_frames())) {
+    report_.stopped_by = "max_frames";
+    exhausted_ = true;
+    return false;
   }
+  Source& source = *run_.source;
+  Frame frame;
+  frame.seq = seq;
+  bool more;
+  {
+    ScopedTimer t(io_timings_, source.name());
+    more = asModule(source, [&] { return source.next(frame); });
+  }
+  if (!more) {
+    exhausted_ = true;
+    return false;
+  }
+  frame.seq = seq;
+  run_.pipeline->process(frame);
+  for (auto& sink : run_.outputs) {
+    ScopedTimer t(io_timings_, sink->name());
+    asModule(*sink, [&] { sink->consume(frame); });
+  }
+  report_.frames = seq + 1;
+  if (options_.progress) {
+    uint64_t loops = run_.pipeline->graph ? run_.pipeline->graph->stats().loops_accepted : 0;
+    options_.progress(report_.frames, total_, elapsed(), loops);
+  }
+  return true;
+}
+
+RunReport Execution::finish(const std::string& stopped_by) {
+  if (finished_) throw InputError("this run has already finished");
+  finished_ = true;
+  RunReport report = report_;
+  if (!stopped_by.empty()) report.stopped_by = stopped_by;
+  Pipeline& pipeline = *run_.pipeline;
   pipeline.finish();
   RunResult result = pipeline.result();
   if (pipeline.graph) report.graph = pipeline.graph->stats();
-  for (auto& sink : run.outputs) asModule(*sink, [&] { sink->end(result); });
+  for (auto& sink : run_.outputs) asModule(*sink, [&] { sink->end(result); });
   report.tracked = result.trajectory.size();
   if (pipeline.tracker) {
     report.local_maps = pipeline.tracker->stats().local_maps;
@@ -151,15 +169,28 @@ RunReport runPipeline(RunConfig& run, const RunOptions& options) {
   scoreAgainstGroundTruth(result, pipeline.tracker ? pipeline.tracker->dimension() : 3, report);
   if (!result.reference.empty())
     writeTumTrajectory(result.reference,
-                       (fs::path(options.out_dir) / "reference.tum").string());
+                       (fs::path(options_.out_dir) / "reference.tum").string());
   for (const auto& e : pipeline.timings().entries()) report.pipeline_s += e.total_s;
   report.pipeline_hz = report.pipeline_s > 0 ? report.frames / report.pipeline_s : 0;
   report.wall_s = elapsed();
   report.hz = report.wall_s > 0 ? report.frames / report.wall_s : 0;
-  report.modules = io_timings.entries();
+  report.modules = io_timings_.entries();
   for (const auto& e : pipeline.timings().entries()) report.modules.push_back(e);
-  writeTextFileAtomic((fs::path(options.out_dir) / "run.json").string(), runReportJson(report));
+  writeTextFileAtomic((fs::path(options_.out_dir) / "run.json").string(), runReportJson(report));
   return report;
+}
+
+RunReport runPipeline(RunConfig& run, const RunOptions& options) {
+  Execution execution(run, options);
+  std::string stopped_by;
+  for (;;) {
+    if (options.interrupted && options.interrupted()) {
+      stopped_by = "interrupted";
+      break;
+    }
+    if (!execution.step()) break;
+  }
+  return execution.finish(stopped_by);
 }
 
 }  // namespace plugslam::runtime

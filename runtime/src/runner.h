@@ -1,5 +1,6 @@
 #pragma once
 // Runs a built pipeline over its source and writes run.json.
+#include <chrono>
 #include <functional>
 #include <optional>
 #include <string>
@@ -29,11 +30,45 @@ struct RunReport {
 /// Options of one run.
 struct RunOptions {
   std::string out_dir;
-  /// Called after each frame (progress display); may be empty.
-  std::function<void(uint64_t frame, int64_t total, double elapsed_s)> progress;
+  /// Called after each frame (progress display); may be empty. `loops` = loops accepted so far.
+  std::function<void(uint64_t frame, int64_t total, double elapsed_s, uint64_t loops)> progress;
+  /// Checked between frames: when it returns true the run stops ("interrupted"); may be empty.
+  std::function<bool()> interrupted;
 };
 
-/// Runs source -> pipeline -> sinks to the end of the data (or max_frames); writes run.json.
+/// One run driven frame by frame (the shell steps it; runPipeline loops it). Not thread-safe:
+/// callers serialize step(), finish() and reads of the pipeline.
+class Execution {
+ public:
+  /// Prepares the run: creates the output folder and starts the sinks.
+  Execution(RunConfig& run, RunOptions options);
+  /// Processes one frame; false (and nothing done) at the end of the data or max_frames.
+  bool step();
+  /// Ends the run: pipeline finish, sinks end, scoring, run.json. Only once.
+  RunReport finish(const std::string& stopped_by = "");
+  /// Frames processed so far.
+  uint64_t frames() const { return report_.frames; }
+  /// Seconds since the run started.
+  double elapsed() const;
+  /// Frames in the source, or -1.
+  int64_t total() const { return total_; }
+  /// True once the data (or max_frames) is exhausted.
+  bool exhausted() const { return exhausted_; }
+  /// True once finish() ran.
+  bool finished() const { return finished_; }
+
+ private:
+  RunConfig& run_;
+  RunOptions options_;
+  RunReport report_;
+  Timings io_timings_;
+  int64_t total_ = -1;
+  std::chrono::steady_clock::time_point start_;
+  bool exhausted_ = false, finished_ = false;
+};
+
+/// Runs source -> pipeline -> sinks to the end of the data (or max_frames, or until
+/// options.interrupted says so); writes run.json.
 RunReport runPipeline(RunConfig& run, const RunOptions& options);
 
 /// run.json's content.

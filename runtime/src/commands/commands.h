@@ -16,5 +16,6 @@ void addValidateCommand(CLI::App& root, int& exit_code);
 void addRunCommand(CLI::App& root, int& exit_code);
 void addEvalCommand(CLI::App& root, int& exit_code);
 void addOptimizeCommand(CLI::App& root, int& exit_code);
+void addShellCommand(CLI::App& root, int& exit_code);
 
 }  // namespace plugslam::runtime

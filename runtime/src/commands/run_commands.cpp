@@ -4,9 +4,13 @@
 
 #include <CLI/CLI.hpp>
 #include <boost/filesystem.hpp>
+#include <atomic>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <optional>
+#include <sstream>
 
 #include "cli.h"
 #include "commands/commands.h"
@@ -14,10 +18,36 @@
 #include "plugslam/errors.h"
 #include "run_config.h"
 #include "runner.h"
+#include "session/session.h"
+#include "shell/module_paths.h"
 
 namespace plugslam::runtime {
 
 namespace {
+
+// Set by SIGINT; the runner checks it between frames.
+std::atomic<bool> g_interrupted{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "the SIGINT flag must be lock-free");
+
+extern "C" void onInterrupt(int) { g_interrupted.store(true); }
+
+// Ctrl-C during a run: the first one asks the run to stop and save, a second one kills
+// (SA_RESETHAND restores the default action).
+class InterruptGuard {
+ public:
+  InterruptGuard() {
+    g_interrupted = false;
+    struct sigaction sa {};
+    sa.sa_handler = onInterrupt;
+    sa.sa_flags = SA_RESETHAND;
+    sigemptyset(&sa.sa_mask);
+    ::sigaction(SIGINT, &sa, &previous_);
+  }
+  ~InterruptGuard() { ::sigaction(SIGINT, &previous_, nullptr); }
+
+ private:
+  struct sigaction previous_ {};
+};
 
 ConfigDocument loadWithOverrides(const std::string& file, const std::vector<std::string>& sets) {
   ConfigDocument doc = loadConfigFile(file);
@@ -48,38 +78,89 @@ void addRunCommand(CLI::App& root, int& exit_code) {
   static std::string file;
   static std::string out_dir = "out";
   static std::vector<std::string> sets;
-  cmd->add_option("CONFIG", file, "pipeline YAML file (default: the built-in demo config)");
+  static std::string session_dir;
+  static bool localize = false;
+  static std::vector<std::string> actions;
+  cmd->add_option("CONFIG", file,
+                  "pipeline YAML file (default: the session's config with --session, else the "
+                  "built-in demo config)");
   cmd->add_option("-o,--output", out_dir, "output folder (created if missing)")->capture_default_str();
   cmd->add_option("--set", sets, "override a parameter: PATH=VALUE (repeatable)");
+  cmd->add_option("--session", session_dir,
+                  "restore a saved session first: new maps extend it (multi-session mapping)");
+  cmd->add_flag("--localize", localize,
+                "with --session: track against the saved maps, frozen; no new maps or edges");
+  cmd->add_option("--do", actions,
+                  "after the run, run a module action: MODULE.ACTION[:ARG,...] (repeatable)");
   cmd->callback([&exit_code] {
-    if (file.empty()) file = defaultConfigPath();
+    if (localize && session_dir.empty()) throw InputError("--localize needs --session DIR");
+    std::optional<SessionManifest> manifest;
+    if (!session_dir.empty()) manifest = readSessionManifest(session_dir);
     PluginManager plugins;
-    auto doc = loadWithOverrides(file, sets);
+    ConfigDocument doc = !file.empty() ? loadConfigFile(file)
+                         : manifest  ? loadConfigText(manifest->config_text, manifest->config_path)
+                                     : loadConfigFile(defaultConfigPath());
+    for (const auto& s : sets) applyOverride(doc, s);
     auto run = buildRun(doc, plugins);
+    if (manifest) {
+      // After buildRun: the config's plugins register the value types the scenes hold.
+      SessionMaps maps = loadSessionMaps(*manifest);
+      run->pipeline->restoreSession(maps.maps, maps.edges, localize);
+      spdlog::info("session {}: {} local maps, {} edges ({})", session_dir, maps.maps.size(),
+                   maps.edges.size(), localize ? "localization" : "mapping");
+    }
     RunOptions options;
     options.out_dir = out_dir;
     const bool tty = ::isatty(STDERR_FILENO);
-    options.progress = [tty, last = -1.0](uint64_t frame, int64_t total, double t) mutable {
+    options.progress = [tty, last = -1.0](uint64_t frame, int64_t total, double t,
+                                          uint64_t loops) mutable {
       if (t - last < (tty ? 0.2 : 5.0)) return;
       last = t;
       double hz = t > 0 ? frame / t : 0;
       std::string pct = total > 0 ? fmt::format(" {:5.1f}%", 100.0 * frame / total) : "";
       std::string eta = total > 0 && hz > 0 ? fmt::format(" ETA {:.0f}s", (total - (int64_t)frame) / hz) : "";
       if (tty)
-        std::fprintf(stderr, "\r  frame %llu%s  %.1f Hz%s   ", (unsigned long long)frame,
-                     pct.c_str(), hz, eta.c_str());
+        std::fprintf(stderr, "\r  frame %llu%s  %.1f Hz%s  loops %llu   ", (unsigned long long)frame,
+                     pct.c_str(), hz, eta.c_str(), (unsigned long long)loops);
       else
-        spdlog::info("frame {}{} {:.1f} Hz{}", frame, pct, hz, eta);
+        spdlog::info("frame {}{} {:.1f} Hz{} loops {}", frame, pct, hz, eta, loops);
     };
-    spdlog::info("running {} -> {}", file, out_dir);
-    RunReport report = runPipeline(*run, options);
+    options.interrupted = [] { return g_interrupted.load(); };
+    spdlog::info("running {} -> {}", doc.file, out_dir);
+    RunReport report;
+    {
+      InterruptGuard guard;
+      report = runPipeline(*run, options);
+    }
     if (tty) std::fprintf(stderr, "\n");
-    std::cout << fmt::format("{} frames in {:.3f} s ({:.1f} Hz; pipeline alone {:.1f} Hz); outputs in {}\n",
-                             report.frames, report.wall_s, report.hz, report.pipeline_hz, out_dir);
+    std::cout << fmt::format(
+        "{} frames in {:.3f} s ({:.1f} Hz; pipeline alone {:.1f} Hz); {} loops closed; outputs in {}\n",
+        report.frames, report.wall_s, report.hz, report.pipeline_hz, report.graph.loops_accepted,
+        out_dir);
     if (report.ate_rmse)
       std::cout << fmt::format("against '{}': ATE rmse {:.4f} m (max {:.4f} m), RPE(1 m) rmse {:.4f} m\n",
                                run->pipeline->reference(), *report.ate_rmse, *report.ate_max,
                                report.rpe_rmse.value_or(NAN));
+    if (report.stopped_by == "interrupted") {
+      const std::string dir = (boost::filesystem::path(out_dir) / "session").string();
+      SessionSummary s = saveSession(dir, YAML::Dump(doc.root) + "\n", *run->pipeline);
+      std::cout << fmt::format("interrupted at frame {}: session saved in {} ({} local maps); "
+                               "continue with: plugslam run --session {}\n",
+                               report.frames, dir, s.maps, dir);
+      exit_code = kInterrupted;
+      return;
+    }
+    for (const auto& a : actions) {
+      const auto colon = a.find(':');
+      std::vector<std::string> args;
+      if (colon != std::string::npos) {
+        std::stringstream list(a.substr(colon + 1));
+        std::string item;
+        while (std::getline(list, item, ',')) args.push_back(item);
+      }
+      std::cout << a.substr(0, colon) << ": " << invokeAction(*run, a.substr(0, colon), args)
+                << "\n";
+    }
     exit_code = kOk;
   });
 }

@@ -16,6 +16,8 @@
 namespace plugslam {
 inline namespace abi_v1 {
 
+class FactorGraph;
+
 /// An edge of the pose graph between two local maps.
 struct GraphEdge {
   int64_t from = 0;  ///< older map
@@ -98,6 +100,10 @@ class GraphBackend : public Configurable {
   virtual std::vector<GraphEdge> edges() const = 0;
   /// Counters so far.
   virtual GraphStats stats() const = 0;
+  /// Restores a saved graph into an empty back-end: the maps (ids 0..n-1, in order, with their
+  /// origins) and the edges exactly as edges() returned them. The default throws InputError.
+  virtual void restore(const std::vector<std::shared_ptr<LocalMap>>& maps,
+                       const std::vector<GraphEdge>& edges);
 };
 
 /// Pose-graph SLAM over local maps ("sdk.GraphSlam2D/3D"). Optimization runs on a back-end
@@ -150,12 +156,19 @@ class GraphSlam : public GraphBackend {
   std::vector<GraphEdge> edges() const override;
   GraphStats stats() const override;
 
+  void restore(const std::vector<std::shared_ptr<LocalMap>>& maps,
+               const std::vector<GraphEdge>& edges) override;
+
   /// Optimizes now (inline), whatever the mode; the action "optimize_now".
   void optimizeNow();
+  /// Writes the graph as g2o (vertices: map origins, map 0 fixed; edges: edges()), atomically;
+  /// the action "save_graph PATH".
+  void saveGraph(const std::string& path) const;
 
  private:
   struct Job {
     size_t nodes = 0;
+    std::vector<size_t> anchors;    // first maps of later graph components (sessions, resets)
     std::vector<Pose> before, after;
     std::vector<GraphEdge> edges;   // snapshot: the back-end thread never reads edges_
     double seconds = 0, chi2 = 0;
@@ -163,6 +176,8 @@ class GraphSlam : public GraphBackend {
   };
   Job makeJob() const;
   void runJob(Job& job) const;
+  // Fills `graph` with the job's variables (the first fixed) and between factors.
+  void buildGraph(const Job& job, FactorGraph& graph, bool with_kernel) const;
   void applyJob(const Job& job);
   void startJob();
 

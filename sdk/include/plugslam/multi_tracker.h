@@ -40,18 +40,24 @@ class MultiTracker : public Tracker {
   int dimension() const override { return S::kDim; }
   void track(Frame& frame) override;
   std::vector<std::shared_ptr<LocalMap>> takeClosed() override;
-  std::shared_ptr<const LocalMap> current() const override { return map_; }
+  std::shared_ptr<const LocalMap> current() const override {
+    return frozen_.empty() ? std::shared_ptr<const LocalMap>(map_) : located_;
+  }
   void setCurrentOrigin(const Eigen::Isometry3d& origin) override;
   /// The robot's pose in the current local map.
   const Pose& pose() const { return pose_; }
-  /// Starts over: no local map, no motion history.
+  /// Starts over: the current map is closed, no motion history; the next frame starts a new map
+  /// (a new graph component, at the world origin). Also the action "reset".
   void reset();
+  void continueSession(int64_t next_id) override;
+  void localizeIn(std::vector<std::shared_ptr<const LocalMap>> maps) override;
 
  private:
   Pose predict(const Frame& frame);
   void merge(const Frame& frame);
   void writeEstimate(Frame& frame) const;
   void startLocalMap(const Frame& frame, const typename S::Matrix& information);
+  void trackFrozen(Frame& frame);
 
   std::shared_ptr<LocalMap> map_;
   std::vector<std::shared_ptr<LocalMap>> closed_;
@@ -59,6 +65,9 @@ class MultiTracker : public Tracker {
   Pose last_motion_ = Pose::Identity();  // for the constant-velocity prediction
   size_t frames_in_map_ = 0;
   int64_t next_id_ = 0;
+  // Localization mode: the frozen maps and the one the robot is in.
+  std::vector<std::shared_ptr<const LocalMap>> frozen_;
+  std::shared_ptr<const LocalMap> located_;
 };
 
 extern template class MultiTracker<Space2D>;

@@ -41,6 +41,11 @@ class Pipeline : public Configurable {
   virtual RunResult result() const;
   /// Time spent per module so far.
   Timings& timings() { return timings_; }
+  /// Restores a saved session before the first frame: the local maps (ids 0..n-1) and the graph
+  /// edges. Mapping (`localize` false) appends new maps after them, joined by loops; localization
+  /// tracks against them frozen and adds nothing to the graph. Throws InputError.
+  void restoreSession(const std::vector<std::shared_ptr<LocalMap>>& maps,
+                      const std::vector<GraphEdge>& edges, bool localize);
 
  protected:
   /// Runs `step` as module `m`, timing it and wrapping its exceptions in ModuleError (also

@@ -36,6 +36,13 @@ class Tracker : public Configurable {
   virtual void setCurrentOrigin(const Eigen::Isometry3d& origin) = 0;
   /// Counters so far.
   const TrackerStats& stats() const { return stats_; }
+  /// Continues a restored session: the next local map gets id `next_id` and starts a new
+  /// component of the graph (no edge to the restored maps until a loop joins them). The default
+  /// throws InputError: the tracker cannot extend a session.
+  virtual void continueSession(int64_t next_id);
+  /// Localization only: tracks against these frozen maps (world origins fixed), never merging
+  /// into them nor creating maps. The default throws InputError: the tracker cannot localize.
+  virtual void localizeIn(std::vector<std::shared_ptr<const LocalMap>> maps);
 
  protected:
   TrackerStats stats_;

@@ -18,7 +18,20 @@ LoopDetector::~LoopDetector() = default;
 LoopValidator::~LoopValidator() = default;
 GraphBackend::~GraphBackend() = default;
 
+void GraphBackend::restore(const std::vector<std::shared_ptr<LocalMap>>&,
+                           const std::vector<GraphEdge>&) {
+  throw InputError("graph back-end '" + name() + "' (" + typeName() +
+                   ") cannot restore a saved graph");
+}
+
 namespace {
+
+// Path length put between graph components (sessions, tracker resets): their maps are never
+// "recently travelled" from each other, and detectors use their widest search gate.
+constexpr double kComponentGap = 1e6;
+// Information of the weak prior tying a later component's first map to map 0 where the estimate
+// has it; it only keeps the system non-singular until a loop joins the components.
+constexpr double kAnchorInformation = 1e-8;
 
 // The solver's variable and factor types of each pose space.
 template <class S>
@@ -94,6 +107,12 @@ GraphSlam<S>::GraphSlam() {
               optimizeNow();
               return "optimized " + std::to_string(maps_.size()) + " nodes, " +
                      std::to_string(edges_.size()) + " edges";
+            });
+  addAction("save_graph", "write the pose graph as g2o: save_graph PATH",
+            [this](const std::vector<std::string>& args) {
+              if (args.size() != 1) throw InputError("save_graph expects one argument: PATH");
+              saveGraph(args[0]);
+              return "wrote " + std::to_string(maps_.size()) + " nodes to " + args[0];
             });
 }
 
@@ -185,7 +204,7 @@ template <class S>
 void GraphSlam<S>::mapStarted(const std::shared_ptr<LocalMap>& map) {
   if (map->id != static_cast<int64_t>(maps_.size()))
     throw Error("graph back-end: local map " + std::to_string(map->id) + " arrived out of order");
-  double travelled = 0;
+  double travelled = maps_.empty() ? 0.0 : travelled_.back() + kComponentGap;
   if (map->previous >= 0) {
     if (map->previous >= static_cast<int64_t>(maps_.size()))
       throw Error("graph back-end: local map " + std::to_string(map->id) +
@@ -258,26 +277,47 @@ void GraphSlam<S>::mapClosed(const std::shared_ptr<LocalMap>& query) {
 }
 
 template <class S>
-typename GraphSlam<S>::Job GraphSlam<S>::makeJob() const {
-  Job job;
-  job.nodes = maps_.size();
-  job.edges = edges();
-  job.before.reserve(job.nodes);
-  for (const auto& m : maps_) job.before.push_back(S::from3D(m->origin));
-  return job;
+void GraphSlam<S>::restore(const std::vector<std::shared_ptr<LocalMap>>& maps,
+                           const std::vector<GraphEdge>& edges) {
+  if (!maps_.empty()) throw InputError("a graph can only be restored into an empty back-end");
+  for (const auto& m : maps) {
+    if (m->dimension != S::kDim)
+      throw InputError("saved local map " + std::to_string(m->id) + " is " +
+                       std::to_string(m->dimension) + "D; this back-end is " +
+                       std::to_string(S::kDim) + "D");
+    if (m->id != static_cast<int64_t>(maps_.size()) || m->previous >= m->id)
+      throw InputError("saved local maps must have ids 0, 1, 2, ... in order");
+    // The same travelled distance mapStarted computed when the map was first added.
+    double travelled = maps_.empty() ? 0.0 : travelled_.back() + kComponentGap;
+    if (m->previous >= 0) travelled = travelled_[m->previous] + m->relative.translation().norm();
+    maps_.push_back(m);
+    travelled_.push_back(travelled);
+  }
+  for (const auto& e : edges) {
+    if (e.from < 0 || e.to < 0 || e.from >= static_cast<int64_t>(maps_.size()) ||
+        e.to >= static_cast<int64_t>(maps_.size()))
+      throw InputError("saved edge " + std::to_string(e.from) + " -> " + std::to_string(e.to) +
+                       " names a map that is not in the session");
+    if (e.information.rows() != S::kDof || e.information.cols() != S::kDof)
+      throw InputError("saved edge " + std::to_string(e.from) + " -> " + std::to_string(e.to) +
+                       " has a " + std::to_string(e.information.rows()) + "x" +
+                       std::to_string(e.information.cols()) + " information matrix, expected " +
+                       std::to_string(S::kDof) + "x" + std::to_string(S::kDof));
+    // Information was conditioned and scaled when the edge was first added: kept as saved.
+    if (e.loop)
+      loops_.push_back(Loop{e, true});
+    else
+      edges_.push_back(e);
+  }
+  stats_.optimizations = 0;
 }
 
 template <class S>
-void GraphSlam<S>::runJob(Job& job) const {
+void GraphSlam<S>::buildGraph(const Job& job, FactorGraph& graph, bool with_kernel) const {
   using T = GraphTypes<S>;
-  const auto start = std::chrono::steady_clock::now();
   std::shared_ptr<const RobustKernel> kernel;
-  if (loop_kernel() != "none") kernel = makeRobustKernel(loop_kernel(), loop_kernel_scale());
-  OptimizerOptions options;
-  options.algorithm =
-      solver() == "lm" ? Algorithm::kLevenbergMarquardt : Algorithm::kGaussNewton;
-  options.max_iterations = iterations();
-  FactorGraph graph;
+  if (with_kernel && loop_kernel() != "none")
+    kernel = makeRobustKernel(loop_kernel(), loop_kernel_scale());
   std::vector<typename T::Variable*> vars;
   vars.reserve(job.nodes);
   for (size_t i = 0; i < job.nodes; ++i)
@@ -291,11 +331,51 @@ void GraphSlam<S>::runJob(Job& job) const {
                                                            betweenFactorInformation(e, S::kDim)));
     if (e.loop && kernel) f.setRobustKernel(kernel);
   }
+  for (size_t a : job.anchors) {
+    const typename S::Matrix info = S::Matrix::Identity() * kAnchorInformation;
+    graph.emplaceFactor<typename T::Between>(vars[0], vars[a],
+                                             S::normalized(job.before[0].inverse() * job.before[a]),
+                                             T::information(info));
+  }
+}
+
+template <class S>
+void GraphSlam<S>::saveGraph(const std::string& path) const {
+  Job job = makeJob();
+  job.anchors.clear();  // the file holds the graph's own edges only
+  FactorGraph graph;
+  buildGraph(job, graph, false);
+  writeGraphFile(path, graph);
+}
+
+template <class S>
+typename GraphSlam<S>::Job GraphSlam<S>::makeJob() const {
+  Job job;
+  job.nodes = maps_.size();
+  for (size_t i = 1; i < maps_.size(); ++i)
+    if (maps_[i]->previous < 0) job.anchors.push_back(i);
+  job.edges = edges();
+  job.before.reserve(job.nodes);
+  for (const auto& m : maps_) job.before.push_back(S::from3D(m->origin));
+  return job;
+}
+
+template <class S>
+void GraphSlam<S>::runJob(Job& job) const {
+  const auto start = std::chrono::steady_clock::now();
+  OptimizerOptions options;
+  options.algorithm =
+      solver() == "lm" ? Algorithm::kLevenbergMarquardt : Algorithm::kGaussNewton;
+  options.max_iterations = iterations();
+  FactorGraph graph;
+  buildGraph(job, graph, true);
   Optimizer optimizer(options);
   OptimizeResult r = optimizer.optimize(graph);
   job.ok = r.ok();
   job.chi2 = r.final_chi2;
-  for (auto* v : vars) job.after.push_back(v->estimate());
+  using Variable = typename GraphTypes<S>::Variable;
+  for (size_t i = 0; i < job.nodes; ++i)
+    job.after.push_back(graph.get<Variable>(static_cast<int64_t>(i)).estimate());
   job.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 

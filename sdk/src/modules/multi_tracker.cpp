@@ -2,12 +2,23 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <limits>
+
 #include "plugslam/errors.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
 
 Tracker::~Tracker() = default;
+
+void Tracker::continueSession(int64_t) {
+  throw InputError("tracker '" + name() + "' (" + typeName() + ") cannot extend a saved session");
+}
+
+void Tracker::localizeIn(std::vector<std::shared_ptr<const LocalMap>>) {
+  throw InputError("tracker '" + name() + "' (" + typeName() + ") cannot localize in saved maps");
+}
 Splitter::~Splitter() = default;
 template <class S>
 TrackerSlice<S>::~TrackerSlice() = default;
@@ -21,7 +32,14 @@ bool DistanceSplitter::split(const SplitQuery& q) const {
 }
 
 template <class S>
-MultiTracker<S>::MultiTracker() = default;
+MultiTracker<S>::MultiTracker() {
+  addAction("reset", "close the current local map and start over from the next frame",
+            [this](const std::vector<std::string>&) {
+              reset();
+              return std::string("tracker reset; the next frame starts local map ") +
+                     std::to_string(next_id_);
+            });
+}
 template <class S>
 MultiTracker<S>::~MultiTracker() = default;
 
@@ -36,15 +54,95 @@ void MultiTracker<S>::configure() {
 
 template <class S>
 void MultiTracker<S>::reset() {
+  // The current map is handed over as closed, so the back-end still looks for loops from it.
+  if (map_) closed_.push_back(map_);
   map_.reset();
-  closed_.clear();
+  located_.reset();
   pose_ = last_motion_ = Pose::Identity();
   frames_in_map_ = 0;
   if (motion) motion->reset();
 }
 
 template <class S>
+void MultiTracker<S>::continueSession(int64_t next_id) {
+  if (map_ || !frozen_.empty())
+    throw InputError("a session can only be restored before the first frame");
+  if (next_id < 0) throw InputError("next local map id must be >= 0");
+  next_id_ = next_id;
+}
+
+template <class S>
+void MultiTracker<S>::localizeIn(std::vector<std::shared_ptr<const LocalMap>> maps) {
+  if (map_) throw InputError("localization can only start before the first frame");
+  if (maps.empty()) throw InputError("localization needs at least one saved local map");
+  for (const auto& m : maps)
+    if (!m || m->dimension != S::kDim)
+      throw InputError("localization: a saved map is not " + std::to_string(S::kDim) + "D");
+  frozen_ = std::move(maps);
+  located_.reset();
+}
+
+template <class S>
+void MultiTracker<S>::trackFrozen(Frame& frame) {
+  // Localization: the frame is aligned against the map it is in and the maps whose origins are
+  // nearest its predicted world pose; the valid alignment explaining most of the frame wins (maps
+  // of different passes need not agree where the mapping run closed no loop). The pose is kept in
+  // the winning map's frame. Nothing is merged or split.
+  constexpr size_t kNearest = 3;
+  ++stats_.frames;
+  const Eigen::Isometry3d at = located_ ? located_->origin : Eigen::Isometry3d::Identity();
+  const Eigen::Isometry3d previous_world = at * S::to3D(pose_);
+  const Eigen::Isometry3d guess_world = at * S::to3D(predict(frame));
+  std::vector<std::pair<double, std::shared_ptr<const LocalMap>>> near;
+  for (const auto& m : frozen_)
+    if (m != located_)
+      near.emplace_back((m->origin.translation() - guess_world.translation()).norm(), m);
+  const size_t k = std::min(kNearest, near.size());
+  std::partial_sort(near.begin(), near.begin() + k, near.end(),
+                    [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<std::shared_ptr<const LocalMap>> candidates;
+  if (located_) candidates.push_back(located_);
+  for (size_t i = 0; i < k; ++i) candidates.push_back(near[i].second);
+  std::shared_ptr<const LocalMap> best;
+  AlignResult<S> best_result;
+  Pose best_previous = Pose::Identity(), fallback_guess = Pose::Identity();
+  std::shared_ptr<const LocalMap> fallback = k > 0 ? near[0].second : located_;
+  for (const auto& m : candidates) {
+    const Eigen::Isometry3d to_map = m->origin.inverse();
+    const Pose previous = S::normalized(S::from3D(to_map * previous_world));
+    const Pose guess = S::normalized(S::from3D(to_map * guess_world));
+    if (m == fallback) fallback_guess = guess;
+    AlignResult<S> r = aligner->align(frame, m->scene, AlignContext<S>{previous, guess});
+    if (r.valid && (!best || r.inlierRatio() > best_result.inlierRatio())) {
+      best = m;
+      best_result = r;
+      best_previous = previous;
+    }
+  }
+  if (best) {
+    located_ = best;
+    pose_ = best_result.pose;
+    ++stats_.aligned;
+    stats_.inlier_ratio_sum += best_result.inlierRatio();
+    last_motion_ = S::normalized(best_previous.inverse() * pose_);
+  } else {
+    const Eigen::Isometry3d to_map = fallback->origin.inverse();
+    const Pose previous = S::normalized(S::from3D(to_map * previous_world));
+    located_ = fallback;
+    pose_ = fallback_guess;
+    last_motion_ = S::normalized(previous.inverse() * pose_);
+    ++stats_.failed;
+    spdlog::debug("frame {}: localization failed in maps near {}", frame.seq, fallback->id);
+  }
+  frame.estimate.valid = true;
+  frame.estimate.local_map = located_->id;
+  frame.estimate.in_map = S::to3D(pose_);
+  frame.estimate.world = located_->origin * frame.estimate.in_map;
+}
+
+template <class S>
 void MultiTracker<S>::track(Frame& frame) {
+  if (!frozen_.empty()) return trackFrozen(frame);
   ++stats_.frames;
   const Pose previous = pose_;
   const Pose guess = predict(frame);

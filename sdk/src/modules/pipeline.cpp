@@ -40,6 +40,24 @@ void Pipeline::configure() {
                                   std::to_string(tracker->dimension()) + "D tracker");
 }
 
+void Pipeline::restoreSession(const std::vector<std::shared_ptr<LocalMap>>& maps,
+                              const std::vector<GraphEdge>& edges, bool localize) {
+  if (!tracker) throw InputError("restoring a session needs a pipeline with a tracker");
+  if (!tracked_.empty() || !local_maps_.empty())
+    throw InputError("a session can only be restored before the first frame");
+  for (const auto& m : maps)
+    if (m->dimension != tracker->dimension())
+      throw InputError("the session's maps are " + std::to_string(m->dimension) +
+                       "D but the tracker is " + std::to_string(tracker->dimension()) + "D");
+  if (graph) graph->restore(maps, edges);
+  if (localize) {
+    tracker->localizeIn({maps.begin(), maps.end()});
+  } else {
+    tracker->continueSession(static_cast<int64_t>(maps.size()));
+  }
+  for (const auto& m : maps) local_maps_.emplace(m->id, m);
+}
+
 void Pipeline::finish() {
   if (graph) guarded(*graph, [&] { graph->finish(); });
 }

@@ -1,0 +1,226 @@
+#include "session/session.h"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <boost/filesystem.hpp>
+#include <fstream>
+#include <sstream>
+
+#include "plugslam/archive.h"
+#include "plugslam/atomic_file.h"
+#include "plugslam/errors.h"
+#include "plugslam/version.h"
+
+namespace plugslam::runtime {
+
+namespace fs = boost::filesystem;
+
+namespace {
+
+void saveMap(OutArchive& ar, const LocalMap& m) {
+  ar.beginObject();
+  ar.field("id", static_cast<std::int64_t>(m.id));
+  ar.field("dimension", static_cast<std::int64_t>(m.dimension));
+  ar.field("origin", m.origin);
+  ar.field("scene", m.scene);
+  ar.field("first_seq", static_cast<std::uint64_t>(m.first_seq));
+  ar.field("last_seq", static_cast<std::uint64_t>(m.last_seq));
+  ar.field("first_stamp", m.first_stamp);
+  ar.field("last_stamp", m.last_stamp);
+  ar.field("previous", static_cast<std::int64_t>(m.previous));
+  ar.field("relative", m.relative);
+  ar.field("information", m.information);
+  ar.endObject();
+}
+
+void loadMap(InArchive& ar, LocalMap& m) {
+  ar.beginObject();
+  std::int64_t id = 0, dim = 0, previous = 0;
+  std::uint64_t first_seq = 0, last_seq = 0;
+  ar.field("id", id).field("dimension", dim).field("origin", m.origin).field("scene", m.scene);
+  ar.field("first_seq", first_seq).field("last_seq", last_seq);
+  ar.field("first_stamp", m.first_stamp).field("last_stamp", m.last_stamp);
+  ar.field("previous", previous).field("relative", m.relative);
+  ar.field("information", m.information);
+  if (dim != 2 && dim != 3) ar.fail("a local map's dimension must be 2 or 3");
+  m.id = id;
+  m.dimension = static_cast<int>(dim);
+  m.previous = previous;
+  m.first_seq = first_seq;
+  m.last_seq = last_seq;
+  ar.endObject();
+}
+
+void saveEdge(OutArchive& ar, const GraphEdge& e) {
+  ar.beginObject();
+  ar.field("from", static_cast<std::int64_t>(e.from));
+  ar.field("to", static_cast<std::int64_t>(e.to));
+  ar.field("relative", e.relative);
+  ar.field("information", e.information);
+  ar.field("loop", e.loop);
+  ar.endObject();
+}
+
+void loadEdge(InArchive& ar, GraphEdge& e) {
+  ar.beginObject();
+  std::int64_t from = 0, to = 0;
+  ar.field("from", from).field("to", to).field("relative", e.relative);
+  ar.field("information", e.information).field("loop", e.loop);
+  e.from = from;
+  e.to = to;
+  ar.endObject();
+}
+
+void writeText(const std::string& path, const std::string& text) {
+  writeFileAtomically(path, [&](std::ostream& out) { out << text; });
+}
+
+std::string readText(const std::string& path, const std::string& what) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("cannot read " + what + " '" + path + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+std::vector<std::shared_ptr<LocalMap>> copyMaps(
+    const std::vector<std::shared_ptr<LocalMap>>& maps) {
+  std::vector<std::shared_ptr<LocalMap>> out;
+  out.reserve(maps.size());
+  for (const auto& m : maps) out.push_back(std::make_shared<LocalMap>(*m));
+  return out;
+}
+
+SessionSummary saveSession(const std::string& dir, const std::string& config_yaml,
+                           Pipeline& pipeline) {
+  boost::system::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw InputError("cannot create session folder '" + dir + "': " + ec.message());
+  const fs::path d(dir);
+  RunResult result = pipeline.result();
+  SessionSummary summary;
+  summary.maps = result.local_maps.size();
+  summary.edges = result.edges.size();
+  summary.poses = result.trajectory.size();
+  const int dimension = pipeline.tracker            ? pipeline.tracker->dimension()
+                        : result.local_maps.empty() ? 0
+                                                    : result.local_maps.front()->dimension;
+  writeText((d / "config.yaml").string(), config_yaml);
+  writeTumTrajectory(result.trajectory, (d / "trajectory.tum").string());
+  saveArchiveFile((d / "maps.bin").string(), ArchiveFormat::kBinary, [&](OutArchive& ar) {
+    ar.beginObject();
+    ar.field("format_version", static_cast<std::int64_t>(kSessionFormatVersion));
+    ar.field("dimension", static_cast<std::int64_t>(dimension));
+    ar.key("maps");
+    ar.beginArray(result.local_maps.size());
+    for (const auto& m : result.local_maps) saveMap(ar, *m);
+    ar.endArray();
+    ar.key("edges");
+    ar.beginArray(result.edges.size());
+    for (const auto& e : result.edges) saveEdge(ar, e);
+    ar.endArray();
+    ar.endObject();
+  });
+  if (pipeline.graph) {
+    for (const auto& a : pipeline.graph->actions()) {
+      if (a.name != "save_graph") continue;
+      pipeline.graph->invoke("save_graph", {(d / "graph.g2o").string()});
+      summary.graph_file = true;
+    }
+  }
+  // Written last: a folder without it (a save cut short) is not a session.
+  writeText(
+      (d / "session.yaml").string(),
+      fmt::format("# plugslam session (docs/shell.md)\n"
+                  "plugslam_session: {}\n"
+                  "written_by: plugslam {}\n"
+                  "dimension: {}\n"
+                  "maps: {}\n"
+                  "edges: {}\n"
+                  "poses: {}\n"
+                  "files: {{config: config.yaml, maps: maps.bin, trajectory: trajectory.tum{}}}\n",
+                  kSessionFormatVersion, PLUGSLAM_VERSION_STRING, dimension, summary.maps,
+                  summary.edges, summary.poses, summary.graph_file ? ", graph: graph.g2o" : ""));
+  return summary;
+}
+
+SessionManifest readSessionManifest(const std::string& dir) {
+  const fs::path d(dir);
+  const std::string manifest_path = (d / "session.yaml").string();
+  if (!fs::is_directory(d)) throw InputError("session folder '" + dir + "' does not exist");
+  if (!fs::exists(manifest_path))
+    throw InputError("'" + dir + "' is not a plugslam session: it has no session.yaml");
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(manifest_path);
+  } catch (const YAML::Exception& e) {
+    throw ParseError(manifest_path, e.mark.line + 1, "invalid YAML: " + e.msg);
+  }
+  SessionManifest m;
+  m.dir = dir;
+  if (!root.IsMap() || !root["plugslam_session"] || !root["plugslam_session"].IsScalar())
+    throw ParseError(manifest_path, 1, "expected 'plugslam_session: <format version>'");
+  try {
+    m.format_version = root["plugslam_session"].as<int>();
+    m.dimension = root["dimension"] ? root["dimension"].as<int>() : 0;
+    m.maps = root["maps"] ? root["maps"].as<size_t>() : 0;
+    m.edges = root["edges"] ? root["edges"].as<size_t>() : 0;
+  } catch (const YAML::Exception& e) {
+    throw ParseError(manifest_path, e.mark.line + 1, "expected integers: " + e.msg);
+  }
+  if (m.format_version != kSessionFormatVersion) {
+    std::string by = root["written_by"] && root["written_by"].IsScalar()
+                         ? " (written by " + root["written_by"].Scalar() + ")"
+                         : "";
+    throw InputError("session '" + dir + "' has format version " +
+                     std::to_string(m.format_version) + by + ", but plugslam " +
+                     PLUGSLAM_VERSION_STRING + " reads session format " +
+                     std::to_string(kSessionFormatVersion) +
+                     " only and has no migration for it; re-create the session with this build");
+  }
+  m.config_path = (d / "config.yaml").string();
+  m.config_text = readText(m.config_path, "session config");
+  return m;
+}
+
+SessionMaps loadSessionMaps(const SessionManifest& manifest) {
+  SessionMaps out;
+  const std::string path = (fs::path(manifest.dir) / "maps.bin").string();
+  if (!fs::exists(path)) throw InputError("session '" + manifest.dir + "' has no maps.bin");
+  loadArchiveFile(path, [&](InArchive& ar) {
+    ar.beginObject();
+    std::int64_t version = 0, dimension = 0;
+    ar.field("format_version", version).field("dimension", dimension);
+    if (version != kSessionFormatVersion)
+      ar.fail("maps.bin has session format " + std::to_string(version) + ", expected " +
+              std::to_string(kSessionFormatVersion));
+    ar.key("maps");
+    const size_t n = ar.beginArray();
+    for (size_t i = 0; i < n; ++i) {
+      auto m = std::make_shared<LocalMap>();
+      loadMap(ar, *m);
+      if (m->id != static_cast<int64_t>(i)) ar.fail("local maps must be stored by id 0, 1, 2, ...");
+      out.maps.push_back(std::move(m));
+    }
+    ar.endArray();
+    ar.key("edges");
+    const size_t k = ar.beginArray();
+    for (size_t i = 0; i < k; ++i) {
+      GraphEdge e;
+      loadEdge(ar, e);
+      if (e.from < 0 || e.to < 0 || e.from >= static_cast<int64_t>(n) ||
+          e.to >= static_cast<int64_t>(n))
+        ar.fail("edge " + std::to_string(e.from) + " -> " + std::to_string(e.to) +
+                " names a map that is not stored");
+      out.edges.push_back(std::move(e));
+    }
+    ar.endArray();
+    ar.endObject();
+  });
+  return out;
+}
+
+}  // namespace plugslam::runtime

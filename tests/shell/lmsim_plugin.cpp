@@ -1,0 +1,112 @@
+// A test plugin that needs no sensor: a robot driving circles through a field of landmarks with
+// known identities (tests/modules/landmark_cue.h), with ground truth. It lets the shell and
+// session tests run whole SLAM pipelines (tracker, loop closing, graph) through the host.
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <thread>
+
+#include "landmark_cue.h"
+#include "plugslam/plugin.h"
+#include "plugslam/preprocessor.h"
+#include "plugslam/source.h"
+
+namespace lmsim {
+
+using plugslam::testing::Landmarks;
+using namespace plugslam;
+
+/// Drives `laps` circles of radius `radius` from the origin (heading +x, turning left).
+class LandmarkSource : public Source {
+ public:
+  Param<double> radius{this, "radius", 8.0, "m", "radius of the circle", Range{1, 1e3}};
+  Param<double> step{this, "step", 0.25, "m", "travel between frames", Range{0.01, 10}};
+  Param<double> laps{this, "laps", 2.0, "", "laps driven", Range{0, 100}};
+  Param<int> landmarks{this, "landmarks", 600, "", "landmarks scattered around", Range{1, 1e6}};
+  Param<double> range{this, "range", 6.0, "m", "sensing range", Range{0.1, 1e3}};
+  Param<double> noise{this, "noise", 0.02, "m", "std. dev. of each landmark reading", Range{0, 10}};
+  Param<int> seed{this, "seed", 3, "", "random seed", Range{0, 1e9}};
+  Param<double> delay{this,        "delay", 0.0, "s", "wait before each frame, like a live sensor",
+                      Range{0, 10}};
+
+  void configure() override {
+    std::mt19937 rng(static_cast<unsigned>(seed()));
+    const double r = radius(), m = range();
+    std::uniform_real_distribution<double> ux(-r - m, r + m), uy(-m, 2 * r + m);
+    world_.clear();
+    for (int i = 0; i < landmarks(); ++i) world_.emplace_back(ux(rng), uy(rng));
+    rng_.seed(static_cast<unsigned>(seed()) + 1);
+    frames_ = static_cast<int64_t>(std::floor(laps() * 2 * M_PI * r / step())) + 1;
+    emitted_ = 0;
+  }
+  bool next(Frame& frame) override {
+    if (emitted_ >= frames_) return false;
+    if (delay() > 0) std::this_thread::sleep_for(std::chrono::duration<double>(delay()));
+    const double phi = emitted_ * step() / radius();
+    const Eigen::Isometry2d pose =
+        se2(radius() * std::sin(phi), radius() * (1 - std::cos(phi)), phi);
+    Landmarks seen = plugslam::testing::observe(world_, pose, range());
+    std::normal_distribution<double> n(0.0, 1.0);
+    for (auto& p : seen)
+      if (p.allFinite()) p += noise() * Eigen::Vector2d(n(rng_), n(rng_));
+    frame.stamp = 0.1 * static_cast<double>(emitted_);
+    frame.raw.set<Landmarks>("landmarks", std::move(seen));
+    frame.raw.set<Eigen::Isometry2d>("ground_truth", pose);
+    ++emitted_;
+    return true;
+  }
+  int64_t sizeHint() const override { return frames_; }
+
+ private:
+  Landmarks world_;
+  std::mt19937 rng_;
+  int64_t frames_ = 0, emitted_ = 0;
+};
+
+/// Copies the raw landmark reading into the measurement.
+class LandmarkCue : public PreProcessor {
+ public:
+  Param<std::string> entry{this, "entry", "landmarks", "", "raw and measurement entry"};
+  bool process(Frame& frame) override {
+    const Landmarks* l = frame.raw.find<Landmarks>(entry());
+    if (!l) return false;
+    frame.measurement.set<Landmarks>(entry(), *l);
+    return true;
+  }
+};
+
+/// The landmark aligner slice with a weight instead of a sigma (another type for swap tests).
+class WeightedLandmarkSlice : public AlignerSlice<Space2D> {
+ public:
+  Param<std::string> entry{this, "entry", "landmarks", "", "measurement and scene entry"};
+  Param<double> weight{
+      this, "weight", 2500.0, "1/m^2", "information of each landmark", Range{1e-9, 1e12}};
+  void configure() override {
+    inner_.entry = entry();
+    inner_.sigma = 1.0 / std::sqrt(weight());
+  }
+  bool bind(const Frame& frame, const PropertyContainer& scene,
+            const AlignContext<Space2D>& context) override {
+    return inner_.bind(frame, scene, context);
+  }
+  void linearize(const Eigen::Isometry2d& t, NormalEquations<Space2D>& eq) const override {
+    inner_.linearize(t, eq);
+  }
+
+ private:
+  plugslam::testing::LandmarkSlice inner_;
+};
+
+}  // namespace lmsim
+
+PLUGSLAM_PLUGIN("lmsim", "1.0.0", "test: landmark world source, landmark cue and slices") {
+  registrar.add<lmsim::LandmarkSource>("LandmarkSource", "circles through a landmark field");
+  registrar.add<lmsim::LandmarkCue>("LandmarkCue", "raw landmarks -> measurement");
+  registrar.add<plugslam::testing::LandmarkSlice>("LandmarkSlice",
+                                                  "landmark aligner slice (sigma)");
+  registrar.add<lmsim::WeightedLandmarkSlice>("WeightedLandmarkSlice",
+                                              "landmark aligner slice (weight)");
+  registrar.add<plugslam::testing::LandmarkMapSlice>("LandmarkMapSlice",
+                                                     "adds new landmarks to the scene");
+}
