@@ -17,8 +17,9 @@ int floorCell(double v) { return static_cast<int>(std::floor(v)); }
 
 }  // namespace
 
-CorrelativeGrid::CorrelativeGrid(const std::vector<Eigen::Vector2d>& points, double resolution,
-                                 int levels, const Eigen::Vector2d& clip_min,
+CorrelativeGrid::CorrelativeGrid(const std::vector<Eigen::Vector2d>& points,
+                                 const std::vector<Eigen::Vector2d>& normals, double extent,
+                                 double resolution, int levels, const Eigen::Vector2d& clip_min,
                                  const Eigen::Vector2d& clip_max)
     : resolution_(resolution) {
   Eigen::Vector2d lo = clip_max, hi = clip_min;
@@ -37,21 +38,39 @@ CorrelativeGrid::CorrelativeGrid(const std::vector<Eigen::Vector2d>& points, dou
   base.width = width_;
   base.height = height_;
   base.cells.assign(static_cast<size_t>(width_) * height_, 0);
-  const double inv_two_sigma2 = 1.0 / (2 * resolution * resolution);
-  for (const auto& p : points) {
+  // Hit cells first: a point with a normal stands for a patch of wall `extent` either side of it
+  // along its tangent, so the gaps between a far wall's sparse points still score.
+  std::vector<uint8_t> hit(base.cells.size(), 0);
+  const auto mark = [&](const Eigen::Vector2d& q) {
+    const int x = floorCell((q.x() - origin_.x()) / resolution);
+    const int y = floorCell((q.y() - origin_.y()) / resolution);
+    if (x >= 0 && y >= 0 && x < width_ && y < height_) hit[static_cast<size_t>(y) * width_ + x] = 1;
+  };
+  const bool splat = extent > 0 && normals.size() == points.size();
+  const int samples = splat ? static_cast<int>(std::ceil(2 * extent / resolution)) : 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector2d& p = points[i];
     if ((p.array() < clip_min.array()).any() || (p.array() > clip_max.array()).any()) continue;
-    const int cx = floorCell((p.x() - origin_.x()) / resolution);
-    const int cy = floorCell((p.y() - origin_.y()) / resolution);
-    for (int y = cy - kBlurCells; y <= cy + kBlurCells; ++y) {
-      for (int x = cx - kBlurCells; x <= cx + kBlurCells; ++x) {
-        if (x < 0 || y < 0 || x >= width_ || y >= height_) continue;
-        const Eigen::Vector2d center = origin_ + resolution * Eigen::Vector2d(x + 0.5, y + 0.5);
-        // The cell holding the point counts fully: a query point in it is a hit.
-        const double v =
-            (x == cx && y == cy) ? 1.0 : std::exp(-(center - p).squaredNorm() * inv_two_sigma2);
-        uint8_t& cell = base.cells[static_cast<size_t>(y) * width_ + x];
-        cell = std::max(cell, static_cast<uint8_t>(std::lround(255 * v)));
-      }
+    mark(p);
+    if (samples == 0) continue;
+    const Eigen::Vector2d tangent(-normals[i].y(), normals[i].x());
+    for (int k = 0; k <= samples; ++k) mark(p + (-extent + 2 * extent * k / samples) * tangent);
+  }
+  // Then a gaussian of one cell around every hit cell (by cell distance).
+  uint8_t kernel[2 * kBlurCells + 1][2 * kBlurCells + 1];
+  for (int dy = -kBlurCells; dy <= kBlurCells; ++dy)
+    for (int dx = -kBlurCells; dx <= kBlurCells; ++dx)
+      kernel[dy + kBlurCells][dx + kBlurCells] =
+          static_cast<uint8_t>(std::lround(255 * std::exp(-0.5 * (dx * dx + dy * dy))));
+  for (int cy = 0; cy < height_; ++cy) {
+    for (int cx = 0; cx < width_; ++cx) {
+      if (!hit[static_cast<size_t>(cy) * width_ + cx]) continue;
+      for (int y = std::max(cy - kBlurCells, 0); y <= std::min(cy + kBlurCells, height_ - 1); ++y)
+        for (int x = std::max(cx - kBlurCells, 0); x <= std::min(cx + kBlurCells, width_ - 1);
+             ++x) {
+          uint8_t& cell = base.cells[static_cast<size_t>(y) * width_ + x];
+          cell = std::max(cell, kernel[y - cy + kBlurCells][x - cx + kBlurCells]);
+        }
     }
   }
   // Level h from level h-1: the 2^h window at c is the union of four 2^(h-1) windows.
@@ -292,8 +311,8 @@ bool CorrelativeValidator::validate(const LocalMap& candidate, const LocalMap& q
   const Eigen::Vector2d reach = Eigen::Vector2d::Constant(max_range() + search_window() + r);
   int levels = 0;
   while ((1 << levels) < 2 * static_cast<int>(std::ceil(search_window() / r)) + 1) ++levels;
-  const CorrelativeGrid grid(map_cloud->points, r, levels, g.translation() - reach,
-                             g.translation() + reach);
+  const CorrelativeGrid grid(map_cloud->points, map_cloud->normals, point_extent(), r, levels,
+                             g.translation() - reach, g.translation() + reach);
   const CorrelativeMatch m = matchCorrelative(grid, points, g, o);
   if (!m.found) {
     reason = "no pose scores " + std::to_string(min_score()) + " or more";

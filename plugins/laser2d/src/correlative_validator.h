@@ -20,8 +20,11 @@ class CorrelativeGrid {
  public:
   /// Rasterizes `points` at `resolution` over their bounding box clipped to [clip_min, clip_max]
   /// (points outside are dropped), with `levels` pooled levels above the base (0 = base only).
-  CorrelativeGrid(const std::vector<Eigen::Vector2d>& points, double resolution, int levels,
-                  const Eigen::Vector2d& clip_min, const Eigen::Vector2d& clip_max);
+  /// With unit `normals` (one per point), each point also covers `extent` metres either side of
+  /// it along its tangent.
+  CorrelativeGrid(const std::vector<Eigen::Vector2d>& points,
+                  const std::vector<Eigen::Vector2d>& normals, double extent, double resolution,
+                  int levels, const Eigen::Vector2d& clip_min, const Eigen::Vector2d& clip_max);
   /// Cell size [m].
   double resolution() const { return resolution_; }
   /// World position of the bottom-left corner of cell (0, 0).
@@ -128,6 +131,13 @@ class CorrelativeValidator final : public LoopValidator {
   Param<double> distinct_rotation{
       this,         "distinct_rotation", 0.2, "rad", "poses rotated more than this are distinct",
       Range{0, 3.2}};
+  Param<double> point_extent{this,
+                             "point_extent",
+                             0.1,
+                             "m",
+                             "each candidate point covers this much wall either side along its "
+                             "tangent (fills the gaps between sparse far points)",
+                             Range{0, 10}};
   Param<double> max_range{this,
                           "max_range",
                           30.0,

@@ -133,7 +133,7 @@ TEST(CorrelativeValidator, RejectsAnAmbiguousCorridor) {
 TEST(CorrelativeGrid, PooledLevelsBoundTheBase) {
   std::vector<Eigen::Vector2d> points;
   for (int i = 0; i < 200; ++i) points.emplace_back(0.037 * i, std::sin(0.1 * i));
-  const CorrelativeGrid grid(points, 0.05, 4, Eigen::Vector2d(-100, -100),
+  const CorrelativeGrid grid(points, {}, 0.0, 0.05, 4, Eigen::Vector2d(-100, -100),
                              Eigen::Vector2d(100, 100));
   ASSERT_EQ(grid.levels(), 4);
   EXPECT_EQ(grid.value(0, -1, 0), 0);
