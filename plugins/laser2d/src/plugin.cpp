@@ -1,6 +1,7 @@
 // The laser2d plugin's register function: every type of the cue, by name.
 #include "plugslam/plugin.h"
 
+#include "correlative_validator.h"
 #include "occupancy_map_writer.h"
 #include "point_cloud2d.h"
 #include "point_map_slice.h"
@@ -18,4 +19,7 @@ PLUGSLAM_PLUGIN("laser2d", "1.0.0", "2D laser: scan preprocessing, ICP slices, p
                                "merges points into the local map with fusion and clipping");
   registrar.add<OccupancyMapWriter>("OccupancyMapWriter",
                                     "occupancy grid of the run: PGM + YAML (map_server), PNG");
+  registrar.add<CorrelativeValidator>(
+      "CorrelativeValidator",
+      "loop validator: branch-and-bound correlative scan-to-map matching over a wide window");
 }
