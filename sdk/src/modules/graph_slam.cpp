@@ -335,7 +335,7 @@ void GraphSlam<S>::buildGraph(const Job& job, FactorGraph& graph, bool with_kern
     const typename S::Matrix info = S::Matrix::Identity() * kAnchorInformation;
     graph.emplaceFactor<typename T::Between>(vars[0], vars[a],
                                              S::normalized(job.before[0].inverse() * job.before[a]),
-                                             T::information(info));
+                                             typename T::Information(info));
   }
 }
 
