@@ -15,11 +15,27 @@ namespace laser2d {
 void OccupancyMapWriter::begin(const std::string& out_dir) {
   out_dir_ = out_dir;
   scans_.clear();
+  live_ = Trajectory();
   written_.clear();
   placed_ = 0;
 }
 
+OccupancyMapWriter::OccupancyMapWriter() {
+  // The map on demand, mid-run: the shell's `do <name>.save`. The poses are the estimates each
+  // frame got when it was processed (later loop closures are applied at the end of the run).
+  addAction("save", "write the map now from the poses estimated so far",
+            [this](const std::vector<std::string>&) {
+              RunResult now;
+              now.trajectory = live_;
+              end(now);
+              return written_.empty() ? std::string("no map written (no scan placed yet)")
+                                      : "wrote " + written_.front();
+            });
+}
+
 void OccupancyMapWriter::consume(const Frame& frame) {
+  if (frame.estimate.valid && (live_.empty() || frame.stamp > live_.endTime()))
+    live_.push_back(frame.stamp, frame.estimate.world);
   for (const auto& name : measurements()) {
     const PointCloud2D* cloud = frame.measurement.find<PointCloud2D>(name);
     if (!cloud || cloud->empty()) continue;

@@ -31,6 +31,7 @@ class OccupancyMapWriter final : public Sink {
                                 "a scan is placed at the trajectory pose this close in time",
                                 Range{0, 1e6}};
 
+  OccupancyMapWriter();
   void begin(const std::string& out_dir) override;
   void consume(const Frame& frame) override;
   void end(const RunResult& result) override;
@@ -51,6 +52,7 @@ class OccupancyMapWriter final : public Sink {
   };
   std::string out_dir_;
   std::vector<KeptScan> scans_;
+  Trajectory live_;  // each frame's pose as estimated when it was processed (for `save`)
   size_t placed_ = 0;
   std::vector<std::string> written_;
 };

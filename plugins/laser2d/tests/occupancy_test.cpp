@@ -128,5 +128,35 @@ TEST(OccupancyMapWriter, NoPlaceableScanWritesNothing) {
   std::filesystem::remove_all(dir);
 }
 
+TEST(OccupancyMapWriter, SaveActionWritesTheMapMidRun) {
+  const auto world = test::box(0, 0, 4, 4);
+  const auto dir = std::filesystem::temp_directory_path() / "laser2d_occupancy_save_test";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  ScanPreprocessor pre;
+  pre.configure();
+  OccupancyMapWriter writer;
+  writer.begin(dir.string());
+  EXPECT_EQ(writer.invoke("save"), "no map written (no scan placed yet)");
+  test::ScanSpec spec;
+  for (int i = 0; i < 3; ++i) {
+    Frame frame;
+    frame.seq = i;
+    frame.stamp = 1.0 + i;
+    const SE2 pose = se2(1.0 + i, 2.0, 0.1 * i);
+    frame.raw.set("front_laser", test::castScan(world, pose, spec));
+    pre.process(frame);
+    // What the tracker leaves on a frame: its pose estimate at the time.
+    frame.estimate.valid = true;
+    frame.estimate.world = Space2D::to3D(pose);
+    writer.consume(frame);
+  }
+  const std::string msg = writer.invoke("save");
+  EXPECT_NE(msg.find("wrote"), std::string::npos) << msg;
+  EXPECT_EQ(writer.placedScans(), 3u);
+  EXPECT_TRUE(std::filesystem::exists(dir / "map.pgm"));
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace plugslam::laser2d
