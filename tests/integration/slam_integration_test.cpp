@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -94,5 +95,44 @@ TEST(Slam, IntelMatchesTheReferenceAndIsAsCrisp) {
   const double c_ours = jsonNumber(ours.out, "mean_m"), c_ref = jsonNumber(theirs.out, "mean_m");
   // A broken map (double walls, bent corridors) is far above the reference's crispness.
   EXPECT_LT(c_ours, 1.1 * c_ref) << "ours " << c_ours << " reference " << c_ref;
+  fs::remove_all(out);
+}
+
+TEST(Slam, AKilledRunLeavesALoadableCheckpoint) {
+  fs::path out = tempDir("killed");
+  const std::string bin = plugslam::testing::buildDir() + "/bin/plugslam";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    if (chdir(plugslam::testing::sourceDir().c_str()) != 0) _exit(126);
+    execl(bin.c_str(), "plugslam", "run", "configs/sim2d_single_laser.yaml", "-o",
+          out.c_str(), "--set", "source.session=stage-3", "--checkpoint-every", "0.2", "-q",
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Kill it (no chance to clean up) once a checkpoint exists and it has run a little longer.
+  const fs::path manifest = out / "checkpoint" / "session.yaml";
+  int status = 0;
+  bool exited = false;
+  for (int i = 0; i < 600 && !fs::exists(manifest); ++i) {
+    if (waitpid(pid, &status, WNOHANG) == pid) {
+      exited = true;
+      break;
+    }
+    usleep(50 * 1000);
+  }
+  ASSERT_FALSE(exited) << "the run ended before it could be killed";
+  usleep(300 * 1000);
+  ASSERT_EQ(waitpid(pid, &status, WNOHANG), 0) << "the run ended before it could be killed";
+  kill(pid, SIGKILL);
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+  // The last checkpoint loads and a second run extends it.
+  ASSERT_TRUE(fs::exists(manifest) || fs::exists(out / "checkpoint.old" / "session.yaml"));
+  const fs::path session = fs::exists(manifest) ? out / "checkpoint" : out / "checkpoint.old";
+  Result r = run("run --session " + session.string() + " -o " + (out / "resumed").string() +
+                 " --set source.session=stage-0 --set pipeline.graph.deterministic=true");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("frames in"), std::string::npos) << r.out;
   fs::remove_all(out);
 }

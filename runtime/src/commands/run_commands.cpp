@@ -73,6 +73,26 @@ void addValidateCommand(CLI::App& root, int& exit_code) {
   });
 }
 
+namespace {
+
+// Saves a session into `dir` as a whole: written beside it first, then moved into place, so a
+// kill at any moment leaves either the previous checkpoint or the new one (or, between the two
+// renames, the previous one as dir.old), never a half-written session.
+void writeCheckpoint(const std::string& dir, const std::string& config_yaml, Pipeline& pipeline) {
+  namespace fs = boost::filesystem;
+  const fs::path target(dir), fresh(dir + ".new"), old(dir + ".old");
+  boost::system::error_code ec;
+  fs::remove_all(fresh, ec);
+  saveSession(fresh.string(), config_yaml, pipeline);
+  fs::remove_all(old, ec);
+  if (fs::exists(target)) fs::rename(target, old);
+  fs::rename(fresh, target);
+  fs::remove_all(old, ec);
+  spdlog::debug("checkpoint written to {}", dir);
+}
+
+}  // namespace
+
 void addRunCommand(CLI::App& root, int& exit_code) {
   auto* cmd = root.add_subcommand("run", "Run a pipeline and write its outputs");
   static std::string file;
@@ -81,6 +101,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
   static std::string session_dir;
   static bool localize = false;
   static std::vector<std::string> actions;
+  static double checkpoint_every = 60.0;
   cmd->add_option("CONFIG", file,
                   "pipeline YAML file (default: the session's config with --session, else the "
                   "built-in demo config)");
@@ -90,6 +111,11 @@ void addRunCommand(CLI::App& root, int& exit_code) {
                   "restore a saved session first: new maps extend it (multi-session mapping)");
   cmd->add_flag("--localize", localize,
                 "with --session: track against the saved maps, frozen; no new maps or edges");
+  cmd->add_option("--checkpoint-every", checkpoint_every,
+                  "save the session into OUTDIR/checkpoint every this many seconds of the run, "
+                  "atomically, so even a killed run leaves a loadable session (0: never)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--do", actions,
                   "after the run, run a module action: MODULE.ACTION[:ARG,...] (repeatable)");
   cmd->callback([&exit_code] {
@@ -112,8 +138,16 @@ void addRunCommand(CLI::App& root, int& exit_code) {
     RunOptions options;
     options.out_dir = out_dir;
     const bool tty = ::isatty(STDERR_FILENO);
-    options.progress = [tty, last = -1.0](uint64_t frame, int64_t total, double t,
-                                          uint64_t loops) mutable {
+    const std::string config_yaml = YAML::Dump(doc.root) + "\n";
+    Pipeline* pipeline = run->pipeline.get();
+    options.progress = [tty, last = -1.0, last_checkpoint = 0.0, pipeline, &config_yaml](
+                           uint64_t frame, int64_t total, double t, uint64_t loops) mutable {
+      // Between frames the front-end is idle, so the pipeline's state can be saved as it is.
+      if (checkpoint_every > 0 && t - last_checkpoint >= checkpoint_every) {
+        last_checkpoint = t;
+        writeCheckpoint((boost::filesystem::path(out_dir) / "checkpoint").string(), config_yaml,
+                        *pipeline);
+      }
       if (t - last < (tty ? 0.2 : 5.0)) return;
       last = t;
       double hz = t > 0 ? frame / t : 0;
