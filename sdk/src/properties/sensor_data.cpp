@@ -74,45 +74,51 @@ void checkSize(InArchive& ar, int width, int height) {
     ar.fail("image size must be within 0.." + std::to_string(kMaxSide) + " pixels per side");
 }
 
+// One field list per type serves both directions: OutArchive::field reads the member,
+// InArchive::field fills it.
+template <class Ar, class S>
+void scanFields(Ar& ar, S& s) {
+  ar.beginObject();
+  ar.field("stamp", s.stamp);
+  ar.field("angle_min", s.angle_min);
+  ar.field("angle_increment", s.angle_increment);
+  ar.field("range_min", s.range_min);
+  ar.field("range_max", s.range_max);
+  ar.field("ranges", s.ranges);
+  ar.field("mount", s.mount);
+  ar.endObject();
+}
+
+template <class Ar, class O>
+void odometryFields(Ar& ar, O& o) {
+  ar.beginObject();
+  ar.field("stamp", o.stamp);
+  ar.field("pose", o.pose);
+  ar.endObject();
+}
+
+template <class Ar, class C>
+void cameraFields(Ar& ar, C& c) {
+  ar.beginObject();
+  ar.field("fx", c.fx);
+  ar.field("fy", c.fy);
+  ar.field("cx", c.cx);
+  ar.field("cy", c.cy);
+  ar.field("width", c.width);
+  ar.field("height", c.height);
+  ar.field("baseline", c.baseline);
+  ar.field("mount", c.mount);
+  ar.endObject();
+}
+
 }  // namespace
 
-void save(OutArchive& ar, const LaserScan& s) {
-  ar.beginObject();
-  ar.field("stamp", s.stamp);
-  ar.field("angle_min", s.angle_min);
-  ar.field("angle_increment", s.angle_increment);
-  ar.field("range_min", s.range_min);
-  ar.field("range_max", s.range_max);
-  ar.field("ranges", s.ranges);
-  ar.field("mount", s.mount);
-  ar.endObject();
-}
-
-void load(InArchive& ar, LaserScan& s) {
-  ar.beginObject();
-  ar.field("stamp", s.stamp);
-  ar.field("angle_min", s.angle_min);
-  ar.field("angle_increment", s.angle_increment);
-  ar.field("range_min", s.range_min);
-  ar.field("range_max", s.range_max);
-  ar.field("ranges", s.ranges);
-  ar.field("mount", s.mount);
-  ar.endObject();
-}
-
-void save(OutArchive& ar, const Odometry2D& o) {
-  ar.beginObject();
-  ar.field("stamp", o.stamp);
-  ar.field("pose", o.pose);
-  ar.endObject();
-}
-
-void load(InArchive& ar, Odometry2D& o) {
-  ar.beginObject();
-  ar.field("stamp", o.stamp);
-  ar.field("pose", o.pose);
-  ar.endObject();
-}
+void save(OutArchive& ar, const LaserScan& s) { scanFields(ar, s); }
+void load(InArchive& ar, LaserScan& s) { scanFields(ar, s); }
+void save(OutArchive& ar, const Odometry2D& o) { odometryFields(ar, o); }
+void load(InArchive& ar, Odometry2D& o) { odometryFields(ar, o); }
+void save(OutArchive& ar, const CameraInfo& c) { cameraFields(ar, c); }
+void load(InArchive& ar, CameraInfo& c) { cameraFields(ar, c); }
 
 void save(OutArchive& ar, const Image& im) {
   ar.beginObject();
@@ -180,32 +186,6 @@ void load(InArchive& ar, DepthImage& d) {
     for (int k = 0; k < 4; ++k) bits |= uint32_t(bytes[4 * i + k]) << (8 * k);
     std::memcpy(&d.data[i], &bits, 4);
   }
-  ar.endObject();
-}
-
-void save(OutArchive& ar, const CameraInfo& c) {
-  ar.beginObject();
-  ar.field("fx", c.fx);
-  ar.field("fy", c.fy);
-  ar.field("cx", c.cx);
-  ar.field("cy", c.cy);
-  ar.field("width", c.width);
-  ar.field("height", c.height);
-  ar.field("baseline", c.baseline);
-  ar.field("mount", c.mount);
-  ar.endObject();
-}
-
-void load(InArchive& ar, CameraInfo& c) {
-  ar.beginObject();
-  ar.field("fx", c.fx);
-  ar.field("fy", c.fy);
-  ar.field("cx", c.cx);
-  ar.field("cy", c.cy);
-  ar.field("width", c.width);
-  ar.field("height", c.height);
-  ar.field("baseline", c.baseline);
-  ar.field("mount", c.mount);
   ar.endObject();
 }
 

@@ -267,7 +267,8 @@ GraphFileInfo readGraph(std::istream& in, const std::string& name, FactorGraph& 
     }
   }
   if (vertices.empty()) {
-    // Edge-only file: one placeholder per id, in id order (the odometry chain order).
+    // Edge-only file: one identity estimate per id, in id order (the odometry chain order),
+    // set properly by the initialisation that follows.
     std::vector<int64_t> ids;
     for (const auto& e : edges) {
       ids.push_back(e.from);

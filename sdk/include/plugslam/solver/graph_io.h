@@ -25,7 +25,7 @@ struct GraphFileInfo {
   size_t vertices = 0;               ///< vertex records in the file
   size_t edges = 0;                  ///< edge records
   size_t fixed = 0;                  ///< variables fixed by FIX records
-  bool has_vertices = false;         ///< false: estimates are placeholders, initialise them
+  bool has_vertices = false;         ///< false: estimates are not from the file; initialise them
   size_t non_pd_information = 0;     ///< edges whose information is not positive definite
   size_t projected_information = 0;  ///< of those, how many were projected
   size_t skipped_records = 0;        ///< records of other known-looking types (e.g. EQUIV)
