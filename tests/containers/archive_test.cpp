@@ -637,6 +637,22 @@ TEST(Archive, FieldsSkippedByTheReaderDoNotDisturbTheRest) {
   }
 }
 
+TEST(BinaryArchive, SeveralArchivesFollowEachOtherInOneStream) {
+  std::stringstream ss;
+  for (int i = 0; i < 3; ++i) {
+    auto ar = makeOutArchive(ss, ArchiveFormat::kBinary);
+    save(*ar, std::vector<double>(static_cast<std::size_t>(i + 1), i * 1.5));
+    ar->finish();
+  }
+  for (int i = 0; i < 3; ++i) {
+    auto ar = makeInArchive(ss, ArchiveFormat::kBinary);
+    std::vector<double> v;
+    load(*ar, v);
+    EXPECT_EQ(v, std::vector<double>(static_cast<std::size_t>(i + 1), i * 1.5));
+  }
+  EXPECT_THROW(makeInArchive(ss, ArchiveFormat::kBinary), ParseError);  // nothing left
+}
+
 // Size/speed sanity: 100k points in each of two clouds through the binary back-end. The archive
 // is the raw doubles plus a small constant; the time is printed for the record, not asserted.
 TEST(BinaryArchive, HundredThousandPointsRoundTrip) {

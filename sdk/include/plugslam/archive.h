@@ -120,7 +120,9 @@ const char* formatName(ArchiveFormat format);
 /// An archive writing to `out` (which must outlive it).
 std::unique_ptr<OutArchive> makeOutArchive(std::ostream& out, ArchiveFormat format);
 /// An archive reading one archive from `in`; `source` names the input in error messages.
-/// The binary reader validates the header, length and checksum here and throws ParseError.
+/// The binary reader consumes exactly one archive (several can follow each other in a stream) and
+/// validates its header, length and checksum here (ParseError); the text reader reads `in` to
+/// its end.
 std::unique_ptr<InArchive> makeInArchive(std::istream& in, ArchiveFormat format,
                                          const std::string& source = "<stream>");
 
