@@ -35,6 +35,9 @@ TEST(ReportTest, RpeRelationsAndCrispnessRender) {
   EXPECT_EQ(n["unit"].as<std::string>(), "frames");
   EXPECT_EQ(n["pairs"].as<int>(), 4);
   EXPECT_NEAR(n["translation_m"]["mean"].as<double>(), 0.5, 1e-9);
+  EXPECT_NEAR(n["translation_percent"]["mean"].as<double>(), rpe.translation_percent.mean, 1e-6);  // 9 digits
+  EXPECT_NEAR(n["length_m"]["mean"].as<double>(), rpe.length_m.mean, 1e-7);
+  EXPECT_NE(toMarkdown(rpe).find("% of the segment's path length"), std::string::npos);
 
   const RelationResult rel = evaluateRelations(line(1.5), relationsFromTrajectory(line(1.0), 0));
   const YAML::Node m = YAML::Load(toJson(rel));

@@ -54,11 +54,38 @@ TEST(RpeTest, ScaleDriftByDistanceAndTime) {
   EXPECT_EQ(r.pairs, 8u);
   EXPECT_NEAR(r.translation.max, 0.3, 1e-12);
   EXPECT_NEAR(r.translation.min, 0.3, 1e-12);
+  // 10 % scale drift is 10 % of every segment's 3 m, whatever its start.
+  EXPECT_EQ(r.translation_percent.count, 8u);
+  EXPECT_NEAR(r.translation_percent.mean, 10.0, 1e-9);
+  EXPECT_NEAR(r.translation_percent.max, 10.0, 1e-9);
+  EXPECT_NEAR(r.length_m.mean, 3.0, 1e-12);
+  // A segment is the first pose at least delta further: 2.5 m asks for 3 m segments.
+  o.delta = 2.5;
+  r = computeRpe(d.ref, d.est, o);
+  EXPECT_NEAR(r.length_m.min, 3.0, 1e-12);
+  EXPECT_NEAR(r.translation_percent.mean, 10.0, 1e-9);
   o.unit = RpeUnit::Seconds;
   o.delta = 1.0;  // two 0.5 s steps
   r = computeRpe(d.ref, d.est, o);
   EXPECT_EQ(r.pairs, 9u);
   EXPECT_NEAR(r.translation.mean, 0.2, 1e-12);
+  EXPECT_NEAR(r.translation_percent.mean, 10.0, 1e-9);
+}
+
+TEST(RpeTest, PercentLeavesOutSegmentsWithoutTravel) {
+  // The robot stands still for two frames: those one-frame segments have no path length and
+  // no percentage, but still count in the metric errors.
+  Trajectory ref, est;
+  const double xs[] = {0, 1, 1, 1, 2};
+  for (int i = 0; i < 5; ++i) {
+    ref.push_back(i, planar(xs[i], 0, 0));
+    est.push_back(i, planar(1.2 * xs[i], 0, 0));
+  }
+  const RpeResult r = computeRpe(ref, est, RpeOptions{});
+  EXPECT_EQ(r.pairs, 4u);
+  EXPECT_EQ(r.translation_percent.count, 2u);
+  EXPECT_NEAR(r.translation_percent.mean, 20.0, 1e-9);
+  EXPECT_NEAR(r.length_m.min, 0.0, 1e-12);
 }
 
 TEST(RpeTest, HeadingDrift) {

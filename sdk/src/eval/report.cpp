@@ -89,7 +89,16 @@ std::string toMarkdown(const AteResult& r) {
 std::string toMarkdown(const RpeResult& r) {
   std::string s =
       format("### RPE (delta %.9g %s, %zu pairs)\n\n", r.delta, toString(r.unit).c_str(), r.pairs);
-  return s + statsTable(r.translation, r.rotation_deg);
+  s += statsTable(r.translation, r.rotation_deg);
+  // Drift relative to the distance travelled: the figure odometry benchmarks quote.
+  s += format(
+      "\nTranslation in %% of the segment's path length along the reference (%zu segments of "
+      "length %.3f m mean, %.3f to %.3f m): rmse %.4f %%, mean %.4f %%, median %.4f %%, "
+      "std %.4f %%, max %.4f %%\n",
+      r.translation_percent.count, r.length_m.mean, r.length_m.min, r.length_m.max,
+      r.translation_percent.rmse, r.translation_percent.mean, r.translation_percent.median,
+      r.translation_percent.std, r.translation_percent.max);
+  return s;
 }
 
 std::string toMarkdown(const RelationResult& r) {
@@ -130,6 +139,8 @@ std::string toJson(const RpeResult& r) {
   o.add("pairs", r.pairs);
   o.add("translation_m", statsJson(r.translation));
   o.add("rotation_deg", statsJson(r.rotation_deg));
+  o.add("translation_percent", statsJson(r.translation_percent));
+  o.add("length_m", statsJson(r.length_m));
   return o.str();
 }
 

@@ -72,7 +72,7 @@ RpeResult computeRpe(const Trajectory& reference, const Trajectory& estimate,
     }
     return n;
   };
-  std::vector<double> trans, rot;
+  std::vector<double> trans, rot, percent, length;
   std::size_t i = 0;
   while (i < n) {
     const std::size_t j = endOf(i);
@@ -84,6 +84,9 @@ RpeResult computeRpe(const Trajectory& reference, const Trajectory& estimate,
     const Eigen::Isometry3d e = (qi.inverse() * qj).inverse() * (pi.inverse() * pj);
     trans.push_back(e.translation().norm());
     rot.push_back(Eigen::AngleAxisd(e.linear()).angle() * kRadToDeg);
+    const double travelled = dist[j] - dist[i];
+    length.push_back(travelled);
+    if (travelled > 0) percent.push_back(100.0 * trans.back() / travelled);
     i = options.all_pairs ? i + 1 : j;
   }
   if (trans.empty()) {
@@ -99,6 +102,8 @@ RpeResult computeRpe(const Trajectory& reference, const Trajectory& estimate,
   result.pairs = trans.size();
   result.translation = computeErrorStats(trans);
   result.rotation_deg = computeErrorStats(rot);
+  result.length_m = computeErrorStats(length);
+  if (!percent.empty()) result.translation_percent = computeErrorStats(percent);
   return result;
 }
 

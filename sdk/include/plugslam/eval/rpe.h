@@ -36,6 +36,10 @@ struct RpeResult {
   std::size_t pairs = 0;    ///< number of (i, j) segments measured
   ErrorStats translation;   ///< |trans(E)| in metres
   ErrorStats rotation_deg;  ///< angle(E) in degrees
+  /// 100 |trans(E)| / L_ij, L_ij the segment's path length along the reference (the drift in %
+  /// of the distance travelled); segments with L_ij = 0 are left out (count says how many are in).
+  ErrorStats translation_percent;
+  ErrorStats length_m;  ///< L_ij in metres: how long the measured segments really are
 };
 
 /// Associates by time and measures every segment; throws InputError if no segment of that
