@@ -68,6 +68,17 @@ TEST(CrispnessTest, HalfTheScansShiftedGiveTheShift) {
   CrispnessOptions gap1;
   gap1.min_index_gap = 1;
   EXPECT_NEAR(computeCrispness(scans, gap1).mean, 0.0, 1e-12);
+  // Within 10 scans every scan has a neighbour of its own half, which coincides with it.
+  CrispnessOptions local;
+  local.min_index_gap = 1;
+  local.max_index_gap = 10;
+  const CrispnessResult w = computeCrispness(scans, local);
+  EXPECT_EQ(w.max_index_gap, 10);
+  EXPECT_NEAR(w.mean, 0.0, 1e-12);  // the coinciding neighbour is always the nearest
+  // A window that only reaches the other half measures the 2 cm shift again.
+  local.min_index_gap = 50;
+  local.max_index_gap = 60;
+  EXPECT_NEAR(computeCrispness(scans, local).mean, 0.02, 1e-9);
 }
 
 TEST(CrispnessTest, GrowsWithThePoseError) {
@@ -107,6 +118,9 @@ TEST(CrispnessTest, RejectsBadInput) {
   EXPECT_THROW(computeCrispness(scans, o), InputError);
   o = CrispnessOptions{};
   o.min_index_gap = 0;
+  EXPECT_THROW(computeCrispness(scans, o), InputError);
+  o = CrispnessOptions{};
+  o.max_index_gap = 10;  // below min_index_gap 50
   EXPECT_THROW(computeCrispness(scans, o), InputError);
   scans[3].points[7].x() = NAN;
   EXPECT_THROW(computeCrispness(scans), InputError);

@@ -30,6 +30,7 @@ struct EvalArgs {
                                               est_format = "auto";
   double delta = 1, max_dt = 0.01, max_distance = 1.0, radius = 0.3, max_range = 0;
   int min_gap = 50;
+  int max_gap = 0;
 };
 
 void emit(const EvalArgs& a, const std::string& md, const std::string& json) {
@@ -166,6 +167,9 @@ void addEvalCommand(CLI::App& root, int& exit_code) {
   cr->add_option("--laser", a.laser, "raw laser entry of the source")->capture_default_str();
   cr->add_option("--source", a.source_type, "source type reading LOG (default: by extension)");
   cr->add_option("--min-gap", a.min_gap, "min index gap between scans")->capture_default_str();
+  cr->add_option("--max-gap", a.max_gap,
+                 "max index gap between scans (0: none; a small window scores local consistency)")
+      ->capture_default_str();
   cr->add_option("--radius", a.radius, "neighbour radius [m]")->capture_default_str();
   cr->add_option("--max-range", a.max_range, "ignore beams longer than this [m] (0: all)")
       ->capture_default_str();
@@ -175,6 +179,7 @@ void addEvalCommand(CLI::App& root, int& exit_code) {
     auto scans = scansFromLog(a, traj);
     CrispnessOptions o;
     o.min_index_gap = a.min_gap;
+    o.max_index_gap = a.max_gap;
     o.radius = a.radius;
     auto r = computeCrispness(scans, o);
     emit(a, toMarkdown(r), toJson(r));

@@ -41,13 +41,14 @@ class GapNearestResult {
   using CountType = std::size_t;
 
   GapNearestResult(const std::int32_t* scan_of, std::int32_t scan, std::int32_t gap,
-                   double radius_sq)
-      : scan_of_(scan_of), scan_(scan), gap_(gap), best_sq_(radius_sq) {}
+                   std::int32_t max_gap, double radius_sq)
+      : scan_of_(scan_of), scan_(scan), gap_(gap), max_gap_(max_gap), best_sq_(radius_sq) {}
 
   std::size_t size() const { return found_ ? 1 : 0; }
   bool full() const { return found_; }
   bool addPoint(double dist_sq, std::uint32_t index) {
-    if (dist_sq < best_sq_ && std::abs(scan_of_[index] - scan_) >= gap_) {
+    const std::int32_t apart = std::abs(scan_of_[index] - scan_);
+    if (dist_sq < best_sq_ && apart >= gap_ && (max_gap_ == 0 || apart <= max_gap_)) {
       best_sq_ = dist_sq;
       found_ = true;
     }
@@ -60,6 +61,7 @@ class GapNearestResult {
   const std::int32_t* scan_of_;
   std::int32_t scan_;
   std::int32_t gap_;
+  std::int32_t max_gap_;
   double best_sq_;
   bool found_ = false;
 };
@@ -105,12 +107,15 @@ CrispnessResult computeCrispness(const std::vector<PosedScan>& scans,
     throw InputError("crispness radius must be a positive number of metres");
   }
   if (options.min_index_gap < 1) throw InputError("crispness min_index_gap must be at least 1");
+  if (options.max_index_gap != 0 && options.max_index_gap < options.min_index_gap)
+    throw InputError("crispness max_index_gap must be 0 (no limit) or at least min_index_gap");
   if (scans.size() > static_cast<std::size_t>(INT32_MAX)) {
     throw InputError("crispness: too many scans");
   }
   CrispnessResult result;
   result.scans = scans.size();
   result.min_index_gap = options.min_index_gap;
+  result.max_index_gap = options.max_index_gap;
   result.radius = options.radius;
 
   WorldCloud cloud;
@@ -147,7 +152,8 @@ CrispnessResult computeCrispness(const std::vector<PosedScan>& scans,
   auto work = [&](std::size_t begin, std::size_t end) {
     const nanoflann::SearchParams params;
     for (std::size_t i = begin; i < end; ++i) {
-      GapNearestResult r(cloud.scan.data(), cloud.scan[i], options.min_index_gap, radius_sq);
+      GapNearestResult r(cloud.scan.data(), cloud.scan[i], options.min_index_gap,
+                         options.max_index_gap, radius_sq);
       tree.findNeighbors(r, &cloud.xy[2 * i], params);
       if (r.found()) nearest[i] = std::sqrt(r.worstDist());
     }

@@ -119,6 +119,7 @@ std::string toMarkdown(const CrispnessResult& r) {
   s += format("| matched points | %zu of %zu |\n", r.matched_points, r.points);
   s += format("| scans | %zu |\n", r.scans);
   s += format("| min index gap | %d |\n", r.min_index_gap);
+  if (r.max_index_gap > 0) s += format("| max index gap | %d |\n", r.max_index_gap);
   s += format("| radius (m) | %.6g |\n", r.radius);
   return s;
 }
@@ -158,7 +159,7 @@ std::string toJson(const CrispnessResult& r) {
   JsonObject o;
   o.add("metric", std::string("crispness")).add("mean_m", r.mean);
   o.add("points", r.points).add("matched_points", r.matched_points).add("scans", r.scans);
-  o.add("min_index_gap", r.min_index_gap).add("radius_m", r.radius);
+  o.add("min_index_gap", r.min_index_gap).add("max_index_gap", r.max_index_gap).add("radius_m", r.radius);
   return o.str();
 }
 

@@ -19,6 +19,9 @@ struct PosedScan {
 struct CrispnessOptions {
   /// Neighbours only come from scans whose index differs by at least this much.
   int min_index_gap = 50;
+  /// And at most this much (0: no limit). A small window [min, max] scores local consistency,
+  /// which a drifting front-end without loop closure can be judged on.
+  int max_index_gap = 0;
   /// Neighbours farther than this (m) do not count; points without one are left out.
   double radius = 0.3;
   /// Worker threads (1: deterministic single thread; results are identical for any value).
@@ -32,11 +35,12 @@ struct CrispnessResult {
   std::size_t matched_points = 0;  ///< points with a neighbour within the radius
   std::size_t scans = 0;
   int min_index_gap = 50;
+  int max_index_gap = 0;  ///< 0: no upper limit
   double radius = 0.3;
 };
 
 /// For every point placed at its scan's pose, the distance to the nearest point of a scan at
-/// least min_index_gap scans away, if within radius; returns the mean over matched points (0 if
+/// least min_index_gap (and, if max_index_gap > 0, at most max_index_gap) scans away, if within radius; returns the mean over matched points (0 if
 /// none). Throws InputError on a non-positive radius or gap, or non-finite points.
 CrispnessResult computeCrispness(const std::vector<PosedScan>& scans,
                                  const CrispnessOptions& options = {});
