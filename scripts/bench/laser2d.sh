@@ -66,3 +66,5 @@ done
   printf "%s" "$rows"
 } | python3 "$(dirname "$0")/update_section.py" laser2d "$root/docs/benchmarks.md"
 echo "wrote docs/benchmarks.md (laser2d)"
+# The front-end alone (issue 4's speed and local-accuracy targets): its own section.
+"$(dirname "$0")/laser2d_frontend.sh"
