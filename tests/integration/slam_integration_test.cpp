@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "plugslam/eval/relations.h"
+#include "plugslam/eval/rpe.h"
 #include "plugslam/trajectory.h"
 #include "test_paths.h"
 
@@ -95,6 +96,47 @@ TEST(Slam, IntelMatchesTheReferenceAndIsAsCrisp) {
   const double c_ours = jsonNumber(ours.out, "mean_m"), c_ref = jsonNumber(theirs.out, "mean_m");
   // A broken map (double walls, bent corridors) is far above the reference's crispness.
   EXPECT_LT(c_ours, 1.1 * c_ref) << "ours " << c_ours << " reference " << c_ref;
+  fs::remove_all(out);
+}
+
+// Issue 4: the front-end alone (the shipped config without the graph back-end and the map
+// writer, as scripts/bench/laser2d_frontend.sh runs it), relative error over 1 m against the
+// GMapping poses. Measured 2.85 % and 0.63 deg; the reference's own noise puts a floor of about
+// 2.3 % under any estimate (docs/benchmarks.md), so the thresholds sit just above the measured
+// values: odometry alone gives 8.7 % and 5.6 deg, a laser slice that no longer associates or a
+// wrong Jacobian lands far above them.
+TEST(Slam, IntelFrontEndAloneRelativeErrorOverOneMetre) {
+  const std::string log = plugslam::testing::dataDir() + "/laser2d/intel-gfs-corrected/intel-corrected.log.gz";
+  if (!fs::exists(log)) GTEST_SKIP() << "intel log not found at " << log << " (set PLUGSLAM_DATA)";
+  fs::path out = tempDir("intel_frontend");
+  Result r = run("run configs/laser2d_carmen.yaml -o " + out.string() + " --set source.path=" + log +
+                 " --set pipeline.graph=null"
+                 " --set 'outputs=[{type: io.TrajectoryWriter, format: tum}]'");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_FALSE(fs::exists(out / "graph.g2o"));
+  EXPECT_FALSE(fs::exists(out / "map.pgm"));
+  const std::string json = slurp((out / "run.json").string());
+  EXPECT_EQ(jsonNumber(json, "tracking_failures"), 0);
+  EXPECT_EQ(jsonNumber(json, "loops_accepted"), 0);
+  Trajectory est = readTrajectory((out / "trajectory.tum").string());
+  Trajectory ref = readTrajectory((out / "reference.tum").string());
+  ASSERT_EQ(est.size(), 910u);
+  RpeOptions o;
+  o.unit = RpeUnit::Meters;
+  o.delta = 1.0;
+  const RpeResult rpe = computeRpe(ref, est, o);
+  EXPECT_GT(rpe.pairs, 900u);
+  EXPECT_LT(rpe.translation_percent.mean, 3.3) << "median " << rpe.translation_percent.median;
+  EXPECT_LT(rpe.translation_percent.median, 2.8);
+  EXPECT_LT(rpe.rotation_deg.mean, 0.8);
+  // Locally (scans at most 10 apart) the front-end is more consistent than GMapping's poses.
+  const std::string window = " --min-gap 1 --max-gap 10 --max-range 20 --format json";
+  Result ours = run("eval crispness " + log + " " + (out / "trajectory.tum").string() + window);
+  Result theirs = run("eval crispness " + log + " " + (out / "reference.tum").string() + window);
+  ASSERT_EQ(ours.code, 0) << ours.out;
+  ASSERT_EQ(theirs.code, 0) << theirs.out;
+  const double c_ours = jsonNumber(ours.out, "mean_m"), c_ref = jsonNumber(theirs.out, "mean_m");
+  EXPECT_LT(c_ours, c_ref) << "ours " << c_ours << " reference " << c_ref;
   fs::remove_all(out);
 }
 
