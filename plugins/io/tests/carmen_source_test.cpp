@@ -117,6 +117,38 @@ TEST(CarmenSource, FramesCarryScanOdometryAndReference) {
   expectPose(se2(0.0, 0, M_PI), rear.mount);
 }
 
+// In a corrected log, a laser that follows the previous one's restart line with no ODOM reading
+// in between has unknown motion (seattle scan 28 turned 80 degrees in such a gap): its frame has
+// no odometry entry, and the next frame's reading spans the gap without the missing motion.
+TEST(CarmenSource, NoReadingAfterARestartMeansUnknownOdometry) {
+  const char* log =
+      "ODOM 0 0 0 0 0 0 1.0 h 1.0\n"
+      "FLASER 3 1 2 3 0 0 0 0 0 0 1.0 h 1.0\n"
+      "ODOM 0 0 0 0 0 0 0 h 0\n"
+      "ODOM 0.5 0 0 0 0 0 1.5 h 1.5\n"
+      "FLASER 3 1 2 3 0.5 0 0 0.5 0 0 1.5 h 1.5\n"
+      "ODOM 0.5 0 0 0 0 0 0 h 0\n"
+      "FLASER 3 1 2 3 0.5 0 1.4 0.5 0 1.4 4.5 h 4.5\n"
+      "ODOM 0.5 0 1.4 0 0 0 0 h 0\n"
+      "ODOM 0.5 0.5 1.4 0 0 0 5.0 h 5.0\n"
+      "FLASER 3 1 2 3 0.5 0.5 1.4 0.5 0.5 1.4 5.0 h 5.0\n";
+  CarmenSource source;
+  source.path = writeLog("gap.log", log);
+  source.configure();
+  std::vector<Frame> frames(4);
+  for (auto& f : frames) ASSERT_TRUE(source.next(f));
+  ASSERT_TRUE(frames[0].raw.has("odom"));
+  ASSERT_TRUE(frames[1].raw.has("odom"));
+  EXPECT_FALSE(frames[2].raw.has("odom"));  // only the restart line since the previous laser
+  ASSERT_TRUE(frames[3].raw.has("odom"));
+  EXPECT_EQ(source.unknownOdometryFrames(), 1u);
+  // From frame 1 to frame 3 the track holds only the motion after frame 2's restart (0.5 m
+  // along frame 2's heading), which is the motion from frame 2 to frame 3.
+  const Eigen::Isometry2d delta = frames[1].raw.get<Odometry2D>("odom").pose.inverse() *
+                                  frames[3].raw.get<Odometry2D>("odom").pose;
+  expectPose(se2(0.5, 0, 1.4).inverse() * se2(0.5, 0.5, 1.4), delta);
+}
+
 TEST(CarmenSource, LogWithoutFrontLaserIsAnInputError) {
   CarmenSource source;
   source.path = writeLog("noflaser.log", "ODOM 0 0 0 0 0 0 1.0 h 1.0\n");

@@ -72,6 +72,8 @@ void CarmenSource::open() {
   pending_rear_.reset();
   have_odom_ = false;
   laser_before_odom_.reset();
+  odometry_unknown_ = false;
+  unknown_odometry_frames_ = 0;
   last_odom_stamp_ = 0;
   last_odom_has_stamp_ = false;
   held_.reset();
@@ -165,13 +167,16 @@ void CarmenSource::onOdometry(const CarmenOdometry& odom) {
     // Dead reckoning restarted from the corrected pose: no motion happened here.
     last_raw_ = raw;
     ++restarts_;
+    odometry_unknown_ = true;
   } else if (!have_odom_) {
     track_ = raw;
     last_raw_ = raw;
     have_odom_ = true;
+    odometry_unknown_ = false;
   } else {
     track_ = track_ * (last_raw_.inverse() * raw);
     last_raw_ = raw;
+    odometry_unknown_ = false;
   }
   laser_before_odom_.reset();
   last_odom_stamp_ = odom.timestamp;
@@ -189,6 +194,13 @@ void CarmenSource::fill(Frame& frame, Held& held, const std::optional<Eigen::Iso
     if (laser.has_pose) {
       frame.raw.set<Odometry2D>(odometry(), {held.stamp, toIso(laser.robot_pose)});
     }
+  } else if (held.odometry_unknown) {
+    // Leaving the entry out lets the motion model and the prior span the gap from the last
+    // reading (the track did not move during it) instead of asserting zero motion.
+    ++unknown_odometry_frames_;
+    spdlog::debug("CARMEN log '{}': no ODOM reading between the laser lines at t = {} and the one "
+                  "before; frame without odometry",
+                  path(), held.stamp);
   } else if (odom) {
     frame.raw.set<Odometry2D>(odometry(), {held.stamp, *odom});
   }
@@ -268,6 +280,7 @@ bool CarmenSource::next(Frame& frame) {
     held.rear = std::move(pending_rear_);
     pending_rear_.reset();
     held.laser = laser;
+    held.odometry_unknown = !use_laser_odometry() && odometry_unknown_;
 
     // The preceding ODOM line is the reading at the laser when it carries the laser's time (the
     // GMapping-corrected logs) or when the log has no times; a laser logged after the last

@@ -75,6 +75,9 @@ class CarmenSource : public Source {
   std::size_t synthesizedStamps() const { return synthesized_stamps_; }
   /// Odometry restarts detected and skipped (GMapping-corrected logs).
   std::size_t odometryRestarts() const { return restarts_; }
+  /// Frames without an odometry entry because dead reckoning restarted at the previous laser and
+  /// no ODOM line followed before this one (the motion between them is unknown).
+  std::size_t unknownOdometryFrames() const { return unknown_odometry_frames_; }
   /// The reader's counters so far.
   const CarmenReaderStats& readerStats() const;
 
@@ -84,6 +87,7 @@ class CarmenSource : public Source {
     CarmenLaser laser;
     double stamp = 0;
     std::optional<LaserScan> rear;
+    bool odometry_unknown = false;  // see odometry_unknown_
   };
   void open();
   void fill(Frame& frame, Held& held, const std::optional<Eigen::Isometry2d>& odom);
@@ -107,6 +111,11 @@ class CarmenSource : public Source {
   std::optional<CarmenRecord> pushed_back_;
   // The robot pose of the most recent laser line, while no ODOM line has followed it.
   std::optional<CarmenPose> laser_before_odom_;
+  // Dead reckoning restarted at a laser and no reading has followed yet: the motion since that
+  // laser is unknown (a gap in the log), not zero, so the next laser gets no odometry entry.
+  bool odometry_unknown_ = false;
+  /// Frames given no odometry because the log has no ODOM reading since the previous laser.
+  std::size_t unknown_odometry_frames_ = 0;
   double last_stamp_ = 0;
   bool any_frame_ = false;
   std::size_t synthesized_stamps_ = 0;
