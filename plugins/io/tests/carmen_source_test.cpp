@@ -108,8 +108,12 @@ TEST(CarmenSource, FramesCarryScanOdometryAndReference) {
   expectPose(o0.pose * increment, o1.pose);
   EXPECT_EQ(source.odometryRestarts(), 2u);  // the final next() read the last restart too
 
-  expectPose(se2(1.05, 0.02, 0.01), f0.raw.get<Eigen::Isometry2d>("reference"));
-  expectPose(se2(2.1, 0.0, 0.2), f1.raw.get<Eigen::Isometry2d>("reference"));
+  // The reference is the robot pose: the logged (laser) pose moved back by the 0.1 m mount.
+  expectPose(se2(1.05, 0.02, 0.01) * se2(0.1, 0, 0).inverse(),
+             f0.raw.get<Eigen::Isometry2d>("reference"));
+  expectPose(se2(2.1, 0.0, 0.2) * se2(0.1, 0, 0).inverse(),
+             f1.raw.get<Eigen::Isometry2d>("reference"));
+  expectPose(f0.raw.get<Eigen::Isometry2d>("reference") * scan.mount, se2(1.05, 0.02, 0.01));
 
   // The rear scan between the two front scans rides with the second frame, facing backwards.
   const auto& rear = f1.raw.get<LaserScan>("rear_laser");

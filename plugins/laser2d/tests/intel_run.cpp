@@ -31,7 +31,8 @@ class DeltaMotion final : public MotionModel<Space2D> {
 
 struct LogScan {
   LaserScan scan;
-  SE2 reference;
+  SE2 logged;     // the pose on the laser line
+  SE2 reference;  // the robot's pose
   std::optional<SE2> odom_delta;
 };
 
@@ -60,10 +61,12 @@ std::vector<LogScan> readLog(const std::string& path) {
     s.scan.range_max = l.max_range;
     s.scan.ranges = l.ranges;
     s.scan.mount = se2(l.forward_offset, 0.0, 0.0);
-    s.reference = poseOf(l.robot_pose);
-    // In the corrected logs odometry restarts from each corrected scan pose: the increment is
-    // the last ODOM pose before this scan, seen from the previous scan's pose.
-    if (!scans.empty() && have_odom) s.odom_delta = scans.back().reference.inverse() * last_odom;
+    // The logged pose is the laser's (as io.CarmenSource reads it): the robot is one mount back.
+    s.logged = poseOf(l.laser_pose);
+    s.reference = s.logged * s.scan.mount.inverse();
+    // In the corrected logs odometry restarts from each logged scan pose: the increment is the
+    // last ODOM pose before this scan, seen from the previous scan's logged pose.
+    if (!scans.empty() && have_odom) s.odom_delta = scans.back().logged.inverse() * last_odom;
     have_odom = false;
     scans.push_back(std::move(s));
   }

@@ -204,7 +204,16 @@ void CarmenSource::fill(Frame& frame, Held& held, const std::optional<Eigen::Iso
   } else if (odom) {
     frame.raw.set<Odometry2D>(odometry(), {held.stamp, *odom});
   }
-  if (laser.has_pose) frame.raw.set<Eigen::Isometry2d>(reference(), toIso(laser.robot_pose));
+  // The reference is the robot's pose: the logged laser pose moved back by the mount. In raw
+  // logs that is the logged robot pose; GMapping-corrected logs write GMapping's estimate of the
+  // laser pose into both fields (scans placed at it as the laser pose make a crisper map than at
+  // it as the robot pose on every log with a laser offset), so the robot field would be off by
+  // the offset, turned with the robot.
+  if (laser.has_pose) {
+    const LaserScan& placed = frame.raw.get<LaserScan>(front());
+    frame.raw.set<Eigen::Isometry2d>(reference(),
+                                     toIso(laser.laser_pose) * placed.mount.inverse());
+  }
 }
 
 bool CarmenSource::next(Frame& frame) {
