@@ -204,7 +204,21 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
   pipeline.finish();
   RunResult result = pipeline.result();
   if (pipeline.graph) report.graph = pipeline.graph->stats();
-  for (auto& sink : run_.outputs) asModule(*sink, [&] { sink->end(result); });
+  // Every sink gets its end() even when one fails, and run.json is written; the first failure
+  // is rethrown after.
+  std::exception_ptr sink_failure;
+  for (auto& sink : run_.outputs) {
+    try {
+      asModule(*sink, [&] { sink->end(result); });
+    } catch (const Error& e) {
+      if (sink_failure) spdlog::error("{}", e.what());  // the first one is rethrown below
+      if (!sink_failure) {
+        sink_failure = std::current_exception();
+        if (report.error.empty()) report.error = e.what();
+        if (report.stopped_by != "error") report.stopped_by = "error";
+      }
+    }
+  }
   report.tracked = result.trajectory.size();
   if (pipeline.tracker) {
     report.local_maps = pipeline.tracker->stats().local_maps;
@@ -221,6 +235,7 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
   report.modules = io_timings_.entries();
   for (const auto& e : pipeline.timings().entries()) report.modules.push_back(e);
   writeTextFileAtomic((fs::path(options_.out_dir) / "run.json").string(), runReportJson(report));
+  if (sink_failure) std::rethrow_exception(sink_failure);
   return report;
 }
 
@@ -243,14 +258,16 @@ RunReport runPipeline(RunConfig& run, const RunOptions& options) {
       break;
     }
   }
-  if (!failure) return execution.finish(stopped_by);
   // Nothing was built before the first frame failed: nothing to write or save.
-  if (execution.frames() == 0) std::rethrow_exception(failure);
-  spdlog::info("run stopped by an error after {} frame(s); finishing it", execution.frames());
+  if (failure && execution.frames() == 0) std::rethrow_exception(failure);
+  if (failure)
+    spdlog::info("run stopped by an error after {} frame(s); finishing it", execution.frames());
   try {
-    execution.finish("error", error);
-  } catch (const std::exception& e) {
-    spdlog::error("finishing the run after that error failed too: {}", e.what());
+    RunReport report = execution.finish(failure ? "error" : stopped_by, error);
+    if (!failure) return report;
+  } catch (const Error&) {
+    // A sink that could not write its output (reported already): the rest is still saved.
+    if (!failure) failure = std::current_exception();
   }
   try {
     if (options.stopped_by_error) options.stopped_by_error();

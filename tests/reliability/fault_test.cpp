@@ -129,6 +129,25 @@ TEST_F(PluginFault, StopPolicyWritesTheOutputsAndSavesTheSession) {
   EXPECT_NE(r.out.find("session saved in"), std::string::npos) << r.out;
 }
 
+TEST_F(PluginFault, SinkFailingAtTheEndLeavesTheOtherOutputsAndTheSession) {
+  std::ofstream(config_) << "plugins: [" << plugslam::testing::buildDir()
+                         << "/tests/plugins/plugslam_fixture.so]\n"
+                            "source: {type: fixture.CountingSource, frames: 20}\n"
+                            "pipeline:\n  preprocessors:\n    - {type: fixture.Scale}\n"
+                            "outputs:\n  - {type: fixture.SumWriter, fail_in_end: true}\n"
+                            "  - {type: fixture.SumWriter, file: second.txt}\n";
+  const Result r = run("max_frames=20");
+  expectReported(r, "outputs[0]", "fixture.SumWriter");
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "sum.txt"));
+  EXPECT_EQ(readFile(dir_ / "out" / "second.txt"), "20 380\n");
+  const std::string json = readFile(dir_ / "out" / "run.json");
+  EXPECT_NE(json.find("\"error\": \"module 'outputs[0]' (fixture.SumWriter) failed: fixture "
+                      "SumWriter failure in end()\""),
+            std::string::npos)
+      << json;
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "session" / "session.yaml")) << r.out;
+}
+
 TEST_F(PluginFault, SkipPolicySkipsTheFailingFrameAndGoesOn) {
   const Result r = run("pipeline.preprocessors[0].fail_at=4", "on_module_error=skip");
   EXPECT_FALSE(r.signalled) << r.out;
