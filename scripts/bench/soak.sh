@@ -8,6 +8,7 @@
 # The run is stopped with SIGINT (it finishes, writes its outputs and exits 130). Writes the table
 # into docs/benchmarks.md (section soak); raw samples and logs in out/bench/soak/.
 #   scripts/bench/soak.sh [SECONDS] [MODE...]     (default 120 s, both modes)
+#   PLUGSLAM_SOAK_REPORT_ONLY=1 scripts/bench/soak.sh SECONDS   table from the runs already made
 # Run scripts/build.sh first. On a shared machine wrap it in flock (it keeps the CPU busy).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -63,6 +64,11 @@ for rel in "${logs[@]}"; do
   name=$(basename "$(dirname "$rel")")
   if [[ "$log" == *.bag ]]; then cfg="$root/configs/laser2d_rosbag.yaml"; else cfg="$root/configs/laser2d_carmen.yaml"; fi
   base="$out/$name"
+  if [ -n "${PLUGSLAM_SOAK_REPORT_ONLY:-}" ]; then
+    frames=$(python3 -c "import json;print(json.load(open('$base/once/run.json'))['frames'])")
+    for mode in "${modes[@]}"; do rows+=("$name $mode $frames $base/$mode"); done
+    continue
+  fi
   rm -rf "$base"
   mkdir -p "$base"
   # The shipped config on this log (a config must open its source to load).
@@ -131,12 +137,17 @@ for name, mode, frames, run in rows:
         after_first = f"{after_first:.1f}"
     else:
         growth, after_first = "n/a", "n/a"
-    per_frame = ""
-    if complete >= 2:
-        extra = report["frames"] - frames
-        per_frame = f"{1024 * 1024 * (end_rss - rss_at(starts[1])) / max(extra, 1):.0f}"
+    # The trajectory record: the pipeline keeps every tracked frame (144 bytes: stamp, local map,
+    # pose in it) and, when the log has one, its reference pose (144 bytes) for the outputs.
+    record = 144 * (2 if report["reference"]["ate_rmse_m"] is not None else 1)
+    per_frame, beyond = "", "n/a"
+    if complete >= 1:
+        extra = max(report["frames"] - frames, 1)
+        per_frame = f"{1024 * 1024 * (end_rss - rss_at(starts[1])) / extra:.0f}"
+        rest = end_rss - rss_at(starts[1]) - extra * record / (1024 * 1024)
+        beyond = f"{100 * rest / rss_at(starts[1]):+.1f} %"
     summary.append(f"| {name} | {mode} | {report['frames']} | {complete} | {after_first} | {end_rss:.1f} | "
-                   f"{growth} | {per_frame or 'n/a'} | {peak:.1f} | "
+                   f"{growth} | {per_frame or 'n/a'} | {record} | {beyond} | {peak:.1f} | "
                    f"{(f'{hz[0]:.0f} / {statistics.median(hz):.0f} / {hz[-1]:.0f}') if hz else 'n/a'} | "
                    f"{report['local_maps']} | {report['graph']['nodes']} |")
     # Replay by replay: the first three, then evenly spaced, and the last.
@@ -154,11 +165,13 @@ print("maps; the steady state of a robot working in a known place). mapping: eve
 print("anew (new local maps each pass; the pose graph grows with them, by design).")
 print("Memory: VmRSS sampled every 0.2 s; growth = RSS at the end vs RSS when the first replay ended")
 print("(target ≤ 5 % for a bounded run); bytes/frame = that growth over the frames after the first")
-print("replay; peak = VmHWM, including the outputs written at the end. Hz: frames of one pass / its")
+print("replay; record = the bytes per frame the pipeline keeps for the trajectory outputs (tracked")
+print("pose, plus the reference pose when the log has one); beyond = the growth left once that record")
+print("is taken out; peak = VmHWM, including the outputs written at the end. Hz: frames of one pass / its")
 print("wall time (source, pipeline and sinks), for the first, median and last complete replays.")
 print()
-print("| log | mode | frames | replays | RSS after 1st [MiB] | RSS at end [MiB] | growth | bytes / frame | peak [MiB] | Hz first / median / last | local maps | graph nodes |")
-print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+print("| log | mode | frames | replays | RSS after 1st [MiB] | RSS at end [MiB] | growth | bytes / frame | record [B/frame] | beyond the record | peak [MiB] | Hz first / median / last | local maps | graph nodes |")
+print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
 print("\n".join(summary))
 print()
 print("Per replay (replay: Hz, RSS at its end):")
