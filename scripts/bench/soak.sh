@@ -32,7 +32,7 @@ logs=(freiburg-079-gfs-corrected/freiburg-079-corrected.log.gz
       intel-gfs-corrected/intel-corrected.log.gz)
 
 # Runs "$@" (a plugslam command line) in the background for $seconds, sampling its memory into
-# $1-prefixed files; then SIGINT, and waits for it to finish.
+# files in the folder $1; then SIGINT, and waits for it to finish.
 sample_run() {
   local run="$1"
   shift
