@@ -6,6 +6,9 @@
 # once fixed).
 #   scripts/fuzz.sh [SECONDS] [TARGET...]     e.g. scripts/fuzz.sh 300 fuzz_graph
 # PLUGSLAM_LOCK=FILE wraps the build and every run in `flock FILE` (shared build machines).
+# Every run is also appended to build-fuzz/fuzz-history.tsv; as the corpus is kept between runs,
+# the summary gives each target's executions in this run and in total over the history (delete
+# both build-fuzz/corpus and the history to start a campaign afresh).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 seconds="${1:-60}"
@@ -40,7 +43,9 @@ seed_files() {  # files seeding one target
 
 status=0
 summary="$build/fuzz-summary.txt"
+history="$build/fuzz-history.tsv"
 : > "$summary"
+[ -f "$history" ] || printf 'date\ttarget\tseconds\texecs\tcov\tcorpus\texit\n' > "$history"
 for t in "${targets[@]}"; do
   corpus="$build/corpus/$t"
   seeds="$build/seeds/$t"
@@ -70,7 +75,10 @@ for t in "${targets[@]}"; do
   set -e
   execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' | tail -1)
   cov=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | grep -o '[0-9]*')
-  line="$t: ${execs:-?} execs in ${seconds}s, cov ${cov:-?}, corpus $(ls "$corpus" | wc -l), exit $rc"
+  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$(date -u +%FT%TZ)" "$t" "$seconds" "${execs:-0}" \
+    "${cov:-?}" "$(ls "$corpus" | wc -l)" "$rc" >> "$history"
+  total=$(awk -F'\t' -v t="$t" '$2 == t { n += $4; r += 1 } END { printf "%d execs over %d runs", n, r }' "$history")
+  line="$t: ${execs:-?} execs in ${seconds}s, cov ${cov:-?}, corpus $(ls "$corpus" | wc -l), exit $rc; total $total"
   echo "$line" | tee -a "$summary"
   if [ $rc -ne 0 ]; then
     status=1

@@ -23,6 +23,11 @@ class RunConfig : public Configurable {
   SlotList<Sink> outputs{this, "outputs", "writers and streams fed each frame and at the end"};
   Param<int64_t> max_frames{this, "max_frames", 0, "", "stop after this many frames (0: all)",
                             Range{0, 1e15}};
+  Param<std::string> on_module_error{
+      this, "on_module_error", "stop", "",
+      "a module that throws during a run: stop (outputs written, session saved in "
+      "OUTDIR/session, exit 1) or skip the frame (warned, counted in run.json)",
+      Choices{{"stop", "skip"}}};
 };
 
 /// Loads the config's plugins and builds the whole module tree; throws ConfigError/PluginError.

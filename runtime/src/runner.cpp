@@ -42,6 +42,23 @@ namespace {
 std::string jsonNumber(const std::optional<double>& v) {
   return v && std::isfinite(*v) ? fmt::format("{:.6f}", *v) : "null";
 }
+
+// A JSON string literal: error messages quote file contents and names.
+std::string jsonString(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (u < 0x20) {
+      out += fmt::format("\\u{:04x}", u);
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
 }  // namespace
 
 std::string runReportJson(const RunReport& r) {
@@ -53,13 +70,15 @@ std::string runReportJson(const RunReport& r) {
   }
   return fmt::format(
       "{{\n  \"frames\": {},\n  \"wall_time_s\": {:.6f},\n  \"hz\": {:.3f},\n  \"pipeline_time_s\": {:.6f},\n  \"pipeline_hz\": {:.3f},\n  \"stopped_by\": "
-      "\"{}\",\n  \"tracked_frames\": {},\n  \"local_maps\": {},\n  \"tracking_failures\": {},\n"
+      "\"{}\",\n  \"error\": {},\n  \"tracked_frames\": {},\n  \"local_maps\": {},\n  \"tracking_failures\": {},\n"
+      "  \"module_errors\": {},\n"
       "  \"reference\": {{\"ate_rmse_m\": {}, \"ate_max_m\": {}, \"rpe_1m_rmse_m\": {}}},\n"
       "  \"graph\": {{\"nodes\": {}, \"edges\": {}, \"loop_candidates\": {}, \"loops_accepted\": {}, "
       "\"loops_rejected\": {}, \"optimizations\": {}, \"optimization_time_s\": {:.6f}, "
       "\"final_chi2\": {:.6f}}},\n"
       "  \"modules\": {{{}\n  }}\n}}\n",
-      r.frames, r.wall_s, r.hz, r.pipeline_s, r.pipeline_hz, r.stopped_by, r.tracked, r.local_maps, r.tracking_failures,
+      r.frames, r.wall_s, r.hz, r.pipeline_s, r.pipeline_hz, r.stopped_by, r.error.empty() ? "null" : jsonString(r.error), r.tracked,
+      r.local_maps, r.tracking_failures, r.module_errors,
       jsonNumber(r.ate_rmse), jsonNumber(r.ate_max), jsonNumber(r.rpe_rmse), r.graph.nodes,
       r.graph.edges, r.graph.candidates, r.graph.loops_accepted, r.graph.loops_rejected,
       r.graph.optimizations, r.graph.optimization_time, r.graph.final_chi2, modules);
@@ -138,10 +157,24 @@ bool Execution::step() {
     return false;
   }
   frame.seq = seq;
-  run_.pipeline->process(frame);
+  const bool skip = run_.on_module_error() == "skip";
+  bool processed = true;
+  try {
+    run_.pipeline->process(frame);
+  } catch (const ModuleError& e) {
+    if (!skip) throw;
+    skipped(seq, e);
+    processed = false;  // the sinks never see a frame the pipeline did not finish
+  }
   for (auto& sink : run_.outputs) {
+    if (!processed) break;
     ScopedTimer t(io_timings_, sink->name());
-    asModule(*sink, [&] { sink->consume(frame); });
+    try {
+      asModule(*sink, [&] { sink->consume(frame); });
+    } catch (const ModuleError& e) {
+      if (!skip) throw;
+      skipped(seq, e);
+    }
   }
   report_.frames = seq + 1;
   if (options_.progress) {
@@ -151,16 +184,41 @@ bool Execution::step() {
   return true;
 }
 
-RunReport Execution::finish(const std::string& stopped_by) {
+void Execution::skipped(uint64_t seq, const ModuleError& e) {
+  constexpr uint64_t kMaxWarnings = 5;
+  if (++report_.module_errors <= kMaxWarnings)
+    spdlog::warn("frame {} skipped (on_module_error: skip): {}{}", seq, e.what(),
+                 report_.module_errors == kMaxWarnings ? " (further ones are only counted)" : "");
+}
+
+RunReport Execution::finish(const std::string& stopped_by, const std::string& error) {
   if (finished_) throw InputError("this run has already finished");
   finished_ = true;
   RunReport report = report_;
   if (!stopped_by.empty()) report.stopped_by = stopped_by;
+  report.error = error;
+  if (report.module_errors > 0)
+    spdlog::warn("{} frame(s) skipped because a module failed (on_module_error: skip)",
+                 report.module_errors);
   Pipeline& pipeline = *run_.pipeline;
   pipeline.finish();
   RunResult result = pipeline.result();
   if (pipeline.graph) report.graph = pipeline.graph->stats();
-  for (auto& sink : run_.outputs) asModule(*sink, [&] { sink->end(result); });
+  // Every sink gets its end() even when one fails, and run.json is written; the first failure
+  // is rethrown after.
+  std::exception_ptr sink_failure;
+  for (auto& sink : run_.outputs) {
+    try {
+      asModule(*sink, [&] { sink->end(result); });
+    } catch (const Error& e) {
+      if (sink_failure) spdlog::error("{}", e.what());  // the first one is rethrown below
+      if (!sink_failure) {
+        sink_failure = std::current_exception();
+        if (report.error.empty()) report.error = e.what();
+        if (report.stopped_by != "error") report.stopped_by = "error";
+      }
+    }
+  }
   report.tracked = result.trajectory.size();
   if (pipeline.tracker) {
     report.local_maps = pipeline.tracker->stats().local_maps;
@@ -177,20 +235,46 @@ RunReport Execution::finish(const std::string& stopped_by) {
   report.modules = io_timings_.entries();
   for (const auto& e : pipeline.timings().entries()) report.modules.push_back(e);
   writeTextFileAtomic((fs::path(options_.out_dir) / "run.json").string(), runReportJson(report));
+  if (sink_failure) std::rethrow_exception(sink_failure);
   return report;
 }
 
 RunReport runPipeline(RunConfig& run, const RunOptions& options) {
   Execution execution(run, options);
   std::string stopped_by;
+  std::exception_ptr failure;
+  std::string error;
   for (;;) {
     if (options.interrupted && options.interrupted()) {
       stopped_by = "interrupted";
       break;
     }
-    if (!execution.step()) break;
+    try {
+      if (!execution.step()) break;
+    } catch (const Error& e) {
+      // Bad input or a failing module: what was built so far is still finished and written.
+      failure = std::current_exception();
+      error = e.what();
+      break;
+    }
   }
-  return execution.finish(stopped_by);
+  // Nothing was built before the first frame failed: nothing to write or save.
+  if (failure && execution.frames() == 0) std::rethrow_exception(failure);
+  if (failure)
+    spdlog::info("run stopped by an error after {} frame(s); finishing it", execution.frames());
+  try {
+    RunReport report = execution.finish(failure ? "error" : stopped_by, error);
+    if (!failure) return report;
+  } catch (const Error&) {
+    // A sink that could not write its output (reported already): the rest is still saved.
+    if (!failure) failure = std::current_exception();
+  }
+  try {
+    if (options.stopped_by_error) options.stopped_by_error();
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+  }
+  std::rethrow_exception(failure);
 }
 
 }  // namespace plugslam::runtime

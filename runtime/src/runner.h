@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 
+#include "plugslam/errors.h"
 #include "plugslam/timings.h"
 #include "run_config.h"
 
@@ -22,6 +23,8 @@ struct RunReport {
   uint64_t tracked = 0;    ///< frames with a pose estimate
   uint64_t local_maps = 0;
   uint64_t tracking_failures = 0;
+  uint64_t module_errors = 0;  ///< frames a module failed on, skipped (on_module_error: skip)
+  std::string error;           ///< the error that stopped the run, if one did
   GraphStats graph;  ///< loops accepted/rejected, optimization time
   /// Against the source's ground truth, when it has one (SE2/SE3-aligned ATE, RPE over 1 m).
   std::optional<double> ate_rmse, ate_max, rpe_rmse;
@@ -34,6 +37,9 @@ struct RunOptions {
   std::function<void(uint64_t frame, int64_t total, double elapsed_s, uint64_t loops)> progress;
   /// Checked between frames: when it returns true the run stops ("interrupted"); may be empty.
   std::function<bool()> interrupted;
+  /// Called when an error stopped the run, after its outputs and run.json were written (so a
+  /// front-end can save the session); may be empty. The error is rethrown afterwards.
+  std::function<void()> stopped_by_error;
 };
 
 /// One run driven frame by frame (the shell steps it; runPipeline loops it). Not thread-safe:
@@ -42,10 +48,13 @@ class Execution {
  public:
   /// Prepares the run: creates the output folder and starts the sinks.
   Execution(RunConfig& run, RunOptions options);
-  /// Processes one frame; false (and nothing done) at the end of the data or max_frames.
+  /// Processes one frame; false (and nothing done) at the end of the data or max_frames. A
+  /// module's ModuleError is thrown, or under `on_module_error: skip` (pipeline modules and
+  /// sinks, not the source) warned about and the frame skipped.
   bool step();
-  /// Ends the run: pipeline finish, sinks end, scoring, run.json. Only once.
-  RunReport finish(const std::string& stopped_by = "");
+  /// Ends the run: pipeline finish, sinks end, scoring, run.json. Only once. `error`: what
+  /// stopped the run, recorded in run.json.
+  RunReport finish(const std::string& stopped_by = "", const std::string& error = "");
   /// Frames processed so far.
   uint64_t frames() const { return report_.frames; }
   /// Seconds since the run started.
@@ -61,6 +70,8 @@ class Execution {
   RunConfig& run_;
   RunOptions options_;
   RunReport report_;
+  // Under on_module_error: skip, one frame's module error (warned; counted).
+  void skipped(uint64_t seq, const ModuleError& e);
   Timings io_timings_;
   int64_t total_ = -1;
   std::chrono::steady_clock::time_point start_;
@@ -68,7 +79,9 @@ class Execution {
 };
 
 /// Runs source -> pipeline -> sinks to the end of the data (or max_frames, or until
-/// options.interrupted says so); writes run.json.
+/// options.interrupted says so); writes run.json. An error during the run (bad input, a failing
+/// module) stops it cleanly: the run is finished (outputs, run.json with the error), then
+/// options.stopped_by_error is called and the error rethrown.
 RunReport runPipeline(RunConfig& run, const RunOptions& options);
 
 /// run.json's content.

@@ -153,6 +153,59 @@ TEST(CarmenSource, NoReadingAfterARestartMeansUnknownOdometry) {
   expectPose(se2(0.5, 0, 1.4).inverse() * se2(0.5, 0.5, 1.4), delta);
 }
 
+TEST(CarmenSource, RepeatReplaysWithIncreasingStampsAndOneOdometryTrack) {
+  CarmenSource once, thrice;
+  const std::string log = writeLog("repeat.log", kCorrectedLog);
+  once.path = log;
+  thrice.path = log;
+  thrice.repeat = int64_t{3};
+  once.configure();
+  thrice.configure();
+  EXPECT_EQ(thrice.sizeHint(), 6);
+  std::vector<Frame> a, b;
+  for (Frame f; once.next(f); f = Frame()) a.push_back(f);
+  for (Frame f; thrice.next(f); f = Frame()) b.push_back(f);
+  ASSERT_EQ(a.size(), 2u);
+  ASSERT_EQ(b.size(), 6u);
+  EXPECT_EQ(thrice.replay(), 3);
+  // Each pass continues the clock one frame period (0.5 s here) after the previous one.
+  const double stamps[] = {1.5, 2.0, 2.5, 3.0, 3.5, 4.0};
+  for (size_t i = 0; i < b.size(); ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_DOUBLE_EQ(b[i].stamp, stamps[i]);
+    EXPECT_DOUBLE_EQ(b[i].raw.get<LaserScan>("front_laser").stamp, stamps[i]);
+    EXPECT_EQ(b[i].raw.get<LaserScan>("front_laser").ranges,
+              a[i % 2].raw.get<LaserScan>("front_laser").ranges);
+    expectPose(a[i % 2].raw.get<Eigen::Isometry2d>("reference"),
+               b[i].raw.get<Eigen::Isometry2d>("reference"));
+  }
+  // Within a pass the odometry increments are the log's; across passes the track goes on
+  // (from the log's last reading to its first: the robot put back at its start).
+  const auto odom = [&](size_t i) { return b[i].raw.get<Odometry2D>("odom").pose; };
+  const Eigen::Isometry2d step = odom(0).inverse() * odom(1);
+  expectPose(step, odom(2).inverse() * odom(3));
+  expectPose(step, odom(4).inverse() * odom(5));
+  const Eigen::Isometry2d back = se2(2.1, 0.0, 0.2).inverse() * se2(1.0, 0.0, 0.0);
+  expectPose(odom(1) * back, odom(2), 1e-6);
+}
+
+TEST(CarmenSource, RepeatZeroReplaysUntilStopped) {
+  CarmenSource source;
+  source.path = writeLog("endless.log", kCorrectedLog);
+  source.repeat = int64_t{0};
+  source.configure();
+  EXPECT_EQ(source.sizeHint(), -1);
+  Frame f;
+  double last = -1;
+  for (int i = 0; i < 50; ++i) {
+    ASSERT_TRUE(source.next(f));
+    EXPECT_GT(f.stamp, last);
+    last = f.stamp;
+    f = Frame();
+  }
+  EXPECT_EQ(source.replay(), 25);
+}
+
 TEST(CarmenSource, LogWithoutFrontLaserIsAnInputError) {
   CarmenSource source;
   source.path = writeLog("noflaser.log", "ODOM 0 0 0 0 0 0 1.0 h 1.0\n");

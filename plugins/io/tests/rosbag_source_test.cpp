@@ -199,6 +199,35 @@ TEST(RosbagSource, SynchronisesScansAndOdometry) {
   EXPECT_NEAR(frames[0].raw.get<LaserScan>("rear_laser").mount.translation().x(), -0.1, 1e-12);
 }
 
+TEST(RosbagSource, RepeatReplaysWithIncreasingStamps) {
+  RosbagSource source;
+  source.path = syntheticBag();
+  source.repeat = int64_t{2};
+  source.configure();
+  EXPECT_EQ(source.sizeHint(), 6);
+  std::vector<Frame> frames;
+  for (Frame f; source.next(f); f = Frame()) frames.push_back(f);
+  ASSERT_EQ(frames.size(), 6u);
+  EXPECT_EQ(source.replay(), 2);
+  // The second pass starts one frame period (0.1 s) after the first pass's last frame.
+  const double stamps[] = {10.0, 10.1, 10.2, 10.3, 10.4, 10.5};
+  const double xs[] = {0.5, 1.5, 2.5};
+  for (size_t i = 0; i < frames.size(); ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_NEAR(frames[i].stamp, stamps[i], 1e-6);
+    EXPECT_NEAR(frames[i].raw.get<LaserScan>("front_laser").stamp, stamps[i], 1e-6);
+    EXPECT_NEAR(frames[i].raw.get<Odometry2D>("odom").pose.translation().x(), xs[i % 3], 1e-6);
+  }
+  RosbagSource endless;
+  endless.path = syntheticBag();
+  endless.repeat = int64_t{0};
+  endless.configure();
+  EXPECT_EQ(endless.sizeHint(), -1);
+  Frame f;
+  for (int i = 0; i < 30; ++i) ASSERT_TRUE(endless.next(f));
+  EXPECT_EQ(endless.replay(), 10);
+}
+
 TEST(RosbagSource, MissingScanTopicListsTheBagsTopics) {
   RosbagSource source;
   source.path = syntheticBag();

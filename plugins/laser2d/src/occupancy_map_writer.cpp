@@ -2,10 +2,12 @@
 
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <sstream>
 
 #include "occupancy_grid.h"
 #include "plugslam/atomic_file.h"
+#include "plugslam/geometry.h"
 #include "plugslam/pose_space.h"
 #include "point_cloud2d.h"
 
@@ -15,7 +17,8 @@ namespace laser2d {
 void OccupancyMapWriter::begin(const std::string& out_dir) {
   out_dir_ = out_dir;
   scans_.clear();
-  live_ = Trajectory();
+  by_map_.clear();
+  frames_ = 0;
   written_.clear();
   placed_ = 0;
 }
@@ -26,24 +29,56 @@ OccupancyMapWriter::OccupancyMapWriter() {
   addAction("save", "write the map now from the poses estimated so far",
             [this](const std::vector<std::string>&) {
               RunResult now;
-              now.trajectory = live_;
+              for (const auto& s : scans_)
+                if (s.map != kNoMap &&
+                    (now.trajectory.empty() || s.stamp > now.trajectory.endTime()))
+                  now.trajectory.push_back(s.stamp,
+                                           Space2D::to3D(se2(s.live[0], s.live[1], s.live[2])));
               end(now);
               return written_.empty() ? std::string("no map written (no scan placed yet)")
                                       : "wrote " + written_.front();
             });
 }
 
+bool OccupancyMapWriter::isNew(int64_t map, const double in_map[3]) const {
+  auto it = by_map_.find(map);
+  if (it == by_map_.end()) return true;
+  if (max_scans_per_map() > 0 && it->second.size() >= static_cast<size_t>(max_scans_per_map()))
+    return false;
+  for (size_t i : it->second) {
+    const double* q = scans_[i].in_map;
+    if (std::hypot(q[0] - in_map[0], q[1] - in_map[1]) < min_distance() &&
+        std::abs(normalizeAngle(q[2] - in_map[2])) < min_angle())
+      return false;
+  }
+  return true;
+}
+
 void OccupancyMapWriter::consume(const Frame& frame) {
-  if (frame.estimate.valid && (live_.empty() || frame.stamp > live_.endTime()))
-    live_.push_back(frame.stamp, frame.estimate.world);
+  const bool estimated = frame.estimate.valid;
+  const SE2 in_map = Space2D::from3D(frame.estimate.in_map);
+  const double pose[3] = {in_map.translation().x(), in_map.translation().y(),
+                          angleOf(in_map.linear())};
+  const SE2 world = Space2D::from3D(frame.estimate.world);
+  bool seen = false;
   for (const auto& name : measurements()) {
     const PointCloud2D* cloud = frame.measurement.find<PointCloud2D>(name);
     if (!cloud || cloud->empty()) continue;
+    if (!seen) ++frames_;
+    seen = true;
+    // Several entries of one frame are kept together (the test sees the first one only).
+    // Without an estimate there is nothing to compare: kept (the trajectory may place it).
+    if (estimated && !isNew(frame.estimate.local_map, pose) &&
+        !(!scans_.empty() && scans_.back().seq == frame.seq))
+      continue;
     KeptScan kept{frame.stamp,
                   frame.seq,
                   {static_cast<float>(cloud->sensor_origin.x()),
                    static_cast<float>(cloud->sensor_origin.y())},
-                  {}};
+                  {},
+                  estimated ? frame.estimate.local_map : kNoMap,
+                  {pose[0], pose[1], pose[2]},
+                  {world.translation().x(), world.translation().y(), angleOf(world.linear())}};
     kept.xy.reserve(2 * cloud->size());
     const double max2 = max_range() * max_range();
     for (const auto& p : cloud->points) {
@@ -51,6 +86,7 @@ void OccupancyMapWriter::consume(const Frame& frame) {
       kept.xy.push_back(static_cast<float>(p.x()));
       kept.xy.push_back(static_cast<float>(p.y()));
     }
+    if (estimated) by_map_[kept.map].push_back(scans_.size());
     scans_.push_back(std::move(kept));
   }
 }

@@ -2,6 +2,7 @@
 // laser2d.OccupancyMapWriter: the occupancy grid of a run, from the kept scans placed at their
 // corrected poses, written as map.pgm + map.yaml (ROS map_server) and map.png.
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "plugslam/sink.h"
@@ -9,7 +10,10 @@
 namespace plugslam {
 namespace laser2d {
 
-/// Keeps each frame's clouds (compact) and ray-traces them at the end of the run.
+/// Keeps frames' clouds (compact) and ray-traces them at the end of the run. A cloud is kept when
+/// its pose in its local map is new (farther than min_distance or min_angle from every cloud kept
+/// in that map), up to max_scans_per_map per map: memory grows with the mapped space, not with
+/// time (a robot standing still or localizing in saved maps adds nothing).
 class OccupancyMapWriter final : public Sink {
  public:
   Param<double> resolution{this, "resolution", 0.05, "m", "cell size", Range{1e-3, 100}};
@@ -31,6 +35,18 @@ class OccupancyMapWriter final : public Sink {
                                 "a scan is placed at the trajectory pose this close in time",
                                 Range{0, 1e6}};
 
+  Param<double> min_distance{this, "min_distance", 0.05, "m",
+                             "keep a cloud only this far from every kept cloud of its local map "
+                             "(or min_angle turned)",
+                             Range{0, 1e3}};
+  Param<double> min_angle{this, "min_angle", 0.05, "rad",
+                          "keep a cloud turned this much from every kept cloud of its local map "
+                          "(or min_distance away)",
+                          Range{0, 4}};
+  Param<int> max_scans_per_map{this, "max_scans_per_map", 100, "",
+                               "clouds kept per local map at most (0: no limit)",
+                               Range{0, 1e9}};
+
   OccupancyMapWriter();
   void begin(const std::string& out_dir) override;
   void consume(const Frame& frame) override;
@@ -38,21 +54,30 @@ class OccupancyMapWriter final : public Sink {
 
   /// Scans kept so far.
   size_t keptScans() const { return scans_.size(); }
+  /// Frames that brought a cloud so far (kept or not).
+  size_t seenFrames() const { return frames_; }
   /// Scans placed into the grid by the last end().
   size_t placedScans() const { return placed_; }
   /// Paths written by the last end() (pgm, yaml, png), empty if nothing was written.
   const std::vector<std::string>& written() const { return written_; }
 
  private:
+  static constexpr int64_t kNoMap = -1;  // a frame without an estimate
   struct KeptScan {
     double stamp;
     uint64_t seq;
     float origin[2];
     std::vector<float> xy;  // robot frame, x0 y0 x1 y1 ...
+    int64_t map;
+    double in_map[3];  // x, y, theta in the local map (for the novelty test)
+    double live[3];    // x, y, theta in the world as estimated when processed (for `save`)
   };
+  // True when a cloud at `in_map` in local map `map` adds to what is kept.
+  bool isNew(int64_t map, const double in_map[3]) const;
   std::string out_dir_;
   std::vector<KeptScan> scans_;
-  Trajectory live_;  // each frame's pose as estimated when it was processed (for `save`)
+  std::unordered_map<int64_t, std::vector<size_t>> by_map_;  // indices into scans_
+  size_t frames_ = 0;  // frames with a cloud seen (kept or not)
   size_t placed_ = 0;
   std::vector<std::string> written_;
 };

@@ -148,6 +148,8 @@ TEST(OccupancyMapWriter, SaveActionWritesTheMapMidRun) {
     pre.process(frame);
     // What the tracker leaves on a frame: its pose estimate at the time.
     frame.estimate.valid = true;
+    frame.estimate.local_map = 0;
+    frame.estimate.in_map = Space2D::to3D(pose);
     frame.estimate.world = Space2D::to3D(pose);
     writer.consume(frame);
   }
@@ -156,6 +158,44 @@ TEST(OccupancyMapWriter, SaveActionWritesTheMapMidRun) {
   EXPECT_EQ(writer.placedScans(), 3u);
   EXPECT_TRUE(std::filesystem::exists(dir / "map.pgm"));
   std::filesystem::remove_all(dir);
+}
+
+// Memory grows with the mapped space, not with time: passing the same places again (a
+// localization run, a looping replay) or standing still keeps no further cloud.
+TEST(OccupancyMapWriter, KeepsCloudsOnlyForNewPosesInTheirLocalMap) {
+  const auto world = test::box(0, 0, 4, 4);
+  ScanPreprocessor pre;
+  pre.configure();
+  OccupancyMapWriter writer;
+  writer.begin(std::filesystem::temp_directory_path().string());
+  test::ScanSpec spec;
+  uint64_t seq = 0;
+  auto feed = [&](int64_t map, const SE2& in_map) {
+    Frame frame;
+    frame.seq = seq;
+    frame.stamp = 1.0 + 0.1 * static_cast<double>(seq++);
+    frame.raw.set("front_laser", test::castScan(world, in_map, spec));
+    pre.process(frame);
+    frame.estimate.valid = true;
+    frame.estimate.local_map = map;
+    frame.estimate.in_map = Space2D::to3D(in_map);
+    frame.estimate.world = Space2D::to3D(in_map);
+    writer.consume(frame);
+  };
+  const std::vector<SE2> path = {se2(1, 1, 0), se2(1.5, 1, 0), se2(2, 1, 0.2), se2(2, 1.5, 0.6)};
+  for (int pass = 0; pass < 10; ++pass)
+    for (const auto& p : path) feed(0, p);
+  EXPECT_EQ(writer.seenFrames(), 40u);
+  EXPECT_EQ(writer.keptScans(), 4u);
+  for (int i = 0; i < 50; ++i) feed(0, se2(1.01, 1.0, 0.01));  // standing still, a little noise
+  EXPECT_EQ(writer.keptScans(), 4u);
+  feed(0, se2(1, 1, 0.5));  // turned on the spot: new
+  feed(1, se2(1, 1, 0));    // the same pose in another local map: new
+  EXPECT_EQ(writer.keptScans(), 6u);
+  // The cap per local map.
+  writer.max_scans_per_map = 7;
+  for (int i = 0; i < 20; ++i) feed(0, se2(0.5 + 0.1 * i, 2.0, 0.0));
+  EXPECT_EQ(writer.keptScans(), 8u);  // map 0 holds 7, map 1 holds 1
 }
 
 }  // namespace

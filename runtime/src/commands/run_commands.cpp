@@ -160,6 +160,14 @@ void addRunCommand(CLI::App& root, int& exit_code) {
         spdlog::info("frame {}{} {:.1f} Hz{} loops {}", frame, pct, hz, eta, loops);
     };
     options.interrupted = [] { return g_interrupted.load(); };
+    options.stopped_by_error = [&] {
+      // The maps built before the error are kept: the same session an interrupted run saves.
+      const std::string dir = (boost::filesystem::path(out_dir) / "session").string();
+      SessionSummary s = saveSession(dir, config_yaml, *run->pipeline);
+      std::cout << fmt::format("run stopped by an error: outputs written in {}, session saved in "
+                               "{} ({} local maps); continue with: plugslam run --session {}\n",
+                               out_dir, dir, s.maps, dir);
+    };
     spdlog::info("running {} -> {}", doc.file, out_dir);
     RunReport report;
     {

@@ -415,7 +415,11 @@ class PathIndex {
   }
 
  private:
-  static int64_t pack(int64_t i, int64_t j) { return (i << 32) ^ (j & 0xFFFFFFFF); }
+  // Shifted as unsigned: a left shift of a negative cell index is undefined before C++20.
+  static int64_t pack(int64_t i, int64_t j) {
+    return static_cast<int64_t>((static_cast<uint64_t>(i) << 32) ^
+                                (static_cast<uint64_t>(j) & 0xFFFFFFFFu));
+  }
   int64_t key(const Eigen::Vector2d& p) const {
     return pack(static_cast<int64_t>(std::floor(p.x() / cell_)),
                 static_cast<int64_t>(std::floor(p.y() / cell_)));

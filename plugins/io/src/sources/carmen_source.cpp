@@ -42,6 +42,28 @@ void CarmenSource::configure() {
 }
 
 void CarmenSource::open() {
+  openReader();
+  size_hint_.reset();
+  pending_rear_.reset();
+  have_odom_ = false;
+  laser_before_odom_.reset();
+  odometry_unknown_ = false;
+  unknown_odometry_frames_ = 0;
+  last_odom_stamp_ = 0;
+  last_odom_has_stamp_ = false;
+  held_.reset();
+  pushed_back_.reset();
+  any_frame_ = false;
+  synthesized_stamps_ = 0;
+  restarts_ = 0;
+  skipped_warned_ = 0;
+  summarized_ = false;
+  replay_ = 1;
+  stamp_offset_ = 0.0;
+  replay_frames_ = 0;
+}
+
+void CarmenSource::openReader() {
   CarmenReaderOptions options;
   options.policy = on_error() == "skip" ? ErrorPolicy::kSkip : ErrorPolicy::kStrict;
   // GMapping-corrected logs interleave timestamps out of order; that is not a malformed line.
@@ -67,23 +89,32 @@ void CarmenSource::open() {
     }
     skipped_seen_ = skipped;
   };
+  skipped_seen_ = 0;
   reader_ = std::make_unique<CarmenReader>(path(), options);
-  size_hint_.reset();
+}
+
+void CarmenSource::rewind() {
+  // The reader and the per-pass line state start over; the odometry track, the last stamp and
+  // the counters of what was synthesised carry on, so the replay looks like the robot jumping
+  // back to its start pose (the odometry increment from the log's last reading to its first)
+  // at a later time. Skipped-line warnings are given for the first pass only.
+  frame_period_ = replay_frames_ > 1 ? (last_stamp_ - replay_first_stamp_) / (replay_frames_ - 1)
+                                     : fallback_period();
+  if (!(frame_period_ > 0)) frame_period_ = fallback_period();
+  openReader();
   pending_rear_.reset();
-  have_odom_ = false;
   laser_before_odom_.reset();
   odometry_unknown_ = false;
-  unknown_odometry_frames_ = 0;
   last_odom_stamp_ = 0;
   last_odom_has_stamp_ = false;
   held_.reset();
   pushed_back_.reset();
-  any_frame_ = false;
-  synthesized_stamps_ = 0;
-  restarts_ = 0;
-  skipped_seen_ = 0;
-  skipped_warned_ = 0;
-  summarized_ = false;
+  stamp_offset_.reset();
+  replay_frames_ = 0;
+  ++replay_;
+  spdlog::info("CARMEN log '{}': replay {}{} from t = {:.3f} s", path(), replay_,
+               repeat() > 0 ? " of " + std::to_string(repeat()) : std::string(" (endless)"),
+               last_stamp_ + frame_period_);
 }
 
 void CarmenSource::summarize() {
@@ -120,7 +151,7 @@ int64_t CarmenSource::sizeHint() const {
     while (counter.next(record)) {
       if (record.kind == CarmenRecord::Kind::kLaser && isFront(record.laser)) ++n;
     }
-    size_hint_ = n;
+    size_hint_ = repeat() == 0 ? -1 : n * repeat();
   } catch (const Error&) {
     size_hint_ = -1;  // the real read reports the problem with its line number
   }
@@ -234,7 +265,11 @@ bool CarmenSource::next(Frame& frame) {
                  ? ", " + std::to_string(reader_->stats().empty_scans) + " empty scans (skipped)"
                  : std::string()));
       }
-      if (!held_) return false;
+      if (!held_) {
+        if (repeat() != 0 && replay_ >= repeat()) return false;
+        rewind();
+        continue;
+      }
       fill(frame, *held_, have_odom_ ? std::optional<Eigen::Isometry2d>(track_) : std::nullopt);
       held_.reset();
       return true;
@@ -278,6 +313,11 @@ bool CarmenSource::next(Frame& frame) {
 
     Held held;
     held.stamp = laser.timestamp;
+    if (laser.has_timestamp && std::isfinite(laser.timestamp)) {
+      // A replay continues the clock one frame period after the previous pass.
+      if (!stamp_offset_) stamp_offset_ = last_stamp_ + frame_period_ - laser.timestamp;
+      held.stamp += *stamp_offset_;
+    }
     if (!laser.has_timestamp || !std::isfinite(held.stamp) ||
         (any_frame_ && held.stamp <= last_stamp_)) {
       // No usable time (zero in e.g. freiburg-campus, or going backwards): keep the order.
@@ -286,6 +326,7 @@ bool CarmenSource::next(Frame& frame) {
     }
     last_stamp_ = held.stamp;
     any_frame_ = true;
+    if (replay_frames_++ == 0) replay_first_stamp_ = held.stamp;
     held.rear = std::move(pending_rear_);
     pending_rear_.reset();
     held.laser = laser;

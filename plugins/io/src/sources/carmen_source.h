@@ -62,14 +62,24 @@ class CarmenSource : public Source {
                                 "s",
                                 "frame spacing used when the log has no timestamps",
                                 Range{1e-6, 3600.0}};
+  Param<int64_t> repeat{this,
+                        "repeat",
+                        1,
+                        "",
+                        "times to play the log (0: endlessly, until max_frames or Ctrl-C); "
+                        "stamps keep increasing and the odometry stays one track across replays",
+                        Range{0, 1e9}};
 
   CarmenSource();
   ~CarmenSource() override;
 
   void configure() override;
   bool next(Frame& frame) override;
-  /// Number of front-laser lines, counted once by a light pass over the file.
+  /// Number of front-laser lines (counted once by a light pass over the file) times `repeat`;
+  /// -1 when replaying endlessly.
   int64_t sizeHint() const override;
+  /// Replays started so far (1 during the first pass over the log).
+  int64_t replay() const { return replay_; }
 
   /// Frames whose timestamp was missing (0) or not after the previous one and was synthesised.
   std::size_t synthesizedStamps() const { return synthesized_stamps_; }
@@ -90,6 +100,10 @@ class CarmenSource : public Source {
     bool odometry_unknown = false;  // see odometry_unknown_
   };
   void open();
+  // A reader on path() whose warnings go through the skipped-line accounting below.
+  void openReader();
+  // Reopens the log for the next replay, keeping the odometry track and the clock going.
+  void rewind();
   void fill(Frame& frame, Held& held, const std::optional<Eigen::Isometry2d>& odom);
   double maxRangeFor(const CarmenLaser& laser) const;
   LaserScan toScan(const CarmenLaser& laser) const;
@@ -123,6 +137,13 @@ class CarmenSource : public Source {
   std::size_t skipped_seen_ = 0;  // malformed lines + empty scans + truncation already reported
   std::size_t skipped_warned_ = 0;
   bool summarized_ = false;
+  // Replays: the current one (1-based), the offset added to the log's stamps in it (set at its
+  // first timed laser), and the stamp range of the frames of the previous pass.
+  int64_t replay_ = 1;
+  std::optional<double> stamp_offset_;
+  double replay_first_stamp_ = 0;
+  uint64_t replay_frames_ = 0;
+  double frame_period_ = 0;
 };
 
 }  // namespace io

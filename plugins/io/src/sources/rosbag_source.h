@@ -48,14 +48,24 @@ class RosbagSource : public Source {
       this, "mounts", {}, "", "x, y, theta (m, m, rad) per scan topic; empty = identity"};
   Param<bool> header_stamps{this, "header_stamps", true, "",
                             "use message header stamps (false: bag record times)"};
+  Param<int64_t> repeat{this,
+                        "repeat",
+                        1,
+                        "",
+                        "times to play the bag (0: endlessly, until max_frames or Ctrl-C); "
+                        "stamps keep increasing across replays",
+                        Range{0, 1e9}};
 
   RosbagSource();
   ~RosbagSource() override;
 
   void configure() override;
   bool next(Frame& frame) override;
-  /// Number of messages on the first scan topic (one pass over the bag, cached).
+  /// Messages on the first scan topic (one pass over the bag, cached) times `repeat`; -1 when
+  /// replaying endlessly.
   int64_t sizeHint() const override;
+  /// Replays started so far (1 during the first pass over the bag).
+  int64_t replay() const { return replay_; }
 
   /// Frames emitted without odometry (no message within max_odometry_gap).
   std::size_t framesWithoutOdometry() const { return frames_without_odometry_; }
@@ -71,6 +81,8 @@ class RosbagSource : public Source {
   };
   bool summarized_ = false;  // the end-of-bag warnings were given
   void open();
+  // Reopens the bag for the next replay, keeping the clock going.
+  void rewind();
   bool readOne();
   bool ready(double t) const;
   std::optional<Eigen::Isometry2d> odometryAt(double t) const;
@@ -88,6 +100,13 @@ class RosbagSource : public Source {
   mutable std::optional<int64_t> size_hint_;
   std::size_t frames_without_odometry_ = 0;
   std::size_t frames_ = 0;
+  // Replays: the current one (1-based), the offset added to the bag's stamps in it, the bag's
+  // own stamp of its first frame, and the stamps of the frames of the current pass.
+  int64_t replay_ = 1;
+  double stamp_offset_ = 0;
+  std::optional<double> first_frame_in_bag_;
+  double replay_first_stamp_ = 0, replay_last_stamp_ = 0;
+  std::size_t replay_frames_ = 0;
 };
 
 /// Splits "topic:entry" at its last colon; throws ParamError(param, ...) when malformed.
