@@ -106,8 +106,14 @@ void ScanSliceBase::associate(const Pose& t) {
     associateKdTree(t);
 }
 
-void ScanSliceBase::accept(int i, int j, const Eigen::Vector2d& normal_in_scene) {
+void ScanSliceBase::accept(int i, int j, const Eigen::Vector2d& point_in_scene,
+                           const Eigen::Vector2d& normal_in_scene) {
   if (normal_in_scene.dot(scene_->normals[j]) < cos_normal_) return;
+  if (max_tangential() > 0) {
+    const Eigen::Vector2d& n = scene_->normals[j];
+    const Eigen::Vector2d d = point_in_scene - scene_->points[j];
+    if (std::abs(n.x() * d.y() - n.y() * d.x()) > max_tangential()) return;
+  }
   pairs_.emplace_back(i, j);
 }
 
@@ -120,7 +126,7 @@ void ScanSliceBase::associateKdTree(const Pose& t) {
     NearestWithin result(gate);
     tree_->index.findNeighbors(result, q.data(), nanoflann::SearchParams());
     if (result.found())
-      accept(static_cast<int>(i), static_cast<int>(result.index()), r * measured_->normals[i]);
+      accept(static_cast<int>(i), static_cast<int>(result.index()), q, r * measured_->normals[i]);
   }
 }
 
@@ -163,7 +169,7 @@ void ScanSliceBase::associateProjective(const Pose& t) {
         best = j;
       }
     }
-    if (best >= 0) accept(static_cast<int>(i), best, r * measured_->normals[i]);
+    if (best >= 0) accept(static_cast<int>(i), best, q, r * measured_->normals[i]);
   }
 }
 

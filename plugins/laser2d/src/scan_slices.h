@@ -44,6 +44,15 @@ class ScanSliceBase : public AlignerSlice<Space2D> {
                                  "rad",
                                  "reject pairs whose normals differ more than this (pi: off)",
                                  Range{0, M_PI}};
+  // A point past the end of the scene's surface (a door gap, a wall's end) is paired with the
+  // surface's last point, and point-to-line extrapolates that line to it: a wrong factor that
+  // slides corridors along their axis. Beam spacing stays below this out to ~20 m at 0.5 deg.
+  Param<double> max_tangential{this,
+                               "max_tangential",
+                               0.2,
+                               "m",
+                               "reject pairs offset along the scene point's line by more (0: off)",
+                               Range{0, 100}};
   Param<double> projective_resolution{this,
                                       "projective_resolution",
                                       0.25 * M_PI / 180,
@@ -76,7 +85,8 @@ class ScanSliceBase : public AlignerSlice<Space2D> {
  private:
   void associateKdTree(const Pose& t);
   void associateProjective(const Pose& t);
-  void accept(int i, int j, const Eigen::Vector2d& normal_in_scene);
+  void accept(int i, int j, const Eigen::Vector2d& point_in_scene,
+              const Eigen::Vector2d& normal_in_scene);
 
   struct KdTree;
   std::unique_ptr<KdTree> tree_;

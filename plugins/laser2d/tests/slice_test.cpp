@@ -103,6 +103,35 @@ TEST(PointToLineSlice, UnchangedSceneKeepsItsKdTree) {
   EXPECT_FALSE(slice.bind(empty, scene, {}));
 }
 
+TEST(PointToLineSlice, PointsPastTheEndOfASurfaceAreNotPaired) {
+  // A wall from x = 0 to 1 m (points every 5 cm, normals +y) and three measured points: on the
+  // wall, 0.15 m past its end and 0.4 m past it (a door gap). The last is within the 0.5 m gate
+  // of the wall's end point, but point-to-line would extrapolate the wall to it.
+  PointCloud2D wall, measured;
+  for (int k = 0; k <= 20; ++k) wall.push({0.05 * k, 0.0}, {0.0, 1.0}, 1.0);
+  wall.touch();
+  measured.push({0.52, 0.03}, {0.0, 1.0}, 1.0);
+  measured.push({1.15, 0.03}, {0.0, 1.0}, 1.0);
+  measured.push({1.40, 0.03}, {0.0, 1.0}, 1.0);
+  measured.touch();
+  PropertyContainer scene;
+  scene.set("front", wall);
+  Frame frame;
+  frame.measurement.set("front", measured);
+  // (k-d tree association: the projective one only pairs points of nearly the same bearing.)
+  PointToLineSlice slice;
+  slice.configure();
+  ASSERT_TRUE(slice.bind(frame, scene, {}));
+  slice.associate(SE2::Identity());
+  std::vector<int> paired;
+  for (const auto& [i, j] : slice.pairs()) paired.push_back(i);
+  EXPECT_EQ(paired, (std::vector<int>{0, 1}));
+  slice.max_tangential = 0.0;  // off: the point in the gap is paired too
+  ASSERT_TRUE(slice.bind(frame, scene, {}));
+  slice.associate(SE2::Identity());
+  EXPECT_EQ(slice.pairs().size(), 3u);
+}
+
 TEST(PointToLineSlice, ErrorAndJacobianAgreeWithTheSdkFactor) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-2.0, 2.0);
