@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -210,6 +211,29 @@ TEST_F(PluginFault, SessionSavedOnStopIsContinued) {
   EXPECT_TRUE(std::regex_search(second.out, std::regex(": [1-9][0-9]* local maps, [1-9][0-9]* "
                                                        "edges \\(mapping\\)")))
       << second.out;
+}
+
+// Bad input met mid-run (a malformed line deep in a CARMEN log, strict policy) is still exit 2
+// with the file and line, after the maps built so far were written and saved.
+TEST_F(PluginFault, BadInputMidRunStillSavesWhatWasBuilt) {
+  const std::string log =
+      plugslam::testing::dataDir() + "/laser2d/intel-gfs-corrected/intel-corrected.log.gz";
+  if (!fs::exists(log)) GTEST_SKIP() << "no intel log at " << log << " (set PLUGSLAM_DATA)";
+  // The first 3000 lines of the log, then a laser line whose readings are cut short.
+  const fs::path cut = dir_ / "cut.log";
+  const std::string command = "gzip -dc '" + log + "' | head -n 3000 > '" + cut.string() + "'";
+  ASSERT_EQ(std::system(command.c_str()), 0);
+  std::ofstream(cut, std::ios::app) << "FLASER 180 1.0 2.0 3.0\n";
+  const Result r = runCli({"run", plugslam::testing::sourceDir() + "/configs/laser2d_carmen.yaml",
+                           "-o", (dir_ / "out").string(), "--set", "source.path=" + cut.string()},
+                          dir_ / "log.txt");
+  EXPECT_FALSE(r.signalled) << r.out;
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("cut.log:3001: FLASER"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "session" / "session.yaml")) << r.out;
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "trajectory.tum"));
+  EXPECT_NE(readFile(dir_ / "out" / "run.json").find("\"stopped_by\": \"error\""),
+            std::string::npos);
 }
 
 }  // namespace
