@@ -92,7 +92,8 @@ TEST(Optimizer, DenseAndSparsePathsAgree) {
   o.dense_threshold = 1000;
   const OptimizeResult ra = Optimizer(o).optimize(a.graph);
   o.dense_threshold = 0;
-  for (Factorization f : {Factorization::kSupernodal, Factorization::kSimplicial}) {
+  for (Factorization f : {Factorization::kSupernodal, Factorization::kSimplicial,
+                          Factorization::kBlock, Factorization::kAuto}) {
     Loop2D c(8, 0.05, 3);
     o.factorization = f;
     const OptimizeResult rc = Optimizer(o).optimize(c.graph);
