@@ -218,7 +218,7 @@ TEST_F(Optimize, BadArgumentsExitTwo) {
   expectHas(r.out, "Huber");
   r = run("optimize " + in + " --factorization qr");
   EXPECT_EQ(r.code, 2) << r.out;
-  expectHas(r.out, "expected auto, supernodal or simplicial");
+  expectHas(r.out, "expected auto, supernodal, simplicial or block");
   r = run("optimize " + in + " --iterations -3");
   EXPECT_EQ(r.code, 2) << r.out;
   r = run("optimize " + in + " -o " + path("no/such/dir/out.g2o"));

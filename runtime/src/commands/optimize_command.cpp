@@ -30,7 +30,9 @@ Factorization parseFactorization(const std::string& name) {
   if (name == "auto") return Factorization::kAuto;
   if (name == "supernodal") return Factorization::kSupernodal;
   if (name == "simplicial") return Factorization::kSimplicial;
-  throw InputError("unknown factorisation '" + name + "'; expected auto, supernodal or simplicial");
+  if (name == "block") return Factorization::kBlock;
+  throw InputError("unknown factorisation '" + name +
+                   "'; expected auto, supernodal, simplicial or block");
 }
 
 std::string jsonString(const std::string& s) {
@@ -142,8 +144,8 @@ void addOptimizeCommand(CLI::App& root, int& exit_code) {
   cmd->add_flag("--se-sync-weights", a.se_sync_weights,
                 "minimise SE-Sync's objective (isotropic weights from each information matrix)");
   cmd->add_option("--factorization", a.factorization,
-                  "CHOLMOD factorisation: auto (by the analysis' flop count), supernodal or "
-                  "simplicial")
+                  "sparse factorisation: auto (block when all variables have one size), "
+                  "supernodal or simplicial (CHOLMOD), block (plugslam's block Cholesky)")
       ->capture_default_str();
   cmd->add_option("--summary", a.summary, "JSON summary file (default: OUT.json)");
   cmd->callback([&exit_code] {

@@ -1,9 +1,11 @@
 #pragma once
 // Gauss-Newton and Levenberg-Marquardt over a FactorGraph. The normal equations are assembled
-// block-sparse straight into CHOLMOD's compressed columns through scatter slots computed once per
+// block-sparse straight into the factorisation's storage through scatter slots computed once per
 // structure; the symbolic factorisation (block AMD ordering) is reused across iterations and
-// across optimize() calls on an unchanged structure. Small systems use a dense Eigen LDLT whose
-// buffers are kept between calls, so the aligner's per-frame solve does not allocate per iteration.
+// across optimize() calls on an unchanged structure. When every variable has the same dimension
+// (pose graphs), an up-looking block Cholesky with fixed-size kernels replaces CHOLMOD. Small
+// systems use a dense Eigen LDLT whose buffers are kept between calls, so the aligner's per-frame
+// solve does not allocate per iteration.
 #include <functional>
 #include <memory>
 #include <string>
@@ -27,7 +29,8 @@ enum class GaugeMode {
 enum class Factorization {
   kSupernodal,  ///< supernodal LL' (BLAS-3 on dense supernodes)
   kSimplicial,  ///< simplicial LDL' (no BLAS; often faster for small blocks and plain BLAS)
-  kAuto,        ///< CHOLMOD's choice from the flop count of the analysis
+  kAuto,        ///< block LL' when every variable has the same dimension, else CHOLMOD's choice
+  kBlock,       ///< plugslam's block LL' (equal-size variables; otherwise CHOLMOD's choice)
 };
 
 /// Why an optimisation stopped.
