@@ -165,11 +165,13 @@ TEST(ProximityDetector, GatesByDistanceAndTravel) {
     m->id = i;
     m->origin.translation() = Eigen::Vector3d(i == 4 ? 0.5 : 10.0 * i, 0, 0);
     view.maps.push_back(m);
+    view.origins.push_back(m->origin);
     view.travelled.push_back(10.0 * i);
   }
   auto c = d.detect(view, *view.maps[4]);
   ASSERT_EQ(c.size(), 1u);
-  EXPECT_EQ(c[0], 0);
+  EXPECT_EQ(c[0].id, 0);
+  EXPECT_FALSE(c[0].matched);
   d.min_travel = 50.0;
   EXPECT_TRUE(d.detect(view, *view.maps[4]).empty());
 }
