@@ -4,6 +4,7 @@
 // translations and rotations by branch and bound, as Cartographer's fast correlative scan
 // matcher does (Hess et al., ICRA 2016); the best pose is handed to the validators.
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdint>
 #include <list>
 #include <memory>
@@ -58,12 +59,14 @@ class GlobalMatchDetector final : public LoopDetector {
                            Range{0, 1e4}};
   Param<double> angular_window{this, "angular_window", 0.4, "rad",
                                "rotation half-width with no drift", Range{0, 3.2}};
-  Param<double> angular_drift{this, "angular_drift", 0.005, "rad/m",
+  Param<double> angular_drift{this, "angular_drift", 0.05, "rad/m",
                               "rotation half-width grows by this per metre travelled since the "
                               "candidate",
                               Range{0, 1}};
-  Param<double> max_angular_window{this, "max_angular_window", 1.2, "rad",
-                                   "cap on the grown rotation half-width", Range{0, 3.2}};
+  Param<double> max_angular_window{this, "max_angular_window", M_PI, "rad",
+                                   "cap on the grown rotation half-width (a tracking failure "
+                                   "can turn the path by any angle)",
+                                   Range{0, M_PI}};
   Param<double> min_travel{this, "min_travel", 10.0, "m",
                            "ignore maps fewer metres back along the path", Range{0, 1e9}};
   Param<double> neighbourhood{this, "neighbourhood", 2.0, "m",

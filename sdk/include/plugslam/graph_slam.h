@@ -142,6 +142,11 @@ class GraphSlam : public GraphBackend {
   Param<bool> deterministic{this, "deterministic", false, "",
                             "search loops and optimize inline on the front-end thread "
                             "(bit-identical replays)"};
+  Param<int> max_search_lag{this, "max_search_lag", 2, "",
+                            "closed maps that may wait for the back-end's loop search; beyond "
+                            "this the front-end waits for it (the search then never falls "
+                            "behind by more, however fast the data comes)",
+                            Range{0, 1000000}};
   Param<std::string> solver{this, "solver", "gn", "", "global optimizer", Choices{{"gn", "lm"}}};
   Param<int> iterations{this, "iterations", 20, "", "max iterations per optimization",
                         Range{1, 1000}};

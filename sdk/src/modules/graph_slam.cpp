@@ -246,9 +246,12 @@ void GraphSlam<S>::mapClosed(const std::shared_ptr<LocalMap>& query) {
     LoopJob job = makeLoopJob();
     runLoopJob(job);
     applyLoopJob(job);
-  } else if (!searching_.valid()) {
-    startLoopJob();
+    return;
   }
+  // Back-pressure: a front-end far ahead of the search would close loops on a stale estimate.
+  if (searching_.valid() && static_cast<int>(queued_.size()) > max_search_lag())
+    applyLoopJob(searching_.get());
+  if (!searching_.valid()) startLoopJob();
 }
 
 template <class S>
