@@ -91,7 +91,8 @@ void GlobalMatchDetector::configure() {
   last_query_ = -1e300;
 }
 
-std::shared_ptr<const MatchGrid> GlobalMatchDetector::gridOf(const GraphView& view, int64_t id) {
+std::shared_ptr<const MatchGrid> GlobalMatchDetector::gridOf(const GraphView& view, int64_t id,
+                                                             int64_t before) {
   for (auto it = cache_.begin(); it != cache_.end(); ++it)
     if (it->id == id) {
       cache_.splice(cache_.begin(), cache_, it);
@@ -102,8 +103,8 @@ std::shared_ptr<const MatchGrid> GlobalMatchDetector::gridOf(const GraphView& vi
   const double at = view.travelled[id];
   int64_t first = id, last = id;
   while (first > 0 && at - view.travelled[first - 1] <= neighbourhood()) --first;
-  while (last + 1 < static_cast<int64_t>(view.maps.size()) &&
-         view.travelled[last + 1] - at <= neighbourhood())
+  // Only maps older than the query: they are closed, nothing modifies them any more.
+  while (last + 1 < before && view.travelled[last + 1] - at <= neighbourhood())
     ++last;
   std::vector<PlacedCloud> clouds;
   const double range2 = max_range() * max_range();
@@ -175,7 +176,7 @@ std::vector<LoopCandidate> GlobalMatchDetector::detect(const GraphView& view,
 
   for (int64_t id : chosen) {
     const double since = here - view.travelled[id];
-    const auto grid = gridOf(view, id);
+    const auto grid = gridOf(view, id, query.id);
     CorrelativeOptions o;
     o.linear_window = gate(since);
     o.angular_window = std::min(max_angular_window(), angular_window() + angular_drift() * since);

@@ -111,7 +111,8 @@ class GlobalMatchDetector final : public LoopDetector {
   void configure() override;
 
  private:
-  std::shared_ptr<const MatchGrid> gridOf(const GraphView& view, int64_t id);
+  // The grid of candidate `id` and its neighbours older than map `before`, cached.
+  std::shared_ptr<const MatchGrid> gridOf(const GraphView& view, int64_t id, int64_t before);
 
   struct Cached {
     int64_t id;

@@ -174,12 +174,12 @@ class GraphSlam : public GraphBackend {
       "mutually consistent set is kept",
       Range{0, 1e9}};
 
-  Param<double> consistency_break_sigma{
-      this, "consistency_break_sigma", 0.03, "rad",
-      "an odometry edge whose rotation std. dev. exceeds this (a tracking failure's fallback "
-      "edge) may hide any error: loops whose cycle runs through one are not checked against "
-      "each other",
-      Range{1e-9, 1e6}};
+  Param<double> consistency_break_ratio{
+      this, "consistency_break_ratio", 10.0, "",
+      "an odometry edge whose rotation std. dev. is this many times the median of the recent "
+      "ones (a tracking failure's fallback edge) may hide any error: loops whose cycle runs "
+      "through one are not checked against each other",
+      Range{1, 1e12}};
 
   int dimension() const override { return S::kDim; }
   void mapStarted(const std::shared_ptr<LocalMap>& map) override;
@@ -227,12 +227,15 @@ class GraphSlam : public GraphBackend {
   void startJob();
 
   bool consistent(const GraphEdge& a, const GraphEdge& b) const;
-  bool weak(const GraphEdge& odometry) const;  // rotation std. dev. above the break threshold
+  // True when an odometry edge is far looser in rotation than the recent ones; remembers it.
+  bool isBreak(const GraphEdge& odometry);
   void selectConsistentLoops();
 
   std::vector<std::shared_ptr<LocalMap>> maps_;
   std::vector<double> travelled_;
   std::vector<int> breaks_;  // weak odometry edges (and component starts) from map 0 to each map
+  std::vector<double> recent_sigmas_;  // rotation std. dev. of the last odometry edges (a ring)
+  size_t next_sigma_ = 0;
   std::vector<GraphEdge> edges_;  // odometry edges, then the active loops
   struct Loop {
     GraphEdge edge;

@@ -162,13 +162,30 @@ bool GraphSlam<S>::consistent(const GraphEdge& a, const GraphEdge& b) const {
 }
 
 template <class S>
-bool GraphSlam<S>::weak(const GraphEdge& e) const {
+bool GraphSlam<S>::isBreak(const GraphEdge& e) {
+  constexpr size_t kRecent = 200, kMinRecent = 10;
   if (e.information.rows() != S::kDof) return true;
   const Eigen::MatrixXd cov = e.information.inverse();
   double var = 0;
   const int first_rotation = S::kDof == 3 ? 2 : 3;  // (x, y, theta) or (x, y, z, rotation)
   for (int i = first_rotation; i < S::kDof; ++i) var = std::max(var, cov(i, i));
-  return std::sqrt(var) > consistency_break_sigma();
+  const double sigma = std::sqrt(var);
+  bool loose = false;
+  if (recent_sigmas_.size() >= kMinRecent) {
+    std::vector<double> sorted = recent_sigmas_;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    loose = sigma > consistency_break_ratio() * sorted[sorted.size() / 2];
+  }
+  // A break is not remembered: the median stays the median of the tracker's good edges.
+  if (!loose) {
+    if (recent_sigmas_.size() < kRecent) {
+      recent_sigmas_.push_back(sigma);
+    } else {
+      recent_sigmas_[next_sigma_] = sigma;
+      next_sigma_ = (next_sigma_ + 1) % kRecent;
+    }
+  }
+  return loose;
 }
 
 template <class S>
@@ -230,7 +247,7 @@ void GraphSlam<S>::mapStarted(const std::shared_ptr<LocalMap>& map) {
     e.to = map->id;
     e.relative = map->relative;
     e.information = information_scale() * conditioned(map->information, S::kDof);
-    breaks = breaks_[map->previous] + (weak(e) ? 1 : 0);
+    breaks = breaks_[map->previous] + (isBreak(e) ? 1 : 0);
     edges_.push_back(std::move(e));
   }
   maps_.push_back(map);
@@ -388,7 +405,7 @@ void GraphSlam<S>::restore(const std::vector<std::shared_ptr<LocalMap>>& maps,
     }
     bool weak_edge = false;
     for (const auto& e : edges_)
-      if (e.to == static_cast<int64_t>(i) && e.from == prev) weak_edge = weak(e);
+      if (e.to == static_cast<int64_t>(i) && e.from == prev) weak_edge = isBreak(e);
     breaks_[i] = breaks_[prev] + (weak_edge ? 1 : 0);
   }
   stats_.optimizations = 0;
