@@ -142,10 +142,12 @@ class GraphSlam : public GraphBackend {
   Param<bool> deterministic{this, "deterministic", false, "",
                             "search loops and optimize inline on the front-end thread "
                             "(bit-identical replays)"};
-  Param<int> max_search_lag{this, "max_search_lag", 2, "",
+  Param<int> max_search_lag{this, "max_search_lag", 0, "",
                             "closed maps that may wait for the back-end's loop search; beyond "
-                            "this the front-end waits for it (the search then never falls "
-                            "behind by more, however fast the data comes)",
+                            "this the front-end waits for it (0: a map waits only while the "
+                            "previous map's search still runs; larger lags search, and correct "
+                            "large drift, on staler estimates when data comes faster than real "
+                            "time)",
                             Range{0, 1000000}};
   Param<std::string> solver{this, "solver", "gn", "", "global optimizer", Choices{{"gn", "lm"}}};
   Param<int> iterations{this, "iterations", 20, "", "max iterations per optimization",
