@@ -165,11 +165,13 @@ TEST(ProximityDetector, GatesByDistanceAndTravel) {
     m->id = i;
     m->origin.translation() = Eigen::Vector3d(i == 4 ? 0.5 : 10.0 * i, 0, 0);
     view.maps.push_back(m);
+    view.origins.push_back(m->origin);
     view.travelled.push_back(10.0 * i);
   }
   auto c = d.detect(view, *view.maps[4]);
   ASSERT_EQ(c.size(), 1u);
-  EXPECT_EQ(c[0], 0);
+  EXPECT_EQ(c[0].id, 0);
+  EXPECT_FALSE(c[0].matched);
   d.min_travel = 50.0;
   EXPECT_TRUE(d.detect(view, *view.maps[4]).empty());
 }
@@ -207,6 +209,72 @@ TEST(GraphSlam, AFalseLoopIsRejectedByConsistency) {
   for (const auto& e : graph->edges()) EXPECT_FALSE(e.loop && e.to == v->victim && e.from == 0);
   EXPECT_LT((Space2D::from3D(maps.back()->origin).translation() - lw.origins.back().translation()).norm(),
             0.05);
+}
+
+namespace {
+// Proposes map 0 for one query at a given pose, as a global search does after large drift.
+class MatchingDetector : public LoopDetector {
+ public:
+  int64_t query = -1;
+  Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();
+  std::vector<LoopCandidate> detect(const GraphView&, const LocalMap& q) override {
+    if (q.id != query) return {};
+    LoopCandidate c;
+    c.id = 0;
+    c.matched = true;
+    c.relative = relative;
+    return {c};
+  }
+};
+// Records the pose each validation starts from.
+class RecordingValidator : public LoopValidator {
+ public:
+  std::shared_ptr<AlignmentValidator<Space2D>> inner = makeValidator();
+  std::vector<std::tuple<int64_t, int64_t, Eigen::Isometry3d>> guesses;
+  bool validate(const LocalMap& c, const LocalMap& q, const Eigen::Isometry3d& guess,
+                LoopClosure& closure, std::string& reason) override {
+    guesses.emplace_back(q.id, c.id, guess);
+    return inner->validate(c, q, guess, closure, reason);
+  }
+};
+}  // namespace
+
+TEST(GraphSlam, ValidatorsStartFromADetectorsMatch) {
+  for (bool deterministic : {true, false}) {
+    LoopWorld lw;
+    auto graph = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
+        Registry::instance().create("sdk.GraphSlam2D"));
+    graph->deterministic = deterministic;
+    // The proximity detector also proposes map 0 for the last map, from the drifted estimate;
+    // the matched proposal of the same map must still be tried.
+    auto proximity = std::make_shared<ProximityDetector>();
+    proximity->radius = 100.0;
+    proximity->max_radius = 100.0;
+    proximity->max_candidates = 1000;
+    graph->loop_detectors.assign(proximity);
+    auto matcher = std::make_shared<MatchingDetector>();
+    matcher->query = static_cast<int64_t>(lw.origins.size()) - 1;
+    matcher->relative = Space2D::to3D(lw.origins.front().inverse() * lw.origins.back());
+    graph->loop_detectors.assign(matcher);
+    auto recorder = std::make_shared<RecordingValidator>();
+    recorder->inner->max_correction = 0.5;  // only a guess near the truth validates
+    graph->validators.assign(recorder);
+    graph->consistency_window = 0.0;  // judge the loops one by one
+    graph->configure();
+    // Drift of metres: the estimate's guess fails validation, the match's succeeds.
+    auto maps = driveLoop(lw, *graph, 0.02, !deterministic);
+    int from_match = 0, tries = 0;
+    for (const auto& [q, c, guess] : recorder->guesses) {
+      if (q != matcher->query || c != 0) continue;
+      ++tries;
+      if (guess.isApprox(matcher->relative, 1e-12)) ++from_match;
+    }
+    EXPECT_EQ(tries, 2) << (deterministic ? "deterministic" : "threaded");
+    EXPECT_EQ(from_match, 1) << (deterministic ? "deterministic" : "threaded");
+    EXPECT_LT((Space2D::from3D(maps.back()->origin).translation() -
+               lw.origins.back().translation()).norm(),
+              0.05);
+  }
 }
 
 TEST(GraphWriter, WritesLocalMapsAndEdgesAsG2o) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <unordered_set>
 
+#include "plugslam/errors.h"
 #include "plugslam/pose_space.h"
 #include "point_cloud2d.h"
 
@@ -73,6 +74,23 @@ CorrelativeGrid::CorrelativeGrid(const std::vector<Eigen::Vector2d>& points,
         }
     }
   }
+  pool();
+}
+
+CorrelativeGrid::CorrelativeGrid(double resolution, const Eigen::Vector2d& origin, int width,
+                                 int height, std::vector<uint8_t> base, int levels, uint8_t outside)
+    : resolution_(resolution), origin_(origin), width_(width), height_(height), outside_(outside) {
+  if (width <= 0 || height <= 0 || base.size() != static_cast<size_t>(width) * height)
+    throw InputError("correlative grid: " + std::to_string(base.size()) + " cells given for " +
+                     std::to_string(width) + " x " + std::to_string(height));
+  levels_.resize(static_cast<size_t>(std::max(levels, 0)) + 1);
+  levels_[0].width = width_;
+  levels_[0].height = height_;
+  levels_[0].cells = std::move(base);
+  pool();
+}
+
+void CorrelativeGrid::pool() {
   // Level h from level h-1: the 2^h window at c is the union of four 2^(h-1) windows.
   for (size_t h = 1; h < levels_.size(); ++h) {
     const int s = 1 << (h - 1);

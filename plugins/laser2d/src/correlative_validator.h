@@ -25,6 +25,11 @@ class CorrelativeGrid {
   CorrelativeGrid(const std::vector<Eigen::Vector2d>& points,
                   const std::vector<Eigen::Vector2d>& normals, double extent, double resolution,
                   int levels, const Eigen::Vector2d& clip_min, const Eigen::Vector2d& clip_max);
+  /// A grid from precomputed base values (`width` x `height`, row-major from cell (0, 0) at
+  /// world `origin`, 0..255), with `levels` pooled levels above it; cells outside the grid have
+  /// the value `outside`.
+  CorrelativeGrid(double resolution, const Eigen::Vector2d& origin, int width, int height,
+                  std::vector<uint8_t> base, int levels, uint8_t outside = 0);
   /// Cell size [m].
   double resolution() const { return resolution_; }
   /// World position of the bottom-left corner of cell (0, 0).
@@ -35,15 +40,17 @@ class CorrelativeGrid {
   int width() const { return width_; }
   /// Base height in cells.
   int height() const { return height_; }
-  /// Value of cell (x, y) at `level`, in 0..255 (255 = on a point); 0 outside the grid.
+  /// Value of cell (x, y) at `level`, in 0..255 (255 = on a point); `outside` (0 unless given)
+  /// outside the grid.
   int value(int level, int x, int y) const {
     const Level& l = levels_[static_cast<size_t>(level)];
     const int xi = x + l.offset, yi = y + l.offset;
-    if (xi < 0 || yi < 0 || xi >= l.width || yi >= l.height) return 0;
+    if (xi < 0 || yi < 0 || xi >= l.width || yi >= l.height) return outside_;
     return l.cells[static_cast<size_t>(yi) * l.width + xi];
   }
 
  private:
+  void pool();  // builds the pooled levels above the base
   struct Level {
     int offset = 0, width = 0, height = 0;  // covers cells [-offset, base size)
     std::vector<uint8_t> cells;  // 8 bits: a score needs no more, and large maps stay cache-sized
@@ -51,6 +58,7 @@ class CorrelativeGrid {
   double resolution_;
   Eigen::Vector2d origin_;
   int width_ = 0, height_ = 0;
+  uint8_t outside_ = 0;
   std::vector<Level> levels_;
 };
 

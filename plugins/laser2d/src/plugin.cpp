@@ -2,6 +2,7 @@
 #include "plugslam/plugin.h"
 
 #include "correlative_validator.h"
+#include "global_match_detector.h"
 #include "occupancy_map_writer.h"
 #include "point_cloud2d.h"
 #include "point_map_slice.h"
@@ -22,4 +23,8 @@ PLUGSLAM_PLUGIN("laser2d", "1.0.0", "2D laser: scan preprocessing, ICP slices, p
   registrar.add<CorrelativeValidator>(
       "CorrelativeValidator",
       "loop validator: branch-and-bound correlative scan-to-map matching over a wide window");
+  registrar.add<GlobalMatchDetector>(
+      "GlobalMatchDetector",
+      "loop detector for large drift: branch-and-bound scan-to-map matching of the query "
+      "against each nearby candidate's neighbourhood over a drift-sized window");
 }

@@ -35,10 +35,29 @@ Eigen::MatrixXd betweenFactorInformation(const GraphEdge& edge, int dimension);
 void writeGraphG2o(const std::string& path, const std::vector<std::shared_ptr<const LocalMap>>& maps,
                    const std::vector<GraphEdge>& edges);
 
-/// What a loop detector sees of the graph: every node with its current origin.
+/// What a loop detector sees of the graph: every node with its origin when the view was taken.
+/// Detectors may run on the back-end thread while the front-end moves the maps: they read the
+/// origins here, never maps[i]->origin.
 struct GraphView {
   std::vector<std::shared_ptr<const LocalMap>> maps;  ///< by id (maps[i]->id == i)
+  std::vector<Eigen::Isometry3d> origins;  ///< each map's origin in the world, by id
   std::vector<double> travelled;  ///< path length from map 0 to each map's origin [m]
+  /// Path length at the newest map that closed a loop so far (-1: none yet).
+  double last_loop_travelled = -1;
+  /// Origin of map `b` in map `a`'s frame, from the snapshot.
+  Eigen::Isometry3d relative(int64_t a, int64_t b) const {
+    return origins[static_cast<size_t>(a)].inverse() * origins[static_cast<size_t>(b)];
+  }
+};
+
+/// A loop candidate proposed by a detector.
+struct LoopCandidate {
+  int64_t id = -1;  ///< the older map
+  /// True when the detector matched the data and `relative` is its estimate; otherwise the
+  /// validators start from the current estimate.
+  bool matched = false;
+  Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();  ///< query origin in `id`'s frame
+  double score = 0;  ///< the detector's own score (for logs)
 };
 
 /// Proposes older local maps that may show the same place as `query`.
@@ -46,8 +65,8 @@ class LoopDetector : public Configurable {
  public:
   static constexpr const char* kKind = "LoopDetector";
   ~LoopDetector() override;
-  /// Candidate map ids for `query` (which is view.maps[query.id]).
-  virtual std::vector<int64_t> detect(const GraphView& view, const LocalMap& query) = 0;
+  /// Candidates for `query` (which is view.maps[query.id]); may run on the back-end thread.
+  virtual std::vector<LoopCandidate> detect(const GraphView& view, const LocalMap& query) = 0;
 };
 
 /// A checked loop closure.
@@ -106,8 +125,9 @@ class GraphBackend : public Configurable {
                        const std::vector<GraphEdge>& edges);
 };
 
-/// Pose-graph SLAM over local maps ("sdk.GraphSlam2D/3D"). Optimization runs on a back-end
-/// thread (results are applied at the next frame) unless `deterministic` is set.
+/// Pose-graph SLAM over local maps ("sdk.GraphSlam2D/3D"). Loop detection and validation, and
+/// the optimization, run on back-end threads (results are applied at a later frame) unless
+/// `deterministic` is set.
 template <class S>
 class GraphSlam : public GraphBackend {
  public:
@@ -120,7 +140,15 @@ class GraphSlam : public GraphBackend {
       this, "validators",
       "every validator must accept a candidate; each starts from the pose the previous found"};
   Param<bool> deterministic{this, "deterministic", false, "",
-                            "optimize inline on the front-end thread (bit-identical replays)"};
+                            "search loops and optimize inline on the front-end thread "
+                            "(bit-identical replays)"};
+  Param<int> max_search_lag{this, "max_search_lag", 0, "",
+                            "closed maps that may wait for the back-end's loop search; beyond "
+                            "this the front-end waits for it (0: a map waits only while the "
+                            "previous map's search still runs; larger lags search, and correct "
+                            "large drift, on staler estimates when data comes faster than real "
+                            "time)",
+                            Range{0, 1000000}};
   Param<std::string> solver{this, "solver", "gn", "", "global optimizer", Choices{{"gn", "lm"}}};
   Param<int> iterations{this, "iterations", 20, "", "max iterations per optimization",
                         Range{1, 1000}};
@@ -148,6 +176,13 @@ class GraphSlam : public GraphBackend {
       "mutually consistent set is kept",
       Range{0, 1e9}};
 
+  Param<double> consistency_break_ratio{
+      this, "consistency_break_ratio", 10.0, "",
+      "an odometry edge whose rotation std. dev. is this many times the median of the recent "
+      "ones (a tracking failure's fallback edge) may hide any error: loops whose cycle runs "
+      "through one are not checked against each other",
+      Range{1, 1e12}};
+
   int dimension() const override { return S::kDim; }
   void mapStarted(const std::shared_ptr<LocalMap>& map) override;
   void mapClosed(const std::shared_ptr<LocalMap>& map) override;
@@ -174,6 +209,18 @@ class GraphSlam : public GraphBackend {
     double seconds = 0, chi2 = 0;
     bool ok = false;
   };
+  // Loop search over closed maps (detectors, then validators), on a snapshot of the graph.
+  struct LoopJob {
+    GraphView view;
+    std::vector<int64_t> queries;
+    std::vector<GraphEdge> closures;  // validated, in order
+    uint64_t candidates = 0, rejections = 0;
+  };
+  LoopJob makeLoopJob();
+  void runLoopJob(LoopJob& job);  // the only user of the detectors and validators
+  void applyLoopJob(const LoopJob& job);
+  void startLoopJob();
+
   Job makeJob() const;
   void runJob(Job& job) const;
   // Fills `graph` with the job's variables (the first fixed) and between factors.
@@ -182,10 +229,15 @@ class GraphSlam : public GraphBackend {
   void startJob();
 
   bool consistent(const GraphEdge& a, const GraphEdge& b) const;
+  // True when an odometry edge is far looser in rotation than the recent ones; remembers it.
+  bool isBreak(const GraphEdge& odometry);
   void selectConsistentLoops();
 
   std::vector<std::shared_ptr<LocalMap>> maps_;
   std::vector<double> travelled_;
+  std::vector<int> breaks_;  // weak odometry edges (and component starts) from map 0 to each map
+  std::vector<double> recent_sigmas_;  // rotation std. dev. of the last odometry edges (a ring)
+  size_t next_sigma_ = 0;
   std::vector<GraphEdge> edges_;  // odometry edges, then the active loops
   struct Loop {
     GraphEdge edge;
@@ -196,6 +248,8 @@ class GraphSlam : public GraphBackend {
   GraphStats stats_;
   std::future<Job> running_;
   bool pending_ = false;
+  std::vector<int64_t> queued_;  // closed maps waiting for the loop search
+  std::future<LoopJob> searching_;
 };
 
 extern template class GraphSlam<Space2D>;

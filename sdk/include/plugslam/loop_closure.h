@@ -20,7 +20,7 @@ class ProximityDetector : public LoopDetector {
                            "ignore maps fewer metres back along the path", Range{0, 1e9}};
   Param<int> max_candidates{this, "max_candidates", 3, "", "closest candidates kept",
                             Range{1, 1000}};
-  std::vector<int64_t> detect(const GraphView& view, const LocalMap& query) override;
+  std::vector<LoopCandidate> detect(const GraphView& view, const LocalMap& query) override;
 };
 
 /// Aligns the query map's scene to the candidate's and checks the result

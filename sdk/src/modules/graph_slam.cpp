@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <chrono>
 
 #include "plugslam/errors.h"
@@ -118,6 +119,7 @@ GraphSlam<S>::GraphSlam() {
 
 template <class S>
 GraphSlam<S>::~GraphSlam() {
+  if (searching_.valid()) searching_.wait();
   if (running_.valid()) running_.wait();
 }
 
@@ -149,12 +151,41 @@ bool GraphSlam<S>::consistent(const GraphEdge& a, const GraphEdge& b) const {
   auto est = [&](int64_t x, int64_t y) { return maps_[x]->origin.inverse() * maps_[y]->origin; };
   const Eigen::Isometry3d cycle =
       a.relative * est(a.to, b.to) * b.relative.inverse() * est(b.from, a.from);
+  // A leg through a tracking failure's edge may hold any error: no evidence either way.
+  if (breaks_[a.to] != breaks_[b.to] || breaks_[a.from] != breaks_[b.from]) return true;
   const double path = std::abs(travelled_[a.to] - travelled_[b.to]) +
                       std::abs(travelled_[a.from] - travelled_[b.from]);
   const double t_err = cycle.translation().norm();
   const double r_err = Eigen::AngleAxisd(cycle.linear()).angle();
   return t_err <= consistency_translation() + consistency_drift() * path &&
          r_err <= consistency_rotation() + consistency_drift() * path;
+}
+
+template <class S>
+bool GraphSlam<S>::isBreak(const GraphEdge& e) {
+  constexpr size_t kRecent = 200, kMinRecent = 10;
+  if (e.information.rows() != S::kDof) return true;
+  const Eigen::MatrixXd cov = e.information.inverse();
+  double var = 0;
+  const int first_rotation = S::kDof == 3 ? 2 : 3;  // (x, y, theta) or (x, y, z, rotation)
+  for (int i = first_rotation; i < S::kDof; ++i) var = std::max(var, cov(i, i));
+  const double sigma = std::sqrt(var);
+  bool loose = false;
+  if (recent_sigmas_.size() >= kMinRecent) {
+    std::vector<double> sorted = recent_sigmas_;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    loose = sigma > consistency_break_ratio() * sorted[sorted.size() / 2];
+  }
+  // A break is not remembered: the median stays the median of the tracker's good edges.
+  if (!loose) {
+    if (recent_sigmas_.size() < kRecent) {
+      recent_sigmas_.push_back(sigma);
+    } else {
+      recent_sigmas_[next_sigma_] = sigma;
+      next_sigma_ = (next_sigma_ + 1) % kRecent;
+    }
+  }
+  return loose;
 }
 
 template <class S>
@@ -205,6 +236,7 @@ void GraphSlam<S>::mapStarted(const std::shared_ptr<LocalMap>& map) {
   if (map->id != static_cast<int64_t>(maps_.size()))
     throw Error("graph back-end: local map " + std::to_string(map->id) + " arrived out of order");
   double travelled = maps_.empty() ? 0.0 : travelled_.back() + kComponentGap;
+  int breaks = maps_.empty() ? 0 : breaks_.back() + 1;
   if (map->previous >= 0) {
     if (map->previous >= static_cast<int64_t>(maps_.size()))
       throw Error("graph back-end: local map " + std::to_string(map->id) +
@@ -215,65 +247,120 @@ void GraphSlam<S>::mapStarted(const std::shared_ptr<LocalMap>& map) {
     e.to = map->id;
     e.relative = map->relative;
     e.information = information_scale() * conditioned(map->information, S::kDof);
+    breaks = breaks_[map->previous] + (isBreak(e) ? 1 : 0);
     edges_.push_back(std::move(e));
   }
   maps_.push_back(map);
   travelled_.push_back(travelled);
+  breaks_.push_back(breaks);
 }
 
 template <class S>
 void GraphSlam<S>::mapClosed(const std::shared_ptr<LocalMap>& query) {
   if (loop_detectors.empty() || validators.empty()) return;
-  GraphView view;
-  view.maps.assign(maps_.begin(), maps_.end());
-  view.travelled = travelled_;
-  std::vector<int64_t> seen;
-  bool accepted = false;
-  for (auto& detector : loop_detectors) {
-    for (int64_t id : detector->detect(view, *query)) {
-      if (id < 0 || id >= static_cast<int64_t>(maps_.size()) || id == query->id) continue;
-      if (std::find(seen.begin(), seen.end(), id) != seen.end()) continue;
-      seen.push_back(id);
-      ++stats_.candidates;
-      const LocalMap& candidate = *maps_[id];
-      const Eigen::Isometry3d guess = candidate.origin.inverse() * query->origin;
-      LoopClosure closure;
-      std::string reason;
-      bool ok = true;
-      // Validators form a chain: each starts from the pose the previous one found, so a coarse
-      // global matcher can hand a large correction to a precise local one.
-      Eigen::Isometry3d current = guess;
-      for (auto& validator : validators) {
-        if (!validator->validate(candidate, *query, current, closure, reason)) {
-          ok = false;
-          break;
+  queued_.push_back(query->id);
+  if (deterministic()) {
+    LoopJob job = makeLoopJob();
+    runLoopJob(job);
+    applyLoopJob(job);
+    return;
+  }
+  // Back-pressure: a front-end far ahead of the search would close loops on a stale estimate.
+  if (searching_.valid() && static_cast<int>(queued_.size()) > max_search_lag())
+    applyLoopJob(searching_.get());
+  if (!searching_.valid()) startLoopJob();
+}
+
+template <class S>
+typename GraphSlam<S>::LoopJob GraphSlam<S>::makeLoopJob() {
+  LoopJob job;
+  job.queries.swap(queued_);
+  job.view.maps.assign(maps_.begin(), maps_.end());
+  job.view.origins.reserve(maps_.size());
+  for (const auto& m : maps_) job.view.origins.push_back(m->origin);
+  job.view.travelled = travelled_;
+  for (const auto& l : loops_)
+    if (l.active)
+      job.view.last_loop_travelled =
+          std::max(job.view.last_loop_travelled, travelled_[l.edge.to]);
+  return job;
+}
+
+template <class S>
+void GraphSlam<S>::runLoopJob(LoopJob& job) {
+  const GraphView& view = job.view;
+  for (int64_t query_id : job.queries) {
+    const LocalMap& query = *view.maps[query_id];
+    // A candidate is tried once from the estimate and once from a detector's match (which may
+    // lie far from the estimate), and not again once it closed a loop.
+    std::vector<std::pair<int64_t, bool>> tried;
+    std::vector<int64_t> closed;
+    for (auto& detector : loop_detectors) {
+      for (const LoopCandidate& c : detector->detect(view, query)) {
+        const int64_t id = c.id;
+        if (id < 0 || id >= static_cast<int64_t>(view.maps.size()) || id == query_id) continue;
+        if (std::find(closed.begin(), closed.end(), id) != closed.end()) continue;
+        if (std::find(tried.begin(), tried.end(), std::make_pair(id, c.matched)) != tried.end())
+          continue;
+        tried.emplace_back(id, c.matched);
+        ++job.candidates;
+        const LocalMap& candidate = *view.maps[id];
+        LoopClosure closure;
+        std::string reason;
+        bool ok = true;
+        // Validators form a chain: each starts from the pose the previous found, the first from
+        // the detector's match when it made one (a global search finds closures far from the
+        // estimate), else from the estimate.
+        Eigen::Isometry3d current = c.matched ? c.relative : view.relative(id, query_id);
+        for (auto& validator : validators) {
+          if (!validator->validate(candidate, query, current, closure, reason)) {
+            ok = false;
+            break;
+          }
+          current = closure.edge.relative;
         }
-        current = closure.edge.relative;
+        if (!ok) {
+          ++job.rejections;
+          spdlog::debug("loop {} -> {} rejected: {}", query_id, id, reason);
+          continue;
+        }
+        closure.edge.from = id;
+        closure.edge.to = query_id;
+        closure.edge.loop = true;
+        closure.edge.information =
+            information_scale() * conditioned(closure.edge.information, S::kDof);
+        job.closures.push_back(closure.edge);
+        closed.push_back(id);
+        job.view.last_loop_travelled = view.travelled[query_id];
+        spdlog::debug("loop {} -> {} validated (overlap {:.2f}{})", query_id, id,
+                      closure.overlap, c.matched ? ", found by global search" : "");
       }
-      if (!ok) {
-        ++validator_rejections_;
-        spdlog::debug("loop {} -> {} rejected: {}", query->id, id, reason);
-        continue;
-      }
-      closure.edge.from = id;
-      closure.edge.to = query->id;
-      closure.edge.loop = true;
-      closure.edge.information =
-          information_scale() * conditioned(closure.edge.information, S::kDof);
-      loops_.push_back(Loop{closure.edge, true});
-      accepted = true;
-      spdlog::debug("loop {} -> {} validated (overlap {:.2f})", query->id, id, closure.overlap);
     }
   }
-  if (accepted) selectConsistentLoops();
-  if (accepted) {
-    pending_ = true;
-    if (deterministic()) {
-      optimizeNow();
-    } else if (!running_.valid()) {
-      startJob();
-    }
+}
+
+template <class S>
+void GraphSlam<S>::applyLoopJob(const LoopJob& job) {
+  stats_.candidates += job.candidates;
+  validator_rejections_ += job.rejections;
+  if (job.closures.empty()) return;
+  for (const GraphEdge& e : job.closures) loops_.push_back(Loop{e, true});
+  selectConsistentLoops();
+  pending_ = true;
+  if (deterministic()) {
+    optimizeNow();
+  } else if (!running_.valid()) {
+    startJob();
   }
+}
+
+template <class S>
+void GraphSlam<S>::startLoopJob() {
+  auto job = std::make_shared<LoopJob>(makeLoopJob());
+  searching_ = std::async(std::launch::async, [this, job] {
+    runLoopJob(*job);
+    return std::move(*job);
+  });
 }
 
 template <class S>
@@ -292,6 +379,7 @@ void GraphSlam<S>::restore(const std::vector<std::shared_ptr<LocalMap>>& maps,
     if (m->previous >= 0) travelled = travelled_[m->previous] + m->relative.translation().norm();
     maps_.push_back(m);
     travelled_.push_back(travelled);
+    breaks_.push_back(static_cast<int>(maps_.size()));  // redone from the edges below
   }
   for (const auto& e : edges) {
     if (e.from < 0 || e.to < 0 || e.from >= static_cast<int64_t>(maps_.size()) ||
@@ -308,6 +396,17 @@ void GraphSlam<S>::restore(const std::vector<std::shared_ptr<LocalMap>>& maps,
       loops_.push_back(Loop{e, true});
     else
       edges_.push_back(e);
+  }
+  for (size_t i = 0; i < maps_.size(); ++i) {
+    const int64_t prev = maps_[i]->previous;
+    if (prev < 0) {
+      breaks_[i] = i == 0 ? 0 : breaks_[i - 1] + 1;
+      continue;
+    }
+    bool weak_edge = false;
+    for (const auto& e : edges_)
+      if (e.to == static_cast<int64_t>(i) && e.from == prev) weak_edge = isBreak(e);
+    breaks_[i] = breaks_[prev] + (weak_edge ? 1 : 0);
   }
   stats_.optimizations = 0;
 }
@@ -407,6 +506,11 @@ void GraphSlam<S>::startJob() {
 
 template <class S>
 bool GraphSlam<S>::poll() {
+  if (searching_.valid() &&
+      searching_.wait_for(std::chrono::seconds(0)) == std::future_status::ready) {
+    applyLoopJob(searching_.get());
+    if (!queued_.empty()) startLoopJob();
+  }
   if (!running_.valid()) return false;
   if (running_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return false;
   applyJob(running_.get());
@@ -425,6 +529,12 @@ void GraphSlam<S>::optimizeNow() {
 
 template <class S>
 void GraphSlam<S>::finish() {
+  if (searching_.valid()) applyLoopJob(searching_.get());
+  if (!queued_.empty()) {
+    LoopJob job = makeLoopJob();
+    runLoopJob(job);
+    applyLoopJob(job);
+  }
   if (running_.valid()) applyJob(running_.get());
   if (pending_ || stats_.optimizations > 0) optimizeNow();
 }

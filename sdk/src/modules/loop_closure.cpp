@@ -5,21 +5,27 @@
 namespace plugslam {
 inline namespace abi_v1 {
 
-std::vector<int64_t> ProximityDetector::detect(const GraphView& view, const LocalMap& query) {
+std::vector<LoopCandidate> ProximityDetector::detect(const GraphView& view,
+                                                     const LocalMap& query) {
   std::vector<std::pair<double, int64_t>> found;
+  const Eigen::Vector3d at = view.origins.at(query.id).translation();
   const double here = view.travelled.at(query.id);
   for (const auto& map : view.maps) {
     if (map->id >= query.id) continue;
     const double since = here - view.travelled[map->id];
     if (since < min_travel()) continue;
     const double gate = std::min(max_radius(), radius() + drift() * since);
-    const double d = (map->origin.translation() - query.origin.translation()).norm();
+    const double d = (view.origins[map->id].translation() - at).norm();
     if (d <= gate) found.emplace_back(d, map->id);
   }
   std::sort(found.begin(), found.end());
-  std::vector<int64_t> out;
-  for (size_t i = 0; i < found.size() && static_cast<int>(i) < max_candidates(); ++i)
-    out.push_back(found[i].second);
+  std::vector<LoopCandidate> out;
+  for (size_t i = 0; i < found.size() && static_cast<int>(i) < max_candidates(); ++i) {
+    LoopCandidate c;
+    c.id = found[i].second;
+    c.score = found[i].first;
+    out.push_back(c);
+  }
   return out;
 }
 
