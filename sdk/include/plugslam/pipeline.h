@@ -2,6 +2,7 @@
 // The processing chain of one run: preprocessors, the tracker, and (issue 5) the graph
 // back-end. It knows nothing of how many cues there are.
 #include <map>
+#include <memory>
 
 #include "plugslam/configurable.h"
 #include "plugslam/errors.h"
@@ -14,6 +15,9 @@
 
 namespace plugslam {
 inline namespace abi_v1 {
+namespace detail {
+class PoseLog;
+}
 
 /// The core processing chain ("sdk.Pipeline").
 class Pipeline : public Configurable {
@@ -65,14 +69,11 @@ class Pipeline : public Configurable {
   }
   [[noreturn]] static void throwModuleError(const Configurable& m, const std::string& what);
 
-  /// One tracked frame, kept to rebuild the trajectory after corrections.
-  struct TrackedFrame {
-    double stamp;
-    int64_t local_map;
-    Eigen::Isometry3d in_map;
-  };
-  std::vector<TrackedFrame> tracked_;
-  std::vector<StampedPose> reference_;
+  // Every tracked frame (stamp, local map, pose in it), kept to rebuild the trajectory after
+  // corrections, and the reference poses; both spill to a temporary file so that memory stays
+  // flat on endless runs.
+  std::unique_ptr<detail::PoseLog> tracked_;
+  std::unique_ptr<detail::PoseLog> reference_;
   std::map<int64_t, std::shared_ptr<LocalMap>> local_maps_;
 
  private:

@@ -2,19 +2,23 @@
 
 #include "plugslam/errors.h"
 #include "plugslam/pose_space.h"
+#include "pose_log.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
 
-Pipeline::Pipeline() = default;
+Pipeline::Pipeline()
+    : tracked_(std::make_unique<detail::PoseLog>()),
+      reference_(std::make_unique<detail::PoseLog>()) {}
 Pipeline::~Pipeline() = default;
 
 void Pipeline::process(Frame& frame) {
   // Ground truth is recorded as it comes, so any pipeline can be scored against it.
   if (frame.raw.holds<Eigen::Isometry2d>(reference()))
-    reference_.push_back({frame.stamp, Space2D::to3D(frame.raw.get<Eigen::Isometry2d>(reference()))});
+    reference_->push_back(
+        {frame.stamp, 0, Space2D::to3D(frame.raw.get<Eigen::Isometry2d>(reference()))});
   else if (frame.raw.holds<Eigen::Isometry3d>(reference()))
-    reference_.push_back({frame.stamp, frame.raw.get<Eigen::Isometry3d>(reference())});
+    reference_->push_back({frame.stamp, 0, frame.raw.get<Eigen::Isometry3d>(reference())});
   for (auto& p : preprocessors) guarded(*p, [&] { return p->process(frame); });
   if (!tracker) return;
   guarded(*tracker, [&] { tracker->track(frame); });
@@ -29,7 +33,7 @@ void Pipeline::process(Frame& frame) {
     guarded(*graph, [&] { return graph->poll(); });
   }
   if (frame.estimate.valid)
-    tracked_.push_back({frame.stamp, frame.estimate.local_map, frame.estimate.in_map});
+    tracked_->push_back({frame.stamp, frame.estimate.local_map, frame.estimate.in_map});
 }
 
 void Pipeline::configure() {
@@ -43,7 +47,7 @@ void Pipeline::configure() {
 void Pipeline::restoreSession(const std::vector<std::shared_ptr<LocalMap>>& maps,
                               const std::vector<GraphEdge>& edges, bool localize) {
   if (!tracker) throw InputError("restoring a session needs a pipeline with a tracker");
-  if (!tracked_.empty() || !local_maps_.empty())
+  if (!tracked_->empty() || !local_maps_.empty())
     throw InputError("a session can only be restored before the first frame");
   for (const auto& m : maps)
     if (m->dimension != tracker->dimension())
@@ -67,20 +71,20 @@ RunResult Pipeline::result() const {
   if (graph) r.edges = graph->edges();
   for (const auto& [id, map] : local_maps_) r.local_maps.push_back(map);
   double last = -std::numeric_limits<double>::infinity();
-  for (const auto& f : tracked_) {
+  tracked_->forEach([&](const detail::PoseLog::Entry& f) {
     // Frames with repeated or backward stamps are skipped: trajectories are strictly ordered.
-    if (!(f.stamp > last)) continue;
+    if (!(f.stamp > last)) return;
     last = f.stamp;
-    auto it = local_maps_.find(f.local_map);
-    if (it == local_maps_.end()) continue;
-    r.trajectory.push_back(f.stamp, it->second->origin * f.in_map);
-  }
+    auto it = local_maps_.find(f.key);
+    if (it == local_maps_.end()) return;
+    r.trajectory.push_back(f.stamp, it->second->origin * f.pose);
+  });
   last = -std::numeric_limits<double>::infinity();
-  for (const auto& g : reference_) {
-    if (!(g.t > last)) continue;
-    last = g.t;
-    r.reference.push_back(g.t, g.pose);
-  }
+  reference_->forEach([&](const detail::PoseLog::Entry& g) {
+    if (!(g.stamp > last)) return;
+    last = g.stamp;
+    r.reference.push_back(g.stamp, g.pose);
+  });
   return r;
 }
 
