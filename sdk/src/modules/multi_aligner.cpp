@@ -21,8 +21,8 @@ template <class S>
 void MultiAligner<S>::configure() {
   for (double h : retry_headings())
     if (!(std::abs(h) <= M_PI))
-      throw ParamError("retry_headings", "every value must be an angle in [-pi, pi] rad, got " +
-                                             std::to_string(h));
+      throw ParamError("retry_headings",
+                       "every value must be an angle in [-pi, pi] rad, got " + std::to_string(h));
 }
 
 template <class S>

@@ -51,8 +51,9 @@ void MultiTracker<S>::configure() {
   for (double s : fallback_sigma())
     if (!(s > 0)) throw ParamError("fallback_sigma", "every value must be > 0");
   if (!max_correction().empty() && max_correction().size() != 2)
-    throw ParamError("max_correction", "expected 2 values (translation m, rotation rad) or an "
-                                       "empty list, got " + std::to_string(max_correction().size()));
+    throw ParamError("max_correction",
+                     "expected 2 values (translation m, rotation rad) or an empty list, got " +
+                         std::to_string(max_correction().size()));
   for (double v : max_correction())
     if (!(v > 0)) throw ParamError("max_correction", "every value must be > 0");
 }
