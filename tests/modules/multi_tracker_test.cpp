@@ -1,6 +1,8 @@
 // The generic Multi-Aligner and Multi-Tracker on a synthetic landmark cue.
 #include <gtest/gtest.h>
 
+#include <map>
+#include <optional>
 #include <random>
 
 #include "landmark_cue.h"
@@ -121,5 +123,68 @@ TEST(MultiTracker, AFrameWithoutDataStartsANewMapAndTrackingGoesOn) {
 TEST(MultiTracker, FallbackSigmaIsValidated) {
   auto tracker = makeTracker(1.0);
   tracker->fallback_sigma = std::vector<double>{0.1, 0.1};
+  EXPECT_THROW(tracker->configure(), ParamError);
+}
+
+namespace {
+
+// Predicts a scripted motion per frame (by seq); nothing for frames not in the script.
+class ScriptedMotion : public MotionModel<Space2D> {
+ public:
+  std::map<uint64_t, Eigen::Isometry2d> script;
+  std::optional<Eigen::Isometry2d> predict(const Frame& frame) override {
+    auto it = script.find(frame.seq);
+    if (it == script.end()) return std::nullopt;
+    return it->second;
+  }
+};
+
+// Drives along x at 0.1 m per frame; the motion model is right except at frame 15, where it
+// predicts 0.5 m too far (and at frame 20, where it predicts nothing). Returns the estimates.
+std::vector<Eigen::Isometry2d> driveWithABadPrediction(MultiTracker<Space2D>& tracker) {
+  auto motion = std::make_shared<ScriptedMotion>();
+  for (uint64_t i = 1; i < 30; ++i) motion->script[i] = se2(i == 15 ? 0.6 : 0.1, 0, 0);
+  motion->script.erase(20);
+  tracker.motion.assign(motion);
+  const Landmarks world = grid(1.5, 12.0);
+  std::vector<Eigen::Isometry2d> out;
+  for (int i = 0; i < 30; ++i) {
+    Frame f;
+    f.seq = i;
+    f.stamp = 0.1 * i;
+    f.measurement.set<Landmarks>("landmarks", observe(world, se2(0.1 * i, 0, 0), 6.0));
+    tracker.track(f);
+    out.push_back(Space2D::from3D(f.estimate.world));
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST(MultiTracker, MaxCorrectionKeepsThePredictionWhenTheAlignmentMovesItTooFar) {
+  // Without a limit the (exact) landmark alignment corrects the bad prediction.
+  auto free = makeTracker(100.0);
+  auto estimates = driveWithABadPrediction(*free);
+  EXPECT_EQ(free->stats().failed, 0u);
+  EXPECT_NEAR(estimates[15].translation().x(), 1.5, 1e-6);
+
+  // With a 0.2 m limit the 0.5 m correction is rejected: the frame counts as failed and keeps
+  // the prediction; the 0.1 m steps (corrections ~0) and the frame without prediction pass.
+  auto limited = makeTracker(100.0);
+  limited->max_correction = std::vector<double>{0.2, 0.5};
+  limited->configure();
+  estimates = driveWithABadPrediction(*limited);
+  EXPECT_EQ(limited->stats().failed, 1u);
+  EXPECT_NEAR(estimates[15].translation().x(), 2.0, 1e-6);
+  // Tracking goes on from the kept prediction, 0.5 m off from there on.
+  EXPECT_NEAR(estimates[29].translation().x(), 2.9 + 0.5, 1e-6);
+  EXPECT_EQ(limited->stats().local_maps, 2u);
+}
+
+TEST(MultiTracker, MaxCorrectionIsValidated) {
+  auto tracker = makeTracker(1.0);
+  tracker->max_correction = std::vector<double>{0.2};
+  EXPECT_THROW(tracker->configure(), ParamError);
+  tracker->max_correction = std::vector<double>{0.2, 0.0};
   EXPECT_THROW(tracker->configure(), ParamError);
 }

@@ -1,6 +1,7 @@
 #include "scan_preprocessor.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -50,7 +51,8 @@ void ScanPreprocessor::convert(const LaserScan& scan, PointCloud2D& out) {
   // Normals: a line fit over adjacent beams, in the sensor frame (neighbours in beam order
   // are neighbours on the surface unless the range jumps, which normal_radius rejects).
   const int k = normal_neighbors();
-  const double r2 = normal_radius() * normal_radius();
+  const double r2_min = normal_radius() * normal_radius();
+  const double spacing_per_m = normal_spacing() * std::abs(scan.angle_increment);
   const int step = decimation();
   const double min_gap2 = voxel() * voxel();
   Eigen::Vector2d last_kept(std::numeric_limits<double>::quiet_NaN(), 0.0);
@@ -61,6 +63,8 @@ void ScanPreprocessor::convert(const LaserScan& scan, PointCloud2D& out) {
     if (!valid_[i]) continue;
     const Eigen::Vector2d& p = beam_points_[i];
     if (voxel() > 0 && (p - last_kept).squaredNorm() < min_gap2) continue;
+    const double spacing = spacing_per_m * p.norm();
+    const double r2 = std::max(r2_min, spacing * spacing);
     Eigen::Vector2d sum = Eigen::Vector2d::Zero();
     Eigen::Matrix2d sq = Eigen::Matrix2d::Zero();
     int count = 0;

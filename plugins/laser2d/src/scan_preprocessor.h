@@ -53,6 +53,15 @@ class ScanPreprocessor final : public PreProcessor {
                               "m",
                               "neighbours farther than this do not enter the normal fit",
                               Range{0.001, 100}};
+  // Beams 0.5 deg apart are 0.44 m apart at 50 m: a fixed radius leaves far surfaces (outdoors
+  // most of the structure) without the three neighbours a normal needs, and drops them.
+  Param<double> normal_spacing{this,
+                               "normal_spacing",
+                               2.5,
+                               "",
+                               "the normal fit's radius grows to this many beam spacings (range "
+                               "x angle increment) where that exceeds normal_radius (0: off)",
+                               Range{0, 100}};
   Param<double> max_planarity{this,
                               "max_planarity",
                               0.1,

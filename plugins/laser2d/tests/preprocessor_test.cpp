@@ -39,6 +39,35 @@ TEST(ScanPreprocessor, PointsOfAWallAreInTheRobotFrameWithPerpendicularNormals) 
   }
 }
 
+TEST(ScanPreprocessor, AFarWallKeepsItsPointsWhenTheRadiusFollowsTheBeamSpacing) {
+  // A wall x = 70 seen with 0.5 deg beams: neighbours are 0.61 m or more apart, so within the
+  // fixed 0.5 m radius no point has the three a normal needs; with the radius grown to 2.5 beam
+  // spacings the wall keeps its points.
+  const std::vector<Segment> wall{{{70.0, -30.0}, {70.0, 30.0}}};
+  test::ScanSpec spec;
+  spec.beams = 81;
+  spec.fov = 40 * M_PI / 180;
+  spec.range_max = 80;
+  const LaserScan scan = test::castScan(wall, SE2::Identity(), spec);
+  ScanPreprocessor pre;
+  pre.max_range = 80;
+  pre.normal_spacing = 0;
+  pre.configure();
+  PointCloud2D fixed;
+  pre.convert(scan, fixed);
+  EXPECT_EQ(fixed.size(), 0u);
+
+  pre.normal_spacing = 2.5;
+  pre.configure();
+  PointCloud2D adaptive;
+  pre.convert(scan, adaptive);
+  EXPECT_GT(adaptive.size(), 75u);
+  for (size_t i = 0; i < adaptive.size(); ++i) {
+    EXPECT_NEAR(adaptive.points[i].x(), 70.0, 1e-9);
+    EXPECT_NEAR(adaptive.normals[i].x(), -1.0, 1e-9) << "normal " << i;
+  }
+}
+
 TEST(ScanPreprocessor, InvalidBeamsAreDropped) {
   LaserScan scan;
   scan.angle_min = -0.1;

@@ -2,6 +2,8 @@
 // The Multi-Aligner (seed, section IV-B): one iterative least-squares solve on the robot's
 // relative pose, to which every slice adds the factors of its cue. Data association is redone
 // at each outer iteration; each inner iteration is a damped Gauss-Newton step.
+#include <vector>
+
 #include "plugslam/aligner_slice.h"
 
 namespace plugslam {
@@ -45,10 +47,23 @@ class MultiAligner : public Configurable {
                         "Levenberg damping added to the diagonal", Range{0, 1e6}};
   Param<int> min_inliers{this, "min_inliers", 10, "",
                          "fewer inliers than this makes the result invalid", Range{0, 1e9}};
+  // A heading error of the prediction moves far points more than the association gate (0.1 rad
+  // at 10 m is 1 m): no pairs form and the solve cannot start. Restarting from turned guesses is
+  // a one-dimensional search in the direction odometry knows worst; it costs nothing on frames
+  // that align from the prediction.
+  Param<std::vector<double>> retry_headings{
+      this, "retry_headings", {}, "rad",
+      "when the alignment from the prediction is invalid, retry from the prediction turned by "
+      "each of these about the vertical axis; the valid result with the most inliers wins"};
 
+  void configure() override;
   /// Aligns the frame's cues to the scene, starting from context.guess.
   AlignResult<S> align(const Frame& frame, const PropertyContainer& scene,
                        const AlignContext<S>& context);
+
+ private:
+  // One solve from `guess` with the slices already bound.
+  AlignResult<S> solve(const std::vector<AlignerSlice<S>*>& active, const Pose& guess);
 };
 
 extern template class MultiAligner<Space2D>;

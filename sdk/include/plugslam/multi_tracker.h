@@ -36,6 +36,15 @@ class MultiTracker : public Tracker {
                                            : std::vector<double>{0.1, 0.1, 0.1, 0.05, 0.05, 0.05},
       "m, rad", "std. dev. of an edge whose alignment failed (per tangent coordinate)"};
 
+  // On sparse scans a few wrong pairs can outweigh the odometry prior and slide the pose far
+  // from a prediction that was right; a correction larger than the motion model's error can be
+  // is then a failed alignment, not a measurement.
+  Param<std::vector<double>> max_correction{
+      this, "max_correction", {}, "m, rad",
+      "translation and rotation: an alignment farther than this from the motion model's "
+      "prediction counts as failed and the prediction is kept (empty: no limit; not applied "
+      "when the motion model has no prediction)"};
+
   void configure() override;
   int dimension() const override { return S::kDim; }
   void track(Frame& frame) override;
@@ -64,6 +73,7 @@ class MultiTracker : public Tracker {
   Pose pose_ = Pose::Identity();         // robot in the current local map
   Pose last_motion_ = Pose::Identity();  // for the constant-velocity prediction
   size_t frames_in_map_ = 0;
+  bool predicted_by_model_ = false;  // the last prediction came from the motion model
   int64_t next_id_ = 0;
   // Localization mode: the frozen maps and the one the robot is in.
   std::vector<std::shared_ptr<const LocalMap>> frozen_;

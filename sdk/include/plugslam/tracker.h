@@ -14,7 +14,7 @@ inline namespace abi_v1 {
 struct TrackerStats {
   uint64_t frames = 0;          ///< frames tracked
   uint64_t aligned = 0;         ///< frames whose alignment was valid
-  uint64_t failed = 0;          ///< frames where the aligner gave no valid solution
+  uint64_t failed = 0;          ///< frames where the aligner gave no valid or plausible solution
   uint64_t local_maps = 0;      ///< local maps created
   double inlier_ratio_sum = 0;  ///< for the mean inlier ratio
 };

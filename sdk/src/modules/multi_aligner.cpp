@@ -1,6 +1,10 @@
 #include "plugslam/multi_aligner.h"
 
 #include <Eigen/Dense>
+#include <cmath>
+#include <string>
+
+#include "plugslam/errors.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
@@ -14,18 +18,45 @@ template <class S>
 MultiAligner<S>::~MultiAligner() = default;
 
 template <class S>
+void MultiAligner<S>::configure() {
+  for (double h : retry_headings())
+    if (!(std::abs(h) <= M_PI))
+      throw ParamError("retry_headings",
+                       "every value must be an angle in [-pi, pi] rad, got " + std::to_string(h));
+}
+
+template <class S>
 AlignResult<S> MultiAligner<S>::align(const Frame& frame, const PropertyContainer& scene,
                                       const AlignContext<S>& context) {
-  AlignResult<S> result;
-  result.pose = context.guess;
-  result.H.setZero();
   std::vector<AlignerSlice<S>*> active;
   for (auto& slice : slices)
     if (slice->bind(frame, scene, context)) active.push_back(slice.get());
-  if (active.empty()) return result;
+  if (active.empty()) {
+    AlignResult<S> none;
+    none.pose = context.guess;
+    none.H.setZero();
+    return none;
+  }
+  AlignResult<S> result = solve(active, context.guess);
+  if (result.valid) return result;
+  // The last tangent coordinate is the rotation about the vertical axis in 2D and 3D alike.
+  for (double heading : retry_headings()) {
+    typename S::Vector turn = S::Vector::Zero();
+    turn(S::kDof - 1) = heading;
+    AlignResult<S> retry = solve(active, S::boxplus(context.guess, turn));
+    if (retry.valid && (!result.valid || retry.inliers > result.inliers)) result = retry;
+  }
+  return result;
+}
 
+template <class S>
+AlignResult<S> MultiAligner<S>::solve(const std::vector<AlignerSlice<S>*>& active,
+                                      const Pose& guess) {
+  AlignResult<S> result;
+  result.pose = guess;
+  result.H.setZero();
   NormalEquations<S> eq;
-  typename S::Pose t = context.guess;
+  typename S::Pose t = guess;
   for (int outer = 0; outer < outer_iterations(); ++outer) {
     for (auto* slice : active) slice->associate(t);
     bool step_converged = false;

@@ -50,6 +50,12 @@ void MultiTracker<S>::configure() {
                                            std::to_string(fallback_sigma().size()));
   for (double s : fallback_sigma())
     if (!(s > 0)) throw ParamError("fallback_sigma", "every value must be > 0");
+  if (!max_correction().empty() && max_correction().size() != 2)
+    throw ParamError("max_correction",
+                     "expected 2 values (translation m, rotation rad) or an empty list, got " +
+                         std::to_string(max_correction().size()));
+  for (double v : max_correction())
+    if (!(v > 0)) throw ParamError("max_correction", "every value must be > 0");
 }
 
 template <class S>
@@ -60,6 +66,7 @@ void MultiTracker<S>::reset() {
   located_.reset();
   pose_ = last_motion_ = Pose::Identity();
   frames_in_map_ = 0;
+  predicted_by_model_ = false;
   if (motion) motion->reset();
 }
 
@@ -160,6 +167,15 @@ void MultiTracker<S>::track(Frame& frame) {
       writeEstimate(frame);
       return;
     }
+    if (aligned.valid && predicted_by_model_ && !max_correction().empty()) {
+      const Pose correction = S::normalized(guess.inverse() * aligned.pose);
+      if (S::distance(correction) > max_correction()[0] ||
+          S::angle(correction) > max_correction()[1]) {
+        spdlog::debug("frame {}: alignment moved the prediction by {:.3f} m, {:.3f} rad; rejected",
+                      frame.seq, S::distance(correction), S::angle(correction));
+        aligned.valid = false;
+      }
+    }
     if (aligned.valid) {
       pose_ = aligned.pose;
       information = aligned.H;
@@ -207,6 +223,7 @@ template <class S>
 typename S::Pose MultiTracker<S>::predict(const Frame& frame) {
   std::optional<Pose> delta;
   if (motion) delta = motion->predict(frame);
+  predicted_by_model_ = delta.has_value();
   if (!delta) delta = constant_velocity() ? last_motion_ : Pose::Identity();
   return S::normalized(pose_ * *delta);
 }
