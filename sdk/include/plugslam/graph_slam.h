@@ -183,7 +183,7 @@ class GraphSlam : public GraphBackend {
       "through one are not checked against each other",
       Range{1, 1e12}};
   Param<double> residual_translation{
-      this, "residual_translation", 0.15, "m",
+      this, "residual_translation", 0.1, "m",
       "after each optimization the active loop that disagrees most with the optimized graph, "
       "if its error exceeds this (0: never)...",
       Range{0, 1e6}};
