@@ -61,7 +61,8 @@ struct LoopWorld {
 // Returns the maps; `dead_reckoning` receives where odometry alone ends.
 std::vector<std::shared_ptr<LocalMap>> driveLoop(const LoopWorld& lw, GraphSlam<Space2D>& graph,
                                                  double bias, bool poll,
-                                                 Eigen::Isometry2d* dead_reckoning = nullptr) {
+                                                 Eigen::Isometry2d* dead_reckoning = nullptr,
+                                                 double odometry_information = 100.0) {
   std::vector<std::shared_ptr<LocalMap>> maps;
   Eigen::Isometry2d estimate = lw.origins[0];
   for (size_t k = 0; k < lw.origins.size(); ++k) {
@@ -71,7 +72,7 @@ std::vector<std::shared_ptr<LocalMap>> driveLoop(const LoopWorld& lw, GraphSlam<
       estimate = estimate * rel;
       m->previous = static_cast<int64_t>(k - 1);
       m->relative = Space2D::to3D(rel);
-      m->information = Eigen::Matrix3d::Identity() * 100.0;
+      m->information = Eigen::Matrix3d::Identity() * odometry_information;
     }
     m->origin = Space2D::to3D(estimate);
     maps.push_back(m);
@@ -209,6 +210,51 @@ TEST(GraphSlam, AFalseLoopIsRejectedByConsistency) {
   for (const auto& e : graph->edges()) EXPECT_FALSE(e.loop && e.to == v->victim && e.from == 0);
   EXPECT_LT((Space2D::from3D(maps.back()->origin).translation() - lw.origins.back().translation()).norm(),
             0.05);
+}
+
+TEST(GraphSlam, AFalseLoopAloneInItsWindowIsRejectedByItsResidual) {
+  // With the consistency window closed, no other loop can disagree with the false one; only its
+  // residual after the optimization (the rest of the graph disagrees) gives it away. Odometry
+  // as stiff as the loops: softer, it would bend to absorb the false loop's error instead.
+  for (bool residual_check : {false, true}) {
+    for (bool deterministic : {true, false}) {
+      // Threaded, the loops of several maps arrive in one search job and the consistency check
+      // already sees the false loop: the control without the residual check runs inline only.
+      if (!residual_check && !deterministic) continue;
+      LoopWorld lw;
+      auto graph = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
+          Registry::instance().create("sdk.GraphSlam2D"));
+      graph->deterministic = deterministic;
+      graph->consistency_window = 0.0;
+      if (!residual_check) {
+        graph->residual_translation = 0.0;
+        graph->residual_rotation = 0.0;
+      }
+      graph->loop_detectors.assign(Registry::instance().create("sdk.ProximityDetector"));
+      auto v = std::make_shared<CorruptingValidator>();
+      v->victim = static_cast<int64_t>(lw.origins.size()) - 2;
+      v->victim_candidate = 0;
+      graph->validators.assign(v);
+      graph->configure();
+      auto maps = driveLoop(lw, *graph, 0.006, !deterministic, nullptr, 1e5);
+      bool false_loop_active = false;
+      for (const auto& e : graph->edges())
+        false_loop_active = false_loop_active || (e.loop && e.to == v->victim && e.from == 0);
+      double end_error = 0;  // the largest error of any map
+      for (size_t k = 0; k < maps.size(); ++k)
+        end_error = std::max(end_error, (Space2D::from3D(maps[k]->origin).translation() -
+                                         lw.origins[k].translation()).norm());
+      const std::string mode = std::string(residual_check ? "checked" : "unchecked") +
+                               (deterministic ? ", deterministic" : ", threaded");
+      EXPECT_EQ(false_loop_active, !residual_check) << mode;
+      EXPECT_GE(graph->stats().loops_accepted, 1u) << mode;
+      if (residual_check) {
+        EXPECT_LT(end_error, 0.05) << mode;
+      } else {
+        EXPECT_GT(end_error, 0.1) << mode;  // what the false loop does when it stays
+      }
+    }
+  }
 }
 
 namespace {

@@ -182,6 +182,16 @@ class GraphSlam : public GraphBackend {
       "ones (a tracking failure's fallback edge) may hide any error: loops whose cycle runs "
       "through one are not checked against each other",
       Range{1, 1e12}};
+  Param<double> residual_translation{
+      this, "residual_translation", 0.1, "m",
+      "after each optimization the active loop that disagrees most with the optimized graph, "
+      "if its error exceeds this (0: never)...",
+      Range{0, 1e6}};
+  Param<double> residual_rotation{
+      this, "residual_rotation", 0.1, "rad",
+      "...or this in rotation (0: never), is rejected for good and the graph re-optimized (a "
+      "wrong loop alone in its consistency window has no other loop to disagree with)",
+      Range{0, 10}};
 
   int dimension() const override { return S::kDim; }
   void mapStarted(const std::shared_ptr<LocalMap>& map) override;
@@ -225,7 +235,12 @@ class GraphSlam : public GraphBackend {
   void runJob(Job& job) const;
   // Fills `graph` with the job's variables (the first fixed) and between factors.
   void buildGraph(const Job& job, FactorGraph& graph, bool with_kernel) const;
-  void applyJob(const Job& job);
+  // Applies the job's estimate; true when it rejected a loop by its residual (see
+  // residual_translation), so that the graph needs another optimization.
+  bool applyJob(const Job& job);
+  // The active loop of `job` whose residual at the job's solution is largest relative to the
+  // residual bounds, if any exceeds them: rejected for good.
+  bool rejectWorstLoop(const Job& job);
   void startJob();
 
   bool consistent(const GraphEdge& a, const GraphEdge& b) const;
@@ -242,6 +257,7 @@ class GraphSlam : public GraphBackend {
   struct Loop {
     GraphEdge edge;
     bool active = true;
+    bool vetoed = false;  // rejected by its residual after an optimization: never restored
   };
   std::vector<Loop> loops_;       // every validated loop, active or rejected by consistency
   uint64_t validator_rejections_ = 0;

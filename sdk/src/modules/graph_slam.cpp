@@ -196,7 +196,8 @@ void GraphSlam<S>::selectConsistentLoops() {
   const double newest = travelled_[loops_.back().edge.to];
   std::vector<size_t> window;
   for (size_t i = 0; i < loops_.size(); ++i)
-    if (newest - travelled_[loops_[i].edge.to] <= consistency_window()) window.push_back(i);
+    if (!loops_[i].vetoed && newest - travelled_[loops_[i].edge.to] <= consistency_window())
+      window.push_back(i);
   if (window.size() > 24) window.erase(window.begin(), window.end() - 24);
   const size_t n = window.size();
   std::vector<uint32_t> adj(n, 0);
@@ -479,19 +480,55 @@ void GraphSlam<S>::runJob(Job& job) const {
 }
 
 template <class S>
-void GraphSlam<S>::applyJob(const Job& job) {
+bool GraphSlam<S>::rejectWorstLoop(const Job& job) {
+  const double max_t = residual_translation(), max_r = residual_rotation();
+  if (max_t <= 0 && max_r <= 0) return false;
+  double worst = 1.0;
+  const GraphEdge* worst_edge = nullptr;
+  double worst_t = 0, worst_r = 0;
+  for (const GraphEdge& e : job.edges) {
+    if (!e.loop) continue;
+    const Eigen::Isometry3d err = e.relative.inverse() * S::to3D(job.after[e.from]).inverse() *
+                                  S::to3D(job.after[e.to]);
+    const double t = err.translation().norm();
+    const double r = Eigen::AngleAxisd(err.linear()).angle();
+    const double ratio = std::max(max_t > 0 ? t / max_t : 0.0, max_r > 0 ? r / max_r : 0.0);
+    if (ratio > worst) {
+      worst = ratio;
+      worst_edge = &e;
+      worst_t = t;
+      worst_r = r;
+    }
+  }
+  if (!worst_edge) return false;
+  for (Loop& l : loops_) {
+    if (!l.active || l.edge.from != worst_edge->from || l.edge.to != worst_edge->to) continue;
+    l.active = false;
+    l.vetoed = true;
+    spdlog::debug("loop {} -> {} rejected by its residual ({:.3f} m, {:.3f} rad)", l.edge.to,
+                  l.edge.from, worst_t, worst_r);
+    return true;
+  }
+  return false;
+}
+
+template <class S>
+bool GraphSlam<S>::applyJob(const Job& job) {
   ++stats_.optimizations;
   stats_.optimization_time += job.seconds;
   stats_.final_chi2 = job.chi2;
   if (!job.ok || job.nodes == 0) {
     spdlog::warn("global optimization failed; the map keeps its previous estimate");
-    return;
+    return false;
   }
   // Maps added while the job ran move with the last map the job knew.
   const Eigen::Isometry3d correction =
       S::to3D(job.after.back()) * S::to3D(job.before.back()).inverse();
   for (size_t i = 0; i < maps_.size(); ++i)
     maps_[i]->origin = i < job.nodes ? S::to3D(job.after[i]) : correction * maps_[i]->origin;
+  if (!rejectWorstLoop(job)) return false;
+  pending_ = true;
+  return true;
 }
 
 template <class S>
@@ -521,10 +558,13 @@ bool GraphSlam<S>::poll() {
 template <class S>
 void GraphSlam<S>::optimizeNow() {
   if (running_.valid()) applyJob(running_.get());
-  pending_ = false;
-  Job job = makeJob();
-  runJob(job);
-  applyJob(job);
+  // Each round may reject one loop by its residual; the loops are finite.
+  do {
+    pending_ = false;
+    Job job = makeJob();
+    runJob(job);
+    applyJob(job);
+  } while (pending_);
 }
 
 template <class S>
