@@ -52,6 +52,24 @@ std::string slurp(const std::string& path) {
   return ss.str();
 }
 
+// Map crispness of OUT/trajectory.tum and of OUT/reference.tum on the log, same implementation and
+// options (`plugslam eval crispness`); NaN when a command fails (the failure is reported).
+struct Crispness {
+  double ours, reference;
+};
+Crispness crispness(const std::string& log, const fs::path& out, const std::string& options = "") {
+  double value[2];
+  const char* files[2] = {"trajectory.tum", "reference.tum"};
+  for (int i = 0; i < 2; ++i) {
+    Result r = run("eval crispness " + log + " " + (out / files[i]).string() + options +
+                   " --format json");
+    EXPECT_EQ(r.code, 0) << r.out;
+    value[i] = jsonNumber(r.out, "mean_m");
+  }
+  return {value[0], value[1]};
+}
+
+
 fs::path tempDir(const std::string& name) {
   fs::path d = fs::temp_directory_path() / ("plugslam_it_" + std::to_string(::getpid()) + name);
   fs::create_directories(d);
@@ -89,11 +107,8 @@ TEST(Slam, IntelMatchesTheReferenceAndIsAsCrisp) {
   // Issue 5: <= 0.05 m and <= 1 deg mean against GMapping's poses (measured 0.045 m, 0.6 deg).
   EXPECT_LT(rel.translation.mean, 0.05);
   EXPECT_LT(rel.rotation_deg.mean, 1.0);
-  Result ours = run("eval crispness " + log + " " + (out / "trajectory.tum").string() + " --format json");
-  Result theirs = run("eval crispness " + log + " " + (out / "reference.tum").string() + " --format json");
-  ASSERT_EQ(ours.code, 0) << ours.out;
-  ASSERT_EQ(theirs.code, 0) << theirs.out;
-  const double c_ours = jsonNumber(ours.out, "mean_m"), c_ref = jsonNumber(theirs.out, "mean_m");
+  const Crispness c = crispness(log, out);
+  const double c_ours = c.ours, c_ref = c.reference;
   // A broken map (double walls, bent corridors) is far above the reference's crispness.
   EXPECT_LT(c_ours, 1.1 * c_ref) << "ours " << c_ours << " reference " << c_ref;
   fs::remove_all(out);
@@ -130,12 +145,9 @@ TEST(Slam, IntelFrontEndAloneRelativeErrorOverOneMetre) {
   EXPECT_LT(rpe.translation_percent.median, 2.8);
   EXPECT_LT(rpe.rotation_deg.mean, 0.8);
   // Locally (scans at most 10 apart) the front-end is more consistent than GMapping's poses.
-  const std::string window = " --min-gap 1 --max-gap 10 --max-range 20 --format json";
-  Result ours = run("eval crispness " + log + " " + (out / "trajectory.tum").string() + window);
-  Result theirs = run("eval crispness " + log + " " + (out / "reference.tum").string() + window);
-  ASSERT_EQ(ours.code, 0) << ours.out;
-  ASSERT_EQ(theirs.code, 0) << theirs.out;
-  const double c_ours = jsonNumber(ours.out, "mean_m"), c_ref = jsonNumber(theirs.out, "mean_m");
+  const std::string window = " --min-gap 1 --max-gap 10 --max-range 20";
+  const Crispness c = crispness(log, out, window);
+  const double c_ours = c.ours, c_ref = c.reference;
   EXPECT_LT(c_ours, c_ref) << "ours " << c_ours << " reference " << c_ref;
   fs::remove_all(out);
 }
@@ -157,11 +169,8 @@ TEST(Slam, SeattleClosesItsLoopAfterLargeDrift) {
   // Without the global search: 1.35 m, 14 deg. With it: 0.032 m, 0.28 deg.
   EXPECT_LT(rel.translation.mean, 0.05);
   EXPECT_LT(rel.rotation_deg.mean, 1.0);
-  Result ours = run("eval crispness " + log + " " + (out / "trajectory.tum").string() + " --format json");
-  Result theirs = run("eval crispness " + log + " " + (out / "reference.tum").string() + " --format json");
-  ASSERT_EQ(ours.code, 0) << ours.out;
-  ASSERT_EQ(theirs.code, 0) << theirs.out;
-  const double c_ours = jsonNumber(ours.out, "mean_m"), c_ref = jsonNumber(theirs.out, "mean_m");
+  const Crispness c = crispness(log, out);
+  const double c_ours = c.ours, c_ref = c.reference;
   EXPECT_LE(c_ours, c_ref) << "ours " << c_ours << " reference " << c_ref;
   fs::remove_all(out);
 }
