@@ -10,7 +10,18 @@ namespace laser2d {
 
 namespace {
 std::atomic<uint64_t> next_revision{1};
+
+// One field list for save and load.
+template <class Ar, class C>
+void cloudFields(Ar& ar, C& c) {
+  ar.beginObject();
+  ar.field("points", c.points);
+  ar.field("normals", c.normals);
+  ar.field("weights", c.weights);
+  ar.field("sensor_origin", c.sensor_origin);
+  ar.endObject();
 }
+}  // namespace
 
 void PointCloud2D::clear() {
   points.clear();
@@ -28,22 +39,10 @@ void PointCloud2D::checkConsistent() const {
                      " normals, " + std::to_string(weights.size()) + " weights");
 }
 
-void save(OutArchive& ar, const PointCloud2D& c) {
-  ar.beginObject();
-  ar.field("points", c.points);
-  ar.field("normals", c.normals);
-  ar.field("weights", c.weights);
-  ar.field("sensor_origin", c.sensor_origin);
-  ar.endObject();
-}
+void save(OutArchive& ar, const PointCloud2D& c) { cloudFields(ar, c); }
 
 void load(InArchive& ar, PointCloud2D& c) {
-  ar.beginObject();
-  ar.field("points", c.points);
-  ar.field("normals", c.normals);
-  ar.field("weights", c.weights);
-  ar.field("sensor_origin", c.sensor_origin);
-  ar.endObject();
+  cloudFields(ar, c);
   if (c.normals.size() != c.points.size() || c.weights.size() != c.points.size())
     ar.fail("PointCloud2D: expected as many normals and weights as points");
   c.touch();

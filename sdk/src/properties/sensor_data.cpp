@@ -111,6 +111,23 @@ void cameraFields(Ar& ar, C& c) {
   ar.endObject();
 }
 
+// The fields before an image's pixels, shared by save and load.
+template <class Ar, class I>
+void imageHeader(Ar& ar, I& im) {
+  ar.field("stamp", im.stamp);
+  ar.field("width", im.width);
+  ar.field("height", im.height);
+  ar.field("channels", im.channels);
+  ar.field("stride", im.stride);
+}
+
+template <class Ar, class D>
+void depthHeader(Ar& ar, D& d) {
+  ar.field("stamp", d.stamp);
+  ar.field("width", d.width);
+  ar.field("height", d.height);
+}
+
 }  // namespace
 
 void save(OutArchive& ar, const LaserScan& s) { scanFields(ar, s); }
@@ -122,22 +139,14 @@ void load(InArchive& ar, CameraInfo& c) { cameraFields(ar, c); }
 
 void save(OutArchive& ar, const Image& im) {
   ar.beginObject();
-  ar.field("stamp", im.stamp);
-  ar.field("width", im.width);
-  ar.field("height", im.height);
-  ar.field("channels", im.channels);
-  ar.field("stride", im.stride);
+  imageHeader(ar, im);
   ar.field("data", toBase64(im.data.data(), im.data.size()));
   ar.endObject();
 }
 
 void load(InArchive& ar, Image& im) {
   ar.beginObject();
-  ar.field("stamp", im.stamp);
-  ar.field("width", im.width);
-  ar.field("height", im.height);
-  ar.field("channels", im.channels);
-  ar.field("stride", im.stride);
+  imageHeader(ar, im);
   checkSize(ar, im.width, im.height);
   if (im.channels < 1 || im.channels > 4) ar.fail("image channels must be 1..4");
   if (im.stride < im.width * im.channels) ar.fail("image stride must be >= width * channels");
@@ -153,9 +162,7 @@ void load(InArchive& ar, Image& im) {
 
 void save(OutArchive& ar, const DepthImage& d) {
   ar.beginObject();
-  ar.field("stamp", d.stamp);
-  ar.field("width", d.width);
-  ar.field("height", d.height);
+  depthHeader(ar, d);
   std::vector<uint8_t> bytes(d.data.size() * 4);
   for (size_t i = 0; i < d.data.size(); ++i) {
     uint32_t bits;
@@ -168,9 +175,7 @@ void save(OutArchive& ar, const DepthImage& d) {
 
 void load(InArchive& ar, DepthImage& d) {
   ar.beginObject();
-  ar.field("stamp", d.stamp);
-  ar.field("width", d.width);
-  ar.field("height", d.height);
+  depthHeader(ar, d);
   checkSize(ar, d.width, d.height);
   std::string text;
   ar.field("data", text);
