@@ -39,8 +39,9 @@ class ScanSliceBase : public AlignerSlice<Space2D> {
   Param<double> sigma{
       this, "sigma", 0.02, "m", "range noise; each pair weighs 1/sigma^2", Range{1e-6, 100}};
   // A far point's line fit and its nearest scene point are one beam spacing (range x angular
-  // resolution) apart, so its point-to-line error grows with range: in big halls a few far
-  // points would otherwise outweigh the near ones and fail the validators' residual check.
+  // resolution) apart, so its point-to-line error grows with range: in big halls the far points'
+  // errors would otherwise fail the validators' residual check of right loops. The kernel works
+  // in units of each pair's sigma, so those larger errors are not taken for outliers.
   Param<double> range_sigma{this,
                             "range_sigma",
                             0.0,
