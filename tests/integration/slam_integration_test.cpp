@@ -176,8 +176,11 @@ TEST(Slam, SeattleClosesItsLoopAfterLargeDrift) {
 }
 
 TEST(Slam, EdmontonClosesLoopsOnItsSparseScans) {
-  // 180-beam scans, far apart: no loop passed validation before (0 / 204, 0.15 m). Not yet at
-  // the 0.05 m: the rest is the front-end's scan-to-scan error.
+  // 180-beam scans, far apart, in big halls: no loop passed validation at first (0 / 204,
+  // 0.15 m); with the validator's range_sigma (far points no longer fail the residual check of
+  // right loops) 100 are accepted and the map is crisper than GMapping's. The relations stay
+  // above the 0.05 m: the reference's own noise over these 1.4 m steps is about 0.05 m
+  // (docs/benchmarks.md, reference floor), and our consecutive scans agree better than its do.
   const std::string log =
       plugslam::testing::dataDir() + "/laser2d/edmonton-gfs-corrected/edmonton-corrected.log.gz";
   if (!fs::exists(log)) GTEST_SKIP() << "edmonton log not found at " << log << " (set PLUGSLAM_DATA)";
@@ -185,12 +188,15 @@ TEST(Slam, EdmontonClosesLoopsOnItsSparseScans) {
   Result r = run("run configs/laser2d_carmen.yaml -o " + out.string() + " --set source.path=" +
                  log + " --set source.max_range=50 --set pipeline.graph.deterministic=true");
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_GT(jsonNumber(slurp((out / "run.json").string()), "loops_accepted"), 20);
+  EXPECT_GT(jsonNumber(slurp((out / "run.json").string()), "loops_accepted"), 60);
   Trajectory est = readTrajectory((out / "trajectory.tum").string());
   Trajectory ref = readTrajectory((out / "reference.tum").string());
   RelationResult rel = evaluateRelations(est, relationsFromTrajectory(ref, 2.0));
-  EXPECT_LT(rel.translation.mean, 0.065);  // measured 0.057 m
-  EXPECT_LT(rel.rotation_deg.mean, 1.0);   // measured 0.41 deg
+  EXPECT_LT(rel.translation.mean, 0.06);  // measured 0.0561 m
+  EXPECT_LT(rel.rotation_deg.mean, 1.0);  // measured 0.39 deg
+  const Crispness c = crispness(log, out);
+  const double c_ours = c.ours, c_ref = c.reference;
+  EXPECT_LE(c_ours, c_ref) << "ours " << c_ours << " reference " << c_ref;  // 0.0510, 0.0518
   fs::remove_all(out);
 }
 

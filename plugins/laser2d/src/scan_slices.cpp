@@ -94,6 +94,13 @@ bool ScanSliceBase::bind(const Frame& frame, const PropertyContainer& scene_cont
     ++tree_builds_;
   }
   pairs_.reserve(measured_->size());
+  point_information_.clear();
+  if (range_sigma() > 0) {
+    const double s2 = sigma() * sigma(), k2 = range_sigma() * range_sigma();
+    point_information_.reserve(measured_->size());
+    for (const Eigen::Vector2d& p : measured_->points)
+      point_information_.push_back(1.0 / (s2 + k2 * (p - measured_->sensor_origin).squaredNorm()));
+  }
   return true;
 }
 
@@ -201,7 +208,8 @@ void PointToLineSlice::linearize(const Pose& t, NormalEquations<Space2D>& eq) co
   double e;
   for (const auto& [i, k] : pairs_) {
     errorAndJacobian(t, measured_->points[i], scene_->points[k], scene_->normals[k], e, j);
-    const double w = robustWeight(e * e * information_, std::abs(e), eq) * information_;
+    const double info = informationOf(i);
+    const double w = robustWeight(e * e * info, std::abs(e), eq) * info;
     h.noalias() += w * j.transpose() * j;
     b.noalias() += w * e * j.transpose();
   }
@@ -226,7 +234,8 @@ void PointToPointSlice::linearize(const Pose& t, NormalEquations<Space2D>& eq) c
   for (const auto& [i, k] : pairs_) {
     errorAndJacobian(t, measured_->points[i], scene_->points[k], e, j);
     const double sq = e.squaredNorm();
-    const double w = robustWeight(sq * information_, std::sqrt(sq), eq) * information_;
+    const double info = informationOf(i);
+    const double w = robustWeight(sq * info, std::sqrt(sq), eq) * info;
     h.noalias() += w * j.transpose() * j;
     b.noalias() += w * j.transpose() * e;
   }

@@ -38,6 +38,17 @@ class ScanSliceBase : public AlignerSlice<Space2D> {
                              Range{1e-6, 100}};
   Param<double> sigma{
       this, "sigma", 0.02, "m", "range noise; each pair weighs 1/sigma^2", Range{1e-6, 100}};
+  // A far point's line fit and its nearest scene point are one beam spacing (range x angular
+  // resolution) apart, so its point-to-line error grows with range: in big halls the far points'
+  // errors would otherwise fail the validators' residual check of right loops. The kernel works
+  // in units of each pair's sigma, so those larger errors are not taken for outliers.
+  Param<double> range_sigma{this,
+                            "range_sigma",
+                            0.0,
+                            "",
+                            "noise growth with range: a pair's sigma is hypot(sigma, range_sigma "
+                            "x the measured point's range) (0: sigma for every pair)",
+                            Range{0, 1}};
   Param<double> max_normal_angle{this,
                                  "max_normal_angle",
                                  0.8,
@@ -80,6 +91,11 @@ class ScanSliceBase : public AlignerSlice<Space2D> {
   const PointCloud2D* scene_ = nullptr;
   std::vector<std::pair<int, int>> pairs_;
   double information_ = 1.0;  // 1 / sigma^2
+  /// Information 1 / sigma_i^2 of measured point i (information_ unless range_sigma > 0).
+  double informationOf(int i) const {
+    return point_information_.empty() ? information_ : point_information_[i];
+  }
+  std::vector<double> point_information_;
   std::unique_ptr<RobustKernel> kernel_;
 
  private:

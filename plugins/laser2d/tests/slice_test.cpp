@@ -246,6 +246,59 @@ TEST(PointToLineSlice, NormalEquationsAreTheSumOfTheFactors) {
   EXPECT_EQ(eq.factors, slice.pairs().size());
 }
 
+TEST(PointToLineSlice, RangeSigmaWeighsEachPairByItsRange) {
+  // Far points in a big room: with range_sigma each pair weighs 1 / (sigma^2 + (k r)^2), r the
+  // measured point's distance from the sensor; without it every pair weighs 1 / sigma^2.
+  const auto world = test::room(40, 30);
+  test::ScanSpec spec;
+  spec.range_max = 60;
+  Frame frame;
+  frame.measurement.set("front", cloudOf(test::castScan(world, se2(8, 6, 0.05), spec), 2.0));
+  PropertyContainer scene;
+  scene.set("front", cloudOf(test::castScan(world, se2(8.2, 6, 0), spec), 2.0));
+  const SE2 t = se2(-0.15, 0.02, 0.04);
+  auto equations = [&](double k) {
+    PointToLineSlice slice;
+    slice.kernel = "none";
+    slice.sigma = 0.05;
+    slice.range_sigma = k;
+    slice.configure();
+    EXPECT_TRUE(slice.bind(frame, scene, {}));
+    slice.associate(t);
+    NormalEquations<Space2D> eq;
+    slice.linearize(t, eq);
+    return std::make_pair(eq, slice.pairs());
+  };
+  const double k = 0.01;
+  const auto [weighted, pairs] = equations(k);
+  ASSERT_GT(pairs.size(), 100u);
+  const auto& m = frame.measurement.get<PointCloud2D>("front");
+  const auto& s = scene.get<PointCloud2D>("front");
+  Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
+  double chi2 = 0, far_range = 0;
+  for (const auto& [i, j] : pairs) {
+    const double r = (m.points[i] - m.sensor_origin).norm();
+    far_range = std::max(far_range, r);
+    VariableSE2 var(0, t);
+    PointToLineFactor2D f(&var, m.points[i], s.points[j], s.normals[j]);
+    f.setInformation(
+        PointToLineFactor2D::InformationMatrix::Constant(1.0 / (0.05 * 0.05 + k * k * r * r)));
+    PointToLineFactor2D::ErrorVector e;
+    PointToLineFactor2D::JacobianMatrix jac;
+    f.errorAndJacobian(e, jac);
+    h += jac.transpose() * f.information() * jac;
+    chi2 += f.chi2();
+  }
+  ASSERT_GT(far_range, 20.0);  // the room's far walls: sigma_i is several times sigma there
+  EXPECT_LT((weighted.H - h).cwiseAbs().maxCoeff(), 1e-9 * h.cwiseAbs().maxCoeff());
+  EXPECT_NEAR(weighted.chi2, chi2, 1e-9 * chi2);
+  // The same pairs without range_sigma weigh more, so chi2 and information are larger.
+  const auto [plain, plain_pairs] = equations(0.0);
+  ASSERT_EQ(plain_pairs, pairs);
+  EXPECT_GT(plain.chi2, 1.5 * weighted.chi2);
+  EXPECT_GT(plain.H.trace(), 1.5 * weighted.H.trace());
+}
+
 // A corridor: the front scanner sees the end wall (x observable) with few, noisy beams; the rear
 // one, more precise, sees only the side walls (x unobservable). Together they beat either one.
 TEST(ScanSlices, TwoScannersInOneAlignerBeatEitherAlone) {
