@@ -3,6 +3,7 @@
 
 usage: reference_noise.py REFERENCE.tum OURS.tum LASER.tum ODOMETRY.tum [LASER_REFGUESS.tum]
                           [--delta 1.0] [--block 20] [--resamples 400] [--seed 1]
+                          [--crispness PLUGSLAM_BINARY LOG]
 
 All trajectories come from runs on the same log (poses matched by timestamp):
   A  REFERENCE       the log's poses (GMapping's estimate in the corrected CARMEN logs)
@@ -31,6 +32,13 @@ Three estimates of the reference's noise, each a LOWER bound under the stated as
  3. The floor each implies: the mean translation error in % (and rotation in degrees) that an
     estimate with no error of its own would show against A over the same segments, from the
     actual segment lengths and displacements (Monte Carlo).
+Whose jitter (--crispness): white noise of sigma = s * (the combined jitter, both components
+scaled alike) is added to OUR poses until their local crispness (`plugslam eval crispness LOG
+--min-gap 1 --max-gap 10 --max-range 20`) equals the reference's; s_eq is interpolated from
+s = 0, 0.5, 1, 1.5, 2 (two noise seeds each). If jitter were the only difference between the two
+trajectories, sigma_eq^2 = sigma_A^2 - sigma_P^2 and, with the combined sigma_A^2 + sigma_P^2, the
+reference's share is sigma_A^2 = (combined^2 + sigma_eq^2) / 2 (s_eq near 1: nearly all of the
+combined jitter is the reference's).
 Our own error: sigma_P^2 = var(A - P) - sigma_A^2 per component (hat estimate of A), turned
 into the mean error the front-end would show against a perfect reference.
 Every figure has a 95 % confidence interval from a moving-block bootstrap (blocks of BLOCK
@@ -41,8 +49,11 @@ Prints JSON.
 import bisect
 import json
 import math
+import os
 import random
+import subprocess
 import sys
+import tempfile
 
 
 def load(path):
@@ -148,8 +159,31 @@ def floor_from_jitter(var, segments, n_per=20, seed=7):
     return tsum / count, rsum / count
 
 
+def write_perturbed(rows, e, path, sxy, sth, seed):
+    """Writes estimate e of rows as TUM with white noise (sxy m per axis, sth rad) added."""
+    rng = random.Random(seed)
+    with open(path, "w") as f:
+        for r in rows:
+            t, x, y, th = r[e]
+            th += rng.gauss(0, sth)
+            f.write("%.9f %.9f %.9f 0 0 0 %.12f %.12f\n" % (
+                t, x + rng.gauss(0, sxy), y + rng.gauss(0, sxy), math.sin(th / 2), math.cos(th / 2)))
+
+
+def crispness(binary, log, path):
+    out = subprocess.run([binary, "eval", "crispness", log, path, "--min-gap", "1", "--max-gap",
+                          "10", "--max-range", "20", "--format", "json"],
+                         check=True, capture_output=True, text=True).stdout
+    return json.loads(out)["mean_m"]
+
+
 def main():
     args = sys.argv[1:]
+    crisp_args = None
+    if "--crispness" in args:
+        k = args.index("--crispness")
+        crisp_args = args[k + 1:k + 3]
+        del args[k:k + 3]
     opts = {"--delta": 1.0, "--block": 20, "--resamples": 400, "--seed": 1}
     for key in list(opts):
         if key in args:
@@ -287,6 +321,45 @@ def main():
         out["guess_dependence"] = {"median_pct": d[len(d) // 2],
                                    "mean_pct": sum(d) / len(d),
                                    "fraction_below_0.1_pct": sum(x < 0.1 for x in d) / len(d)}
+    if crisp_args:
+        binary, log = crisp_args
+        with tempfile.TemporaryDirectory() as tmp:
+            # The reference and our estimate as matched here (same poses, same file format).
+            write_perturbed(rows, A, os.path.join(tmp, "a.tum"), 0, 0, 0)
+            c_ref = crispness(binary, log, os.path.join(tmp, "a.tum"))
+            curve = []
+            for scale in (0.0, 0.5, 1.0, 1.5, 2.0):
+                vals = []
+                for seed in ((0,) if scale == 0 else (1, 2)):
+                    path = os.path.join(tmp, "p.tum")
+                    write_perturbed(rows, P, path, scale * math.sqrt((point_jv[0] + point_jv[1]) / 2),
+                                    scale * math.sqrt(point_jv[2]), seed)
+                    vals.append(crispness(binary, log, path))
+                curve.append((scale, sum(vals) / len(vals)))
+        s_eq = None
+        for (s0, c0), (s1, c1) in zip(curve, curve[1:]):
+            if c0 <= c_ref <= c1 and c1 > c0:
+                s_eq = s0 + (s1 - s0) * (c_ref - c0) / (c1 - c0)
+                break
+        if s_eq is None:
+            s_eq = 0.0 if c_ref < curve[0][1] else float("inf")
+        combined = point["jitter_sigma_cm"]
+        share = min(1.0, math.sqrt((1 + min(s_eq, 1.0) ** 2) / 2))
+        out["crispness_calibration"] = {
+            "reference_mm": 1000 * c_ref,
+            "ours_plus_noise_mm": [[sc, 1000 * c] for sc, c in curve],
+            "s_eq": s_eq,
+            "reference_share_of_jitter_sigma": share,
+            "reference_jitter_sigma_cm": share * combined,
+            "reference_jitter_sigma_deg": share * point["jitter_sigma_deg"],
+        }
+        segs = [segments[i] for i in seg_idx]
+        ref_var = [share * share * v for v in point_jv]
+        t, r = floor_from_jitter(ref_var, segs, n_per=20)
+        out["crispness_calibration"]["reference_jitter_translation_pct_mean"] = t
+        out["crispness_calibration"]["reference_jitter_rotation_deg_mean"] = r
+    boot_hat = [b["hat_floor"][0] for b in boot]
+    out["hat"]["probability_floor_below_2_pct"] = sum(v < 2.0 for v in boot_hat) / len(boot_hat)
     print(json.dumps(out))
     return 0
 
