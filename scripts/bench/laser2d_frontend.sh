@@ -75,7 +75,8 @@ for dir in "$data"/laser2d/*/; do
       f\"{d['hat']['probability_floor_below_2_pct']:.2f}\",
       f\"{d['measured']['translation_pct_mean']:.2f}\",
       f\"{d['own']['translation_pct_mean']:.2f} [{d['own']['translation_pct_ci'][0]:.2f}, {d['own']['translation_pct_ci'][1]:.2f}]\",
-      f\"{d['guess_dependence']['median_pct']:.3f}\"])") |"$'\n'
+      f\"{d['guess_dependence']['median_pct']:.3f}\",
+      f\"{d['vote']['steps']}: {d['vote']['odometry_sides_with_ours']} / {d['vote']['odometry_sides_with_reference']}\"])") |"$'\n'
     # How the error grows with the segment length: a part that does not grow is per-pose noise
     # (of the reference, as ours is locally crisper), the growing part is drift.
     cells=""
@@ -141,9 +142,11 @@ done
   echo "   95 % intervals and the share of resamples whose floor is below 2 %."
   echo "4. **Ours.** σ_P² = var(A−P) − σ_A² per component: the mean error the front-end would show against"
   echo "   a perfect reference (the \"own\" column)."
+  echo "5. **Vote.** On the steps where ours and the reference differ by more than 5 cm, dead reckoning"
+  echo "   (no input shared with either) sides with the one it is within half that difference of."
   echo
-  echo "| log | combined jitter σ per axis, heading [95 % CI] | s_eq | reference jitter's cost over 1 m, % / ° | floor (hat) over 1 m, % [95 % CI] | P(floor < 2 %) | measured, % | ours alone, % [95 % CI] | guess: median change, % |"
-  echo "|---|---|---|---|---|---|---|---|---|"
+  echo "| log | combined jitter σ per axis, heading [95 % CI] | s_eq | reference jitter's cost over 1 m, % / ° | floor (hat) over 1 m, % [95 % CI] | P(floor < 2 %) | measured, % | ours alone, % [95 % CI] | guess: median change, % | steps > 5 cm apart: odometry sides with ours / reference |"
+  echo "|---|---|---|---|---|---|---|---|---|---|"
   printf "%s" "$noise_rows"
   echo
   echo "The error in cm by segment length (table above) tells the same: per-pose noise does not grow with"

@@ -41,6 +41,9 @@ reference's share is sigma_A^2 = (combined^2 + sigma_eq^2) / 2 (s_eq near 1: nea
 combined jitter is the reference's).
 Our own error: sigma_P^2 = var(A - P) - sigma_A^2 per component (hat estimate of A), turned
 into the mean error the front-end would show against a perfect reference.
+Vote: on the steps where A and P differ by more than 5 cm, dead reckoning (which shares no
+input with either) is a tie-breaker: it counts for P when it is within half that difference of
+P's step, for A when within half of A's.
 Every figure has a 95 % confidence interval from a moving-block bootstrap (blocks of BLOCK
 consecutive steps / segments, so the overlap of neighbouring segments is kept inside blocks).
 
@@ -268,6 +271,19 @@ def main():
         vals = [getter(b) for b in boot]
         return [percentile(vals, 0.025), percentile(vals, 0.975)]
 
+    # Vote on the steps where ours and the reference disagree by more than 5 cm.
+    vote = {"steps": 0, "odometry_sides_with_ours": 0, "odometry_sides_with_reference": 0}
+    for k in range(n - 1):
+        m = [relative(rows[k][e], rows[k + 1][e]) for e in (A, P, C)]
+        d_pa = math.hypot(m[1][0] - m[0][0], m[1][1] - m[0][1])
+        if d_pa <= 0.05:
+            continue
+        vote["steps"] += 1
+        if math.hypot(m[2][0] - m[1][0], m[2][1] - m[1][1]) < d_pa / 2:
+            vote["odometry_sides_with_ours"] += 1
+        if math.hypot(m[2][0] - m[0][0], m[2][1] - m[0][1]) < d_pa / 2:
+            vote["odometry_sides_with_reference"] += 1
+
     # Measured error of ours against A, for comparison (mean, as `plugslam eval rpe`).
     measured_t = sum(math.hypot(d[0], d[1]) for d in diffs["AP"]) / nseg
     measured_r = sum(abs(d[2]) for d in diffs["AP"]) / nseg
@@ -298,6 +314,7 @@ def main():
             "floor_rotation_deg_mean": point["hat_floor"][1],
             "floor_rotation_deg_ci": ci(lambda b: b["hat_floor"][1]),
         },
+        "vote": vote,
         "own": {
             "translation_pct_mean": point["own"][0],
             "translation_pct_ci": ci(lambda b: b["own"][0]),
