@@ -151,14 +151,46 @@ bool GraphSlam<S>::consistent(const GraphEdge& a, const GraphEdge& b) const {
   auto est = [&](int64_t x, int64_t y) { return maps_[x]->origin.inverse() * maps_[y]->origin; };
   const Eigen::Isometry3d cycle =
       a.relative * est(a.to, b.to) * b.relative.inverse() * est(b.from, a.from);
-  // A leg through a tracking failure's edge may hold any error: no evidence either way.
-  if (breaks_[a.to] != breaks_[b.to] || breaks_[a.from] != breaks_[b.from]) return true;
+  // Maps of different components have no odometry between them: no evidence either way.
+  if (components_[a.to] != components_[b.to] || components_[a.from] != components_[b.from])
+    return true;
   const double path = std::abs(travelled_[a.to] - travelled_[b.to]) +
                       std::abs(travelled_[a.from] - travelled_[b.from]);
+  // A leg through a tracking failure's weak edge holds that edge's error too: the tolerance
+  // grows by its std. dev. (rotation, and the rotation's lever over the legs' path).
+  const double var_t = std::abs(weak_var_t_[a.to] - weak_var_t_[b.to]) +
+                       std::abs(weak_var_t_[a.from] - weak_var_t_[b.from]);
+  const double var_r = std::abs(weak_var_r_[a.to] - weak_var_r_[b.to]) +
+                       std::abs(weak_var_r_[a.from] - weak_var_r_[b.from]);
+  if (var_t + var_r > 0 && consistency_break_sigmas() <= 0) return true;
+  const double k = consistency_break_sigmas();
   const double t_err = cycle.translation().norm();
   const double r_err = Eigen::AngleAxisd(cycle.linear()).angle();
-  return t_err <= consistency_translation() + consistency_drift() * path &&
-         r_err <= consistency_rotation() + consistency_drift() * path;
+  return t_err <= consistency_translation() + consistency_drift() * path +
+                      k * (std::sqrt(var_t) + std::sqrt(var_r) * path) &&
+         r_err <= consistency_rotation() + consistency_drift() * path + k * std::sqrt(var_r);
+}
+
+template <class S>
+void GraphSlam<S>::addChain(int64_t previous, const GraphEdge* odometry) {
+  if (previous < 0 || !odometry) {
+    components_.push_back(components_.empty() ? 0 : components_.back() + 1);
+    weak_var_t_.push_back(0);
+    weak_var_r_.push_back(0);
+    return;
+  }
+  double var_t = 0, var_r = 0;
+  if (isBreak(*odometry)) {
+    const Eigen::MatrixXd cov = odometry->information.rows() == S::kDof
+                                    ? Eigen::MatrixXd(odometry->information.inverse())
+                                    : Eigen::MatrixXd::Identity(S::kDof, S::kDof);
+    const int first_rotation = S::kDof == 3 ? 2 : 3;  // (x, y, theta) or (x, y, z, rotation)
+    for (int i = 0; i < first_rotation; ++i) var_t = std::max(var_t, cov(i, i));
+    for (int i = first_rotation; i < S::kDof; ++i) var_r = std::max(var_r, cov(i, i));
+  }
+  components_.push_back(components_[previous]);
+  weak_var_t_.push_back(weak_var_t_[previous] + var_t);
+  weak_var_r_.push_back(weak_var_r_[previous] + var_r);
 }
 
 template <class S>
@@ -237,7 +269,7 @@ void GraphSlam<S>::mapStarted(const std::shared_ptr<LocalMap>& map) {
   if (map->id != static_cast<int64_t>(maps_.size()))
     throw Error("graph back-end: local map " + std::to_string(map->id) + " arrived out of order");
   double travelled = maps_.empty() ? 0.0 : travelled_.back() + kComponentGap;
-  int breaks = maps_.empty() ? 0 : breaks_.back() + 1;
+  const GraphEdge* odometry = nullptr;
   if (map->previous >= 0) {
     if (map->previous >= static_cast<int64_t>(maps_.size()))
       throw Error("graph back-end: local map " + std::to_string(map->id) +
@@ -248,12 +280,12 @@ void GraphSlam<S>::mapStarted(const std::shared_ptr<LocalMap>& map) {
     e.to = map->id;
     e.relative = map->relative;
     e.information = information_scale() * conditioned(map->information, S::kDof);
-    breaks = breaks_[map->previous] + (isBreak(e) ? 1 : 0);
     edges_.push_back(std::move(e));
+    odometry = &edges_.back();
   }
+  addChain(map->previous, odometry);
   maps_.push_back(map);
   travelled_.push_back(travelled);
-  breaks_.push_back(breaks);
 }
 
 template <class S>
@@ -380,7 +412,6 @@ void GraphSlam<S>::restore(const std::vector<std::shared_ptr<LocalMap>>& maps,
     if (m->previous >= 0) travelled = travelled_[m->previous] + m->relative.translation().norm();
     maps_.push_back(m);
     travelled_.push_back(travelled);
-    breaks_.push_back(static_cast<int>(maps_.size()));  // redone from the edges below
   }
   for (const auto& e : edges) {
     if (e.from < 0 || e.to < 0 || e.from >= static_cast<int64_t>(maps_.size()) ||
@@ -398,16 +429,13 @@ void GraphSlam<S>::restore(const std::vector<std::shared_ptr<LocalMap>>& maps,
     else
       edges_.push_back(e);
   }
+  // The chain's components and weak edges, as mapStarted found them when the maps were added.
   for (size_t i = 0; i < maps_.size(); ++i) {
     const int64_t prev = maps_[i]->previous;
-    if (prev < 0) {
-      breaks_[i] = i == 0 ? 0 : breaks_[i - 1] + 1;
-      continue;
-    }
-    bool weak_edge = false;
+    const GraphEdge* odometry = nullptr;
     for (const auto& e : edges_)
-      if (e.to == static_cast<int64_t>(i) && e.from == prev) weak_edge = isBreak(e);
-    breaks_[i] = breaks_[prev] + (weak_edge ? 1 : 0);
+      if (e.to == static_cast<int64_t>(i) && e.from == prev) odometry = &e;
+    addChain(prev, odometry);
   }
   stats_.optimizations = 0;
 }
