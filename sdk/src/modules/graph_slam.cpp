@@ -495,15 +495,26 @@ void GraphSlam<S>::runJob(Job& job) const {
   options.algorithm =
       solver() == "lm" ? Algorithm::kLevenbergMarquardt : Algorithm::kGaussNewton;
   options.max_iterations = iterations();
-  FactorGraph graph;
-  buildGraph(job, graph, true);
-  Optimizer optimizer(options);
-  OptimizeResult r = optimizer.optimize(graph);
+  auto graph = std::make_unique<FactorGraph>();
+  buildGraph(job, *graph, true);
+  OptimizeResult r = Optimizer(options).optimize(*graph);
+  if (options.algorithm == Algorithm::kGaussNewton && r.final_chi2 > r.initial_chi2) {
+    // Gauss-Newton does not guarantee descent: far from the solution (a large correction,
+    // loose tracking-failure edges) it can diverge and throw the map away. Levenberg-Marquardt
+    // from the same start never increases the cost.
+    spdlog::debug("global optimization: Gauss-Newton raised chi2 from {:.6g} to {:.6g}; "
+                  "Levenberg-Marquardt instead",
+                  r.initial_chi2, r.final_chi2);
+    options.algorithm = Algorithm::kLevenbergMarquardt;
+    graph = std::make_unique<FactorGraph>();
+    buildGraph(job, *graph, true);
+    r = Optimizer(options).optimize(*graph);
+  }
   job.ok = r.ok();
   job.chi2 = r.final_chi2;
   using Variable = typename GraphTypes<S>::Variable;
   for (size_t i = 0; i < job.nodes; ++i)
-    job.after.push_back(graph.get<Variable>(static_cast<int64_t>(i)).estimate());
+    job.after.push_back(graph->get<Variable>(static_cast<int64_t>(i)).estimate());
   job.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
