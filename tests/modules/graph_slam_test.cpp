@@ -113,6 +113,8 @@ TEST(GraphSlam, ClosesASyntheticLoopAndRemovesTheDrift) {
   const GraphStats s = graph->stats();
   EXPECT_GE(s.loops_accepted, 1u);
   EXPECT_GE(s.optimizations, 1u);
+  EXPECT_GT(s.detection_time, 0.0);   // the loop search is timed, detectors and validators apart
+  EXPECT_GT(s.validation_time, 0.0);
   EXPECT_EQ(s.nodes, lw.origins.size());
   bool has_loop = false;
   for (const auto& e : graph->edges()) has_loop = has_loop || e.loop;

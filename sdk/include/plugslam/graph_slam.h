@@ -97,6 +97,8 @@ struct GraphStats {
   uint64_t loops_rejected = 0;     ///< refused by a validator or by the consistency check
   uint64_t optimizations = 0;
   double optimization_time = 0;    ///< seconds, summed
+  double detection_time = 0;       ///< seconds in the loop detectors, summed
+  double validation_time = 0;      ///< seconds in the loop validators, summed
   double final_chi2 = 0;
 };
 
@@ -230,6 +232,7 @@ class GraphSlam : public GraphBackend {
     std::vector<int64_t> queries;
     std::vector<GraphEdge> closures;  // validated, in order
     uint64_t candidates = 0, rejections = 0;
+    double detection_time = 0, validation_time = 0;  // seconds
   };
   LoopJob makeLoopJob();
   void runLoopJob(LoopJob& job);  // the only user of the detectors and validators

@@ -50,6 +50,10 @@ struct GraphTypes<Space3D> {
   using Information = Eigen::Matrix<double, 6, 6>;
 };
 
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 // A symmetric positive-definite version of an information matrix (tiny eigenvalues lifted), so
 // a degenerate alignment cannot make the global system singular.
 Eigen::MatrixXd conditioned(const Eigen::MatrixXd& h, int dof) {
@@ -329,7 +333,10 @@ void GraphSlam<S>::runLoopJob(LoopJob& job) {
     std::vector<std::pair<int64_t, bool>> tried;
     std::vector<int64_t> closed;
     for (auto& detector : loop_detectors) {
-      for (const LoopCandidate& c : detector->detect(view, query)) {
+      const auto detect_start = std::chrono::steady_clock::now();
+      const std::vector<LoopCandidate> candidates = detector->detect(view, query);
+      job.detection_time += secondsSince(detect_start);
+      for (const LoopCandidate& c : candidates) {
         const int64_t id = c.id;
         if (id < 0 || id >= static_cast<int64_t>(view.maps.size()) || id == query_id) continue;
         if (std::find(closed.begin(), closed.end(), id) != closed.end()) continue;
@@ -345,6 +352,7 @@ void GraphSlam<S>::runLoopJob(LoopJob& job) {
         // the detector's match when it made one (a global search finds closures far from the
         // estimate), else from the estimate.
         Eigen::Isometry3d current = c.matched ? c.relative : view.relative(id, query_id);
+        const auto validate_start = std::chrono::steady_clock::now();
         for (auto& validator : validators) {
           if (!validator->validate(candidate, query, current, closure, reason)) {
             ok = false;
@@ -352,6 +360,7 @@ void GraphSlam<S>::runLoopJob(LoopJob& job) {
           }
           current = closure.edge.relative;
         }
+        job.validation_time += secondsSince(validate_start);
         if (!ok) {
           ++job.rejections;
           spdlog::debug("loop {} -> {} rejected: {}", query_id, id, reason);
@@ -375,6 +384,8 @@ void GraphSlam<S>::runLoopJob(LoopJob& job) {
 template <class S>
 void GraphSlam<S>::applyLoopJob(const LoopJob& job) {
   stats_.candidates += job.candidates;
+  stats_.detection_time += job.detection_time;
+  stats_.validation_time += job.validation_time;
   validator_rejections_ += job.rejections;
   if (job.closures.empty()) return;
   for (const GraphEdge& e : job.closures) loops_.push_back(Loop{e, true});
