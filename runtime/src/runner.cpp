@@ -75,13 +75,15 @@ std::string runReportJson(const RunReport& r) {
       "  \"reference\": {{\"ate_rmse_m\": {}, \"ate_max_m\": {}, \"rpe_1m_rmse_m\": {}}},\n"
       "  \"graph\": {{\"nodes\": {}, \"edges\": {}, \"loop_candidates\": {}, \"loops_accepted\": {}, "
       "\"loops_rejected\": {}, \"optimizations\": {}, \"optimization_time_s\": {:.6f}, "
+      "\"loop_detection_time_s\": {:.6f}, \"loop_validation_time_s\": {:.6f}, "
       "\"final_chi2\": {:.6f}}},\n"
       "  \"modules\": {{{}\n  }}\n}}\n",
       r.frames, r.wall_s, r.hz, r.pipeline_s, r.pipeline_hz, r.stopped_by, r.error.empty() ? "null" : jsonString(r.error), r.tracked,
       r.local_maps, r.tracking_failures, r.module_errors,
       jsonNumber(r.ate_rmse), jsonNumber(r.ate_max), jsonNumber(r.rpe_rmse), r.graph.nodes,
       r.graph.edges, r.graph.candidates, r.graph.loops_accepted, r.graph.loops_rejected,
-      r.graph.optimizations, r.graph.optimization_time, r.graph.final_chi2, modules);
+      r.graph.optimizations, r.graph.optimization_time, r.graph.detection_time,
+      r.graph.validation_time, r.graph.final_chi2, modules);
 }
 
 // Runs one call into a source or sink (plugin code) so that whatever it throws names the module:

@@ -201,6 +201,30 @@ TEST(Slam, EdmontonClosesLoopsOnItsSparseScans) {
   fs::remove_all(out);
 }
 
+TEST(Slam, FreiburgCampusStaysInOnePiece) {
+  // Sparse outdoor scans, 48 tracking failures, perceptual aliasing between facades: not at the
+  // issue's 0.05 m (measured 8.0 m, 5.3 deg). Before the global search's rotation window was
+  // capped, wrong matches at any angle tore the map apart (38 m, 28 deg); with looser failure
+  // edges (fallback_sigma 0.3) Gauss-Newton diverged and the run died writing a map of 1e12
+  // cells. Both runs must finish with a map of the campus's size.
+  const std::string log = plugslam::testing::dataDir() +
+                          "/laser2d/freiburg-campus-gfs-corrected/freiburg-campus-corrected.log.gz";
+  if (!fs::exists(log)) GTEST_SKIP() << "campus log not found at " << log << " (set PLUGSLAM_DATA)";
+  for (const std::string extra : {"", " --set 'pipeline.tracker.fallback_sigma=[0.3, 0.3, 0.3]'"}) {
+    fs::path out = tempDir("campus");
+    Result r = run("run configs/laser2d_carmen.yaml -o " + out.string() + " --set source.path=" +
+                   log + " --set pipeline.graph.deterministic=true" + extra);
+    ASSERT_EQ(r.code, 0) << extra << "\n" << r.out;
+    Trajectory est = readTrajectory((out / "trajectory.tum").string());
+    Trajectory ref = readTrajectory((out / "reference.tum").string());
+    ASSERT_EQ(est.size(), 2008u);
+    RelationResult rel = evaluateRelations(est, relationsFromTrajectory(ref, 2.0));
+    EXPECT_LT(rel.translation.mean, 20.0) << extra;  // measured 8.0 m and 13.3 m
+    EXPECT_LT(rel.rotation_deg.mean, 10.0) << extra;  // measured 5.3 and 7.0 deg
+    fs::remove_all(out);
+  }
+}
+
 TEST(Slam, AKilledRunLeavesALoadableCheckpoint) {
   fs::path out = tempDir("killed");
   const std::string bin = plugslam::testing::buildDir() + "/bin/plugslam";

@@ -62,7 +62,9 @@ struct LoopWorld {
 std::vector<std::shared_ptr<LocalMap>> driveLoop(const LoopWorld& lw, GraphSlam<Space2D>& graph,
                                                  double bias, bool poll,
                                                  Eigen::Isometry2d* dead_reckoning = nullptr,
-                                                 double odometry_information = 100.0) {
+                                                 double odometry_information = 100.0,
+                                                 size_t weak_map = 0,
+                                                 const Eigen::Vector3d& weak_sigma = {}) {
   std::vector<std::shared_ptr<LocalMap>> maps;
   Eigen::Isometry2d estimate = lw.origins[0];
   for (size_t k = 0; k < lw.origins.size(); ++k) {
@@ -73,6 +75,9 @@ std::vector<std::shared_ptr<LocalMap>> driveLoop(const LoopWorld& lw, GraphSlam<
       m->previous = static_cast<int64_t>(k - 1);
       m->relative = Space2D::to3D(rel);
       m->information = Eigen::Matrix3d::Identity() * odometry_information;
+      // A tracking failure's fallback edge into this map: right, but far less sure.
+      if (weak_map > 0 && k == weak_map)
+        m->information = weak_sigma.array().square().inverse().matrix().asDiagonal();
     }
     m->origin = Space2D::to3D(estimate);
     maps.push_back(m);
@@ -108,6 +113,8 @@ TEST(GraphSlam, ClosesASyntheticLoopAndRemovesTheDrift) {
   const GraphStats s = graph->stats();
   EXPECT_GE(s.loops_accepted, 1u);
   EXPECT_GE(s.optimizations, 1u);
+  EXPECT_GT(s.detection_time, 0.0);   // the loop search is timed, detectors and validators apart
+  EXPECT_GT(s.validation_time, 0.0);
   EXPECT_EQ(s.nodes, lw.origins.size());
   bool has_loop = false;
   for (const auto& e : graph->edges()) has_loop = has_loop || e.loop;
@@ -184,11 +191,12 @@ class CorruptingValidator : public LoopValidator {
  public:
   std::shared_ptr<AlignmentValidator<Space2D>> inner = makeValidator();
   int64_t victim = -1, victim_candidate = -1;
+  Eigen::Vector3d offset{2.5, -1.5, 0};  // the false loop's error
   bool validate(const LocalMap& c, const LocalMap& q, const Eigen::Isometry3d& guess,
                 LoopClosure& closure, std::string& reason) override {
     if (!inner->validate(c, q, guess, closure, reason)) return false;
     if (q.id == victim && c.id == victim_candidate)
-      closure.edge.relative.translation() += Eigen::Vector3d(2.5, -1.5, 0);
+      closure.edge.relative.translation() += offset;
     return true;
   }
 };
@@ -210,6 +218,40 @@ TEST(GraphSlam, AFalseLoopIsRejectedByConsistency) {
   for (const auto& e : graph->edges()) EXPECT_FALSE(e.loop && e.to == v->victim && e.from == 0);
   EXPECT_LT((Space2D::from3D(maps.back()->origin).translation() - lw.origins.back().translation()).norm(),
             0.05);
+}
+
+TEST(GraphSlam, AFalseLoopAcrossATrackingFailureIsRejectedByConsistency) {
+  // The last map joins the loop through a tracking failure's weak edge, and closes a false loop:
+  // every cycle it forms with the other loops runs through that edge. Counted as no evidence
+  // (consistency_break_sigmas 0), the false loop stays; with the weak edge's std. devs in the
+  // tolerance, its 7 m error is still far outside it and the loop is rejected. The residual
+  // check is off so that only the consistency check decides.
+  for (double sigmas : {0.0, 3.0}) {
+    LoopWorld lw;
+    auto graph = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
+        Registry::instance().create("sdk.GraphSlam2D"));
+    graph->deterministic = true;
+    graph->consistency_break_sigmas = sigmas;
+    graph->residual_translation = 0.0;
+    graph->residual_rotation = 0.0;
+    auto detector = std::make_shared<ProximityDetector>();
+    detector->max_candidates = 1;  // the last map's only loop is the false one
+    graph->loop_detectors.assign(detector);
+    auto v = std::make_shared<CorruptingValidator>();
+    v->victim = static_cast<int64_t>(lw.origins.size()) - 1;
+    v->victim_candidate = 0;
+    v->offset = Eigen::Vector3d(6, -4, 0);
+    graph->validators.assign(v);
+    graph->configure();
+    // Stiff odometry (0.01 rad) and a weak edge 20 times looser in rotation: a break.
+    driveLoop(lw, *graph, 0.0005, false, nullptr, 1e4, lw.origins.size() - 1,
+              Eigen::Vector3d(0.1, 0.1, 0.2));
+    bool false_loop_active = false;
+    for (const auto& e : graph->edges())
+      false_loop_active = false_loop_active || (e.loop && e.to == v->victim && e.from == 0);
+    EXPECT_EQ(false_loop_active, sigmas == 0.0) << "consistency_break_sigmas " << sigmas;
+    EXPECT_GE(graph->stats().loops_accepted, 2u) << "consistency_break_sigmas " << sigmas;
+  }
 }
 
 TEST(GraphSlam, AFalseLoopAloneInItsWindowIsRejectedByItsResidual) {

@@ -97,6 +97,8 @@ struct GraphStats {
   uint64_t loops_rejected = 0;     ///< refused by a validator or by the consistency check
   uint64_t optimizations = 0;
   double optimization_time = 0;    ///< seconds, summed
+  double detection_time = 0;       ///< seconds in the loop detectors, summed
+  double validation_time = 0;      ///< seconds in the loop validators, summed
   double final_chi2 = 0;
 };
 
@@ -179,9 +181,14 @@ class GraphSlam : public GraphBackend {
   Param<double> consistency_break_ratio{
       this, "consistency_break_ratio", 10.0, "",
       "an odometry edge whose rotation std. dev. is this many times the median of the recent "
-      "ones (a tracking failure's fallback edge) may hide any error: loops whose cycle runs "
-      "through one are not checked against each other",
+      "ones is weak (a tracking failure's fallback edge): see consistency_break_sigmas",
       Range{1, 1e12}};
+  Param<double> consistency_break_sigmas{
+      this, "consistency_break_sigmas", 3.0, "",
+      "a cycle whose odometry legs run through weak edges may err by this many of their std. "
+      "devs more (rotation; translation plus rotation times the legs' path); 0: such cycles are "
+      "no evidence either way and their loops are not checked against each other",
+      Range{0, 1e6}};
   Param<double> residual_translation{
       this, "residual_translation", 0.1, "m",
       "after each optimization the active loop that disagrees most with the optimized graph, "
@@ -225,6 +232,7 @@ class GraphSlam : public GraphBackend {
     std::vector<int64_t> queries;
     std::vector<GraphEdge> closures;  // validated, in order
     uint64_t candidates = 0, rejections = 0;
+    double detection_time = 0, validation_time = 0;  // seconds
   };
   LoopJob makeLoopJob();
   void runLoopJob(LoopJob& job);  // the only user of the detectors and validators
@@ -246,11 +254,18 @@ class GraphSlam : public GraphBackend {
   bool consistent(const GraphEdge& a, const GraphEdge& b) const;
   // True when an odometry edge is far looser in rotation than the recent ones; remembers it.
   bool isBreak(const GraphEdge& odometry);
+  // Appends the next map's graph component and weak-edge variances (from `previous`, joined to
+  // it by `odometry` when that is not null).
+  void addChain(int64_t previous, const GraphEdge* odometry);
   void selectConsistentLoops();
 
   std::vector<std::shared_ptr<LocalMap>> maps_;
   std::vector<double> travelled_;
-  std::vector<int> breaks_;  // weak odometry edges (and component starts) from map 0 to each map
+  // Per map: its graph component (sessions, tracker resets), and the summed translation and
+  // rotation variances of the weak odometry edges from its component's first map to it (the
+  // maps of a component form one chain, so a leg's variance is a difference of two sums).
+  std::vector<int> components_;
+  std::vector<double> weak_var_t_, weak_var_r_;
   std::vector<double> recent_sigmas_;  // rotation std. dev. of the last odometry edges (a ring)
   size_t next_sigma_ = 0;
   std::vector<GraphEdge> edges_;  // odometry edges, then the active loops

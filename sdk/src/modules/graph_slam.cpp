@@ -50,6 +50,10 @@ struct GraphTypes<Space3D> {
   using Information = Eigen::Matrix<double, 6, 6>;
 };
 
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 // A symmetric positive-definite version of an information matrix (tiny eigenvalues lifted), so
 // a degenerate alignment cannot make the global system singular.
 Eigen::MatrixXd conditioned(const Eigen::MatrixXd& h, int dof) {
@@ -151,14 +155,46 @@ bool GraphSlam<S>::consistent(const GraphEdge& a, const GraphEdge& b) const {
   auto est = [&](int64_t x, int64_t y) { return maps_[x]->origin.inverse() * maps_[y]->origin; };
   const Eigen::Isometry3d cycle =
       a.relative * est(a.to, b.to) * b.relative.inverse() * est(b.from, a.from);
-  // A leg through a tracking failure's edge may hold any error: no evidence either way.
-  if (breaks_[a.to] != breaks_[b.to] || breaks_[a.from] != breaks_[b.from]) return true;
+  // Maps of different components have no odometry between them: no evidence either way.
+  if (components_[a.to] != components_[b.to] || components_[a.from] != components_[b.from])
+    return true;
   const double path = std::abs(travelled_[a.to] - travelled_[b.to]) +
                       std::abs(travelled_[a.from] - travelled_[b.from]);
+  // A leg through a tracking failure's weak edge holds that edge's error too: the tolerance
+  // grows by its std. dev. (rotation, and the rotation's lever over the legs' path).
+  const double var_t = std::abs(weak_var_t_[a.to] - weak_var_t_[b.to]) +
+                       std::abs(weak_var_t_[a.from] - weak_var_t_[b.from]);
+  const double var_r = std::abs(weak_var_r_[a.to] - weak_var_r_[b.to]) +
+                       std::abs(weak_var_r_[a.from] - weak_var_r_[b.from]);
+  if (var_t + var_r > 0 && consistency_break_sigmas() <= 0) return true;
+  const double k = consistency_break_sigmas();
   const double t_err = cycle.translation().norm();
   const double r_err = Eigen::AngleAxisd(cycle.linear()).angle();
-  return t_err <= consistency_translation() + consistency_drift() * path &&
-         r_err <= consistency_rotation() + consistency_drift() * path;
+  return t_err <= consistency_translation() + consistency_drift() * path +
+                      k * (std::sqrt(var_t) + std::sqrt(var_r) * path) &&
+         r_err <= consistency_rotation() + consistency_drift() * path + k * std::sqrt(var_r);
+}
+
+template <class S>
+void GraphSlam<S>::addChain(int64_t previous, const GraphEdge* odometry) {
+  if (previous < 0 || !odometry) {
+    components_.push_back(components_.empty() ? 0 : components_.back() + 1);
+    weak_var_t_.push_back(0);
+    weak_var_r_.push_back(0);
+    return;
+  }
+  double var_t = 0, var_r = 0;
+  if (isBreak(*odometry)) {
+    const Eigen::MatrixXd cov = odometry->information.rows() == S::kDof
+                                    ? Eigen::MatrixXd(odometry->information.inverse())
+                                    : Eigen::MatrixXd::Identity(S::kDof, S::kDof);
+    const int first_rotation = S::kDof == 3 ? 2 : 3;  // (x, y, theta) or (x, y, z, rotation)
+    for (int i = 0; i < first_rotation; ++i) var_t = std::max(var_t, cov(i, i));
+    for (int i = first_rotation; i < S::kDof; ++i) var_r = std::max(var_r, cov(i, i));
+  }
+  components_.push_back(components_[previous]);
+  weak_var_t_.push_back(weak_var_t_[previous] + var_t);
+  weak_var_r_.push_back(weak_var_r_[previous] + var_r);
 }
 
 template <class S>
@@ -237,7 +273,7 @@ void GraphSlam<S>::mapStarted(const std::shared_ptr<LocalMap>& map) {
   if (map->id != static_cast<int64_t>(maps_.size()))
     throw Error("graph back-end: local map " + std::to_string(map->id) + " arrived out of order");
   double travelled = maps_.empty() ? 0.0 : travelled_.back() + kComponentGap;
-  int breaks = maps_.empty() ? 0 : breaks_.back() + 1;
+  const GraphEdge* odometry = nullptr;
   if (map->previous >= 0) {
     if (map->previous >= static_cast<int64_t>(maps_.size()))
       throw Error("graph back-end: local map " + std::to_string(map->id) +
@@ -248,12 +284,12 @@ void GraphSlam<S>::mapStarted(const std::shared_ptr<LocalMap>& map) {
     e.to = map->id;
     e.relative = map->relative;
     e.information = information_scale() * conditioned(map->information, S::kDof);
-    breaks = breaks_[map->previous] + (isBreak(e) ? 1 : 0);
     edges_.push_back(std::move(e));
+    odometry = &edges_.back();
   }
+  addChain(map->previous, odometry);
   maps_.push_back(map);
   travelled_.push_back(travelled);
-  breaks_.push_back(breaks);
 }
 
 template <class S>
@@ -297,7 +333,10 @@ void GraphSlam<S>::runLoopJob(LoopJob& job) {
     std::vector<std::pair<int64_t, bool>> tried;
     std::vector<int64_t> closed;
     for (auto& detector : loop_detectors) {
-      for (const LoopCandidate& c : detector->detect(view, query)) {
+      const auto detect_start = std::chrono::steady_clock::now();
+      const std::vector<LoopCandidate> candidates = detector->detect(view, query);
+      job.detection_time += secondsSince(detect_start);
+      for (const LoopCandidate& c : candidates) {
         const int64_t id = c.id;
         if (id < 0 || id >= static_cast<int64_t>(view.maps.size()) || id == query_id) continue;
         if (std::find(closed.begin(), closed.end(), id) != closed.end()) continue;
@@ -313,6 +352,7 @@ void GraphSlam<S>::runLoopJob(LoopJob& job) {
         // the detector's match when it made one (a global search finds closures far from the
         // estimate), else from the estimate.
         Eigen::Isometry3d current = c.matched ? c.relative : view.relative(id, query_id);
+        const auto validate_start = std::chrono::steady_clock::now();
         for (auto& validator : validators) {
           if (!validator->validate(candidate, query, current, closure, reason)) {
             ok = false;
@@ -320,6 +360,7 @@ void GraphSlam<S>::runLoopJob(LoopJob& job) {
           }
           current = closure.edge.relative;
         }
+        job.validation_time += secondsSince(validate_start);
         if (!ok) {
           ++job.rejections;
           spdlog::debug("loop {} -> {} rejected: {}", query_id, id, reason);
@@ -343,6 +384,8 @@ void GraphSlam<S>::runLoopJob(LoopJob& job) {
 template <class S>
 void GraphSlam<S>::applyLoopJob(const LoopJob& job) {
   stats_.candidates += job.candidates;
+  stats_.detection_time += job.detection_time;
+  stats_.validation_time += job.validation_time;
   validator_rejections_ += job.rejections;
   if (job.closures.empty()) return;
   for (const GraphEdge& e : job.closures) loops_.push_back(Loop{e, true});
@@ -380,7 +423,6 @@ void GraphSlam<S>::restore(const std::vector<std::shared_ptr<LocalMap>>& maps,
     if (m->previous >= 0) travelled = travelled_[m->previous] + m->relative.translation().norm();
     maps_.push_back(m);
     travelled_.push_back(travelled);
-    breaks_.push_back(static_cast<int>(maps_.size()));  // redone from the edges below
   }
   for (const auto& e : edges) {
     if (e.from < 0 || e.to < 0 || e.from >= static_cast<int64_t>(maps_.size()) ||
@@ -398,16 +440,13 @@ void GraphSlam<S>::restore(const std::vector<std::shared_ptr<LocalMap>>& maps,
     else
       edges_.push_back(e);
   }
+  // The chain's components and weak edges, as mapStarted found them when the maps were added.
   for (size_t i = 0; i < maps_.size(); ++i) {
     const int64_t prev = maps_[i]->previous;
-    if (prev < 0) {
-      breaks_[i] = i == 0 ? 0 : breaks_[i - 1] + 1;
-      continue;
-    }
-    bool weak_edge = false;
+    const GraphEdge* odometry = nullptr;
     for (const auto& e : edges_)
-      if (e.to == static_cast<int64_t>(i) && e.from == prev) weak_edge = isBreak(e);
-    breaks_[i] = breaks_[prev] + (weak_edge ? 1 : 0);
+      if (e.to == static_cast<int64_t>(i) && e.from == prev) odometry = &e;
+    addChain(prev, odometry);
   }
   stats_.optimizations = 0;
 }
@@ -467,15 +506,26 @@ void GraphSlam<S>::runJob(Job& job) const {
   options.algorithm =
       solver() == "lm" ? Algorithm::kLevenbergMarquardt : Algorithm::kGaussNewton;
   options.max_iterations = iterations();
-  FactorGraph graph;
-  buildGraph(job, graph, true);
-  Optimizer optimizer(options);
-  OptimizeResult r = optimizer.optimize(graph);
+  auto graph = std::make_unique<FactorGraph>();
+  buildGraph(job, *graph, true);
+  OptimizeResult r = Optimizer(options).optimize(*graph);
+  if (options.algorithm == Algorithm::kGaussNewton && r.final_chi2 > r.initial_chi2) {
+    // Gauss-Newton does not guarantee descent: far from the solution (a large correction,
+    // loose tracking-failure edges) it can diverge and throw the map away. Levenberg-Marquardt
+    // from the same start never increases the cost.
+    spdlog::debug("global optimization: Gauss-Newton raised chi2 from {:.6g} to {:.6g}; "
+                  "Levenberg-Marquardt instead",
+                  r.initial_chi2, r.final_chi2);
+    options.algorithm = Algorithm::kLevenbergMarquardt;
+    graph = std::make_unique<FactorGraph>();
+    buildGraph(job, *graph, true);
+    r = Optimizer(options).optimize(*graph);
+  }
   job.ok = r.ok();
   job.chi2 = r.final_chi2;
   using Variable = typename GraphTypes<S>::Variable;
   for (size_t i = 0; i < job.nodes; ++i)
-    job.after.push_back(graph.get<Variable>(static_cast<int64_t>(i)).estimate());
+    job.after.push_back(graph->get<Variable>(static_cast<int64_t>(i)).estimate());
   job.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
