@@ -64,7 +64,7 @@ class MultiTracker : public Tracker {
  private:
   Pose predict(const Frame& frame);
   void merge(const Frame& frame);
-  void writeEstimate(Frame& frame) const;
+  void writeEstimate(Frame& frame, bool lost) const;
   void startLocalMap(const Frame& frame, const typename S::Matrix& information);
   void trackFrozen(Frame& frame);
 

@@ -145,6 +145,8 @@ void MultiTracker<S>::trackFrozen(Frame& frame) {
   frame.estimate.local_map = located_->id;
   frame.estimate.in_map = S::to3D(pose_);
   frame.estimate.world = located_->origin * frame.estimate.in_map;
+  frame.estimate.frozen = true;
+  frame.estimate.lost = best == nullptr;
 }
 
 template <class S>
@@ -164,7 +166,7 @@ void MultiTracker<S>::track(Frame& frame) {
       pose_ = guess;
       last_motion_ = S::normalized(previous.inverse() * pose_);
       merge(frame);
-      writeEstimate(frame);
+      writeEstimate(frame, false);
       return;
     }
     if (aligned.valid && predicted_by_model_ && !max_correction().empty()) {
@@ -208,15 +210,17 @@ void MultiTracker<S>::track(Frame& frame) {
     }
   }
   if (frames_in_map_ == 0) merge(frame);
-  writeEstimate(frame);
+  writeEstimate(frame, lost);
 }
 
 template <class S>
-void MultiTracker<S>::writeEstimate(Frame& frame) const {
+void MultiTracker<S>::writeEstimate(Frame& frame, bool lost) const {
   frame.estimate.valid = true;
   frame.estimate.local_map = map_->id;
   frame.estimate.in_map = S::to3D(pose_);
   frame.estimate.world = map_->origin * frame.estimate.in_map;
+  frame.estimate.frozen = false;  // the back-end may still move this map
+  frame.estimate.lost = lost;
 }
 
 template <class S>
