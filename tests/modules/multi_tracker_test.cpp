@@ -128,7 +128,8 @@ TEST(MultiTracker, EstimatesSayWhetherTheMapIsFrozenAndWhetherTheFrameWasLost) {
     Frame f;
     f.seq = i;
     f.stamp = 0.1 * i;
-    if (with_data) f.measurement.set<Landmarks>("landmarks", observe(world, se2(0.1 * i, 0, 0), 6.0));
+    if (with_data)
+      f.measurement.set<Landmarks>("landmarks", observe(world, se2(0.1 * i, 0, 0), 6.0));
     return f;
   };
   auto mapper = makeTracker(1.0);

@@ -92,8 +92,8 @@ float& TiledOccupancyGrid::cell(int x, int y) {
   // Floor division, so negative cells land in negative tiles.
   const int tx = x >= 0 ? x / kTile : -((-x - 1) / kTile) - 1;
   const int ty = y >= 0 ? y / kTile : -((-y - 1) / kTile) - 1;
-  const uint64_t key = (static_cast<uint64_t>(static_cast<uint32_t>(tx)) << 32) |
-                       static_cast<uint32_t>(ty);
+  const uint64_t key =
+      (static_cast<uint64_t>(static_cast<uint32_t>(tx)) << 32) | static_cast<uint32_t>(ty);
   if (!last_tile_ || key != last_key_) {
     auto& tile = tiles_[key];
     if (!tile) {

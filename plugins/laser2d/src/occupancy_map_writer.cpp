@@ -75,10 +75,13 @@ void OccupancyMapWriter::consume(const Frame& frame) {
     // drawn adds little and would cost a ray trace per frame (a robot standing still); a frame
     // the localization lost is only a guess (a lost robot would paint its drift forever).
     const SE2 world = Space2D::from3D(frame.estimate.world);
-    const double at[3] = {world.translation().x(), world.translation().y(), angleOf(world.linear())};
-    const bool moved = !frame.estimate.lost && (!last_traced_valid_ ||
-                       std::hypot(at[0] - last_traced_[0], at[1] - last_traced_[1]) >= min_distance() ||
-                       std::abs(normalizeAngle(at[2] - last_traced_[2])) >= min_angle());
+    const double at[3] = {world.translation().x(), world.translation().y(),
+                          angleOf(world.linear())};
+    const bool moved =
+        !frame.estimate.lost &&
+        (!last_traced_valid_ ||
+         std::hypot(at[0] - last_traced_[0], at[1] - last_traced_[1]) >= min_distance() ||
+         std::abs(normalizeAngle(at[2] - last_traced_[2])) >= min_angle());
     bool seen = false;
     for (const auto& name : measurements()) {
       const PointCloud2D* cloud = frame.measurement.find<PointCloud2D>(name);

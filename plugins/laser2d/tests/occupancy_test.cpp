@@ -198,14 +198,15 @@ TEST(OccupancyMapWriter, KeepsCloudsOnlyForNewPosesInTheirLocalMap) {
   EXPECT_EQ(writer.keptScans(), 8u);  // map 0 holds 7, map 1 holds 1
 }
 
-
 TEST(TiledOccupancyGrid, MatchesTheDenseGridOnItsLatticeAndGrowsWithAreaOnly) {
   const double res = 0.1;
   OccupancyGrid dense(res, Eigen::Vector2d(-5, -5), Eigen::Vector2d(5, 5));
   TiledOccupancyGrid tiled(res);
   EXPECT_TRUE(tiled.empty());
   const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> rays = {
-      {{0.05, 0.05}, {3.05, 0.05}}, {{-0.33, 0.21}, {-4.13, -3.67}}, {{1.01, -2.23}, {-1.33, 4.43}}};
+      {{0.05, 0.05}, {3.05, 0.05}},
+      {{-0.33, 0.21}, {-4.13, -3.67}},
+      {{1.01, -2.23}, {-1.33, 4.43}}};
   for (const auto& [a, b] : rays) {
     dense.traceRay(a, b);
     EXPECT_TRUE(tiled.traceRay(a, b));
@@ -245,7 +246,8 @@ struct MapImage {
     const YAML::Node yaml = YAML::LoadFile(yaml_path.string());
     res = yaml["resolution"].as<double>();
     origin = yaml["origin"].as<std::vector<double>>();
-    const std::string pgm = readAll((yaml_path.parent_path() / yaml["image"].as<std::string>()).string());
+    const std::string pgm =
+        readAll((yaml_path.parent_path() / yaml["image"].as<std::string>()).string());
     std::istringstream in(pgm);
     std::string magic;
     int maxval = 0;
@@ -314,7 +316,8 @@ TEST(OccupancyMapWriter, FramesInFrozenMapsAreTracedAtOnceAndKeepNothing) {
   // The same frames again, and again a little off (localization never lands twice on the same
   // pose): nothing kept, no tile added.
   for (int pass = 0; pass < 5; ++pass)
-    for (const auto& p : poses) localized.consume(frameAt(p * se2(0.01 * pass, -0.01, 0.005), true));
+    for (const auto& p : poses)
+      localized.consume(frameAt(p * se2(0.01 * pass, -0.01, 0.005), true));
   EXPECT_EQ(localized.keptScans(), 0u);
   EXPECT_EQ(localized.tracedFrames(), 6 * poses.size());
   EXPECT_EQ(localized.tracedTiles(), tiles);
