@@ -120,6 +120,45 @@ TEST(MultiTracker, AFrameWithoutDataStartsANewMapAndTrackingGoesOn) {
   EXPECT_EQ(tracker->stats().local_maps, 2u);
 }
 
+// What a sink learns from an estimate: whether its map may still move (frozen: localization in
+// saved maps) and whether the frame was measured or only predicted (lost).
+TEST(MultiTracker, EstimatesSayWhetherTheMapIsFrozenAndWhetherTheFrameWasLost) {
+  const Landmarks world = grid(1.5, 12.0);
+  auto frameAt = [&](int i, bool with_data) {
+    Frame f;
+    f.seq = i;
+    f.stamp = 0.1 * i;
+    if (with_data)
+      f.measurement.set<Landmarks>("landmarks", observe(world, se2(0.1 * i, 0, 0), 6.0));
+    return f;
+  };
+  auto mapper = makeTracker(1.0);
+  for (int i = 0; i < 30; ++i) {
+    Frame f = frameAt(i, i != 15);
+    mapper->track(f);
+    ASSERT_TRUE(f.estimate.valid);
+    EXPECT_FALSE(f.estimate.frozen) << i;
+    EXPECT_EQ(f.estimate.lost, i == 15) << i;
+  }
+  std::vector<std::shared_ptr<const LocalMap>> maps;
+  for (const auto& m : mapper->takeClosed()) maps.push_back(m);
+  maps.push_back(mapper->current());
+  auto localizer = makeTracker(1.0);
+  localizer->localizeIn(maps);
+  for (int i = 0; i < 30; ++i) {
+    Frame f = frameAt(i, i != 20);
+    localizer->track(f);
+    ASSERT_TRUE(f.estimate.valid);
+    EXPECT_TRUE(f.estimate.frozen) << i;
+    EXPECT_EQ(f.estimate.lost, i == 20) << i;
+    if (i != 20)
+      EXPECT_LT((f.estimate.world.translation().head<2>() - Eigen::Vector2d(0.1 * i, 0)).norm(),
+                1e-6)
+          << i;
+  }
+  EXPECT_EQ(localizer->stats().failed, 1u);
+}
+
 TEST(MultiTracker, FallbackSigmaIsValidated) {
   auto tracker = makeTracker(1.0);
   tracker->fallback_sigma = std::vector<double>{0.1, 0.1};

@@ -46,25 +46,10 @@ void OccupancyGrid::add(int x, int y, double v) {
 
 void OccupancyGrid::traceRay(const Eigen::Vector2d& from, const Eigen::Vector2d& to,
                              bool hit_is_return) {
-  const Eigen::Vector2i a = cellOf(from), b = cellOf(to);
-  // Bresenham over cells, the end cell excluded from the free updates.
-  int x = a.x(), y = a.y();
-  const int dx = std::abs(b.x() - x), dy = -std::abs(b.y() - y);
-  const int sx = x < b.x() ? 1 : -1, sy = y < b.y() ? 1 : -1;
-  int err = dx + dy;
-  while (x != b.x() || y != b.y()) {
-    add(x, y, miss_log_odds);
-    const int e2 = 2 * err;
-    if (e2 >= dy) {
-      err += dy;
-      x += sx;
-    }
-    if (e2 <= dx) {
-      err += dx;
-      y += sy;
-    }
-  }
-  add(b.x(), b.y(), hit_is_return ? hit_log_odds : miss_log_odds);
+  // The end cell is excluded from the free updates.
+  walkRay(cellOf(from), cellOf(to), [&](int x, int y, bool last) {
+    add(x, y, !last ? miss_log_odds : (hit_is_return ? hit_log_odds : miss_log_odds));
+  });
 }
 
 double OccupancyGrid::probability(int x, int y) const {
@@ -86,6 +71,63 @@ std::vector<uint8_t> OccupancyGrid::image() const {
     }
   }
   return px;
+}
+
+TiledOccupancyGrid::TiledOccupancyGrid(double resolution) : resolution_(resolution) {
+  if (!(resolution > 0) || !std::isfinite(resolution))
+    throw InputError("occupancy grid: resolution must be > 0, got " + std::to_string(resolution));
+}
+
+void TiledOccupancyGrid::clear() {
+  tiles_.clear();
+  last_tile_ = nullptr;
+}
+
+Eigen::Vector2i TiledOccupancyGrid::cellOf(const Eigen::Vector2d& p) const {
+  return Eigen::Vector2i(static_cast<int>(std::floor(p.x() / resolution_)),
+                         static_cast<int>(std::floor(p.y() / resolution_)));
+}
+
+float& TiledOccupancyGrid::cell(int x, int y) {
+  // Floor division, so negative cells land in negative tiles.
+  const int tx = x >= 0 ? x / kTile : -((-x - 1) / kTile) - 1;
+  const int ty = y >= 0 ? y / kTile : -((-y - 1) / kTile) - 1;
+  const uint64_t key =
+      (static_cast<uint64_t>(static_cast<uint32_t>(tx)) << 32) | static_cast<uint32_t>(ty);
+  if (!last_tile_ || key != last_key_) {
+    auto& tile = tiles_[key];
+    if (!tile) {
+      tile.reset(new float[kTile * kTile]());
+      if (tiles_.size() == 1) min_ = max_ = Eigen::Vector2i(x, y);
+    }
+    last_key_ = key;
+    last_tile_ = tile.get();
+  }
+  min_ = min_.cwiseMin(Eigen::Vector2i(x, y));
+  max_ = max_.cwiseMax(Eigen::Vector2i(x, y));
+  return last_tile_[static_cast<size_t>(y - ty * kTile) * kTile + (x - tx * kTile)];
+}
+
+void TiledOccupancyGrid::add(int x, int y, double v) {
+  float& c = cell(x, y);
+  double next = c + v;
+  if (next > clamp_log_odds) next = clamp_log_odds;
+  if (next < -clamp_log_odds) next = -clamp_log_odds;
+  if (next == 0.0) next = v > 0 ? 1e-6 : -1e-6;  // zero means "never observed"
+  c = static_cast<float>(next);
+}
+
+bool TiledOccupancyGrid::traceRay(const Eigen::Vector2d& from, const Eigen::Vector2d& to,
+                                  bool hit_is_return) {
+  constexpr double kLimit = 1e6;  // cells: keeps the lattice indices far from int overflow
+  const Eigen::Vector2d a = from / resolution_, b = to / resolution_;
+  if (!a.allFinite() || !b.allFinite() || a.cwiseAbs().maxCoeff() > kLimit ||
+      b.cwiseAbs().maxCoeff() > kLimit)
+    return false;
+  walkRay(cellOf(from), cellOf(to), [&](int x, int y, bool last) {
+    add(x, y, !last ? miss_log_odds : (hit_is_return ? hit_log_odds : miss_log_odds));
+  });
+  return true;
 }
 
 std::string encodePgm(const std::vector<uint8_t>& pixels, int width, int height) {

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -21,6 +22,9 @@ void OccupancyMapWriter::begin(const std::string& out_dir) {
   frames_ = 0;
   written_.clear();
   placed_ = 0;
+  traced_.reset();
+  traced_frames_ = 0;
+  last_traced_valid_ = false;
 }
 
 OccupancyMapWriter::OccupancyMapWriter() {
@@ -54,8 +58,46 @@ bool OccupancyMapWriter::isNew(int64_t map, const double in_map[3]) const {
   return true;
 }
 
+void OccupancyMapWriter::trace(const PointCloud2D& cloud, const SE2& world) {
+  if (!traced_) traced_ = std::make_unique<TiledOccupancyGrid>(resolution());
+  const Eigen::Vector2d o = world * cloud.sensor_origin;
+  const double max2 = max_range() * max_range();
+  for (const auto& p : cloud.points) {
+    if (max_range() > 0 && (p - cloud.sensor_origin).squaredNorm() > max2) continue;
+    traced_->traceRay(o, world * p);
+  }
+}
+
 void OccupancyMapWriter::consume(const Frame& frame) {
   const bool estimated = frame.estimate.valid;
+  if (estimated && frame.estimate.frozen) {
+    // Its world pose is final: draw it now, keep nothing. A frame too close to the last one
+    // drawn adds little and would cost a ray trace per frame (a robot standing still); a frame
+    // the localization lost is only a guess (a lost robot would paint its drift forever).
+    const SE2 world = Space2D::from3D(frame.estimate.world);
+    const double at[3] = {world.translation().x(), world.translation().y(),
+                          angleOf(world.linear())};
+    const bool moved =
+        !frame.estimate.lost &&
+        (!last_traced_valid_ ||
+         std::hypot(at[0] - last_traced_[0], at[1] - last_traced_[1]) >= min_distance() ||
+         std::abs(normalizeAngle(at[2] - last_traced_[2])) >= min_angle());
+    bool seen = false;
+    for (const auto& name : measurements()) {
+      const PointCloud2D* cloud = frame.measurement.find<PointCloud2D>(name);
+      if (!cloud || cloud->empty()) continue;
+      if (!seen) ++frames_;
+      seen = true;
+      if (!moved) continue;
+      trace(*cloud, world);
+    }
+    if (seen && moved) {
+      ++traced_frames_;
+      last_traced_valid_ = true;
+      std::copy(at, at + 3, last_traced_);
+    }
+    return;
+  }
   const SE2 in_map = Space2D::from3D(frame.estimate.in_map);
   const double pose[3] = {in_map.translation().x(), in_map.translation().y(),
                           angleOf(in_map.linear())};
@@ -117,15 +159,30 @@ void OccupancyMapWriter::end(const RunResult& result) {
       hi = hi.cwiseMax(p);
     }
   }
-  if (placed.empty()) {
+  const bool traced = traced_ && !traced_->empty();
+  if (placed.empty() && !traced) {
     spdlog::warn(
         "{}: no scan could be placed on the trajectory ({} kept, {} poses); no map written",
         name().empty() ? typeName() : name(), scans_.size(), result.trajectory.size());
     return;
   }
-  const double margin = 2 * resolution();
-  OccupancyGrid grid(resolution(), lo - Eigen::Vector2d::Constant(margin),
+  if (traced) {
+    // Cell centres: the dense grid below is on the same lattice (origin a multiple of the cell).
+    const double r = traced_->resolution();
+    lo = lo.cwiseMin((traced_->minCell().cast<double>().array() + 0.5).matrix() * r);
+    hi = hi.cwiseMax((traced_->maxCell().cast<double>().array() + 0.5).matrix() * r);
+  }
+  // The traced frames' lattice decides when there are some (a `resolution` set mid-run).
+  const double resolution = traced ? traced_->resolution() : this->resolution();
+  const double margin = 2 * resolution;
+  OccupancyGrid grid(resolution, lo - Eigen::Vector2d::Constant(margin),
                      hi + Eigen::Vector2d::Constant(margin));
+  if (traced) {
+    const Eigen::Vector2i offset((grid.origin() / grid.resolution()).array().round().cast<int>());
+    traced_->forEachCell([&](int x, int y, double log_odds) {
+      grid.addLogOdds(x - offset.x(), y - offset.y(), log_odds);
+    });
+  }
   for (const auto& p : placed) {
     const Eigen::Vector2d o = p.pose * Eigen::Vector2d(p.scan->origin[0], p.scan->origin[1]);
     const auto& xy = p.scan->xy;

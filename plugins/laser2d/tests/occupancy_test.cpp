@@ -198,5 +198,169 @@ TEST(OccupancyMapWriter, KeepsCloudsOnlyForNewPosesInTheirLocalMap) {
   EXPECT_EQ(writer.keptScans(), 8u);  // map 0 holds 7, map 1 holds 1
 }
 
+TEST(TiledOccupancyGrid, MatchesTheDenseGridOnItsLatticeAndGrowsWithAreaOnly) {
+  const double res = 0.1;
+  OccupancyGrid dense(res, Eigen::Vector2d(-5, -5), Eigen::Vector2d(5, 5));
+  TiledOccupancyGrid tiled(res);
+  EXPECT_TRUE(tiled.empty());
+  const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> rays = {
+      {{0.05, 0.05}, {3.05, 0.05}},
+      {{-0.33, 0.21}, {-4.13, -3.67}},
+      {{1.01, -2.23}, {-1.33, 4.43}}};
+  for (const auto& [a, b] : rays) {
+    dense.traceRay(a, b);
+    EXPECT_TRUE(tiled.traceRay(a, b));
+  }
+  // The dense grid's origin is a multiple of the cell: its cells are the tiled grid's, shifted
+  // (the ends are away from cell borders, where the two roundings may differ).
+  const Eigen::Vector2i offset((dense.origin() / res).array().round().cast<int>());
+  size_t cells = 0;
+  tiled.forEachCell([&](int x, int y, double v) {
+    ++cells;
+    EXPECT_NEAR(dense.logOdds(x - offset.x(), y - offset.y()), v, 1e-6) << x << ", " << y;
+  });
+  size_t observed = 0;
+  for (int y = 0; y < dense.height(); ++y)
+    for (int x = 0; x < dense.width(); ++x) observed += !dense.unknown(x, y);
+  EXPECT_EQ(cells, observed);
+  EXPECT_EQ(tiled.minCell(), Eigen::Vector2i(-42, -37));
+  EXPECT_EQ(tiled.maxCell(), Eigen::Vector2i(30, 44));
+  // Tracing the same rays again changes the evidence, not the memory.
+  const size_t tiles = tiled.tiles();
+  EXPECT_GT(tiles, 1u);
+  for (int i = 0; i < 20; ++i)
+    for (const auto& [a, b] : rays) tiled.traceRay(a, b);
+  EXPECT_EQ(tiled.tiles(), tiles);
+  // Rays it cannot place are refused, not traced.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(tiled.traceRay(Eigen::Vector2d(0, 0), Eigen::Vector2d(nan, 1)));
+  EXPECT_FALSE(tiled.traceRay(Eigen::Vector2d(0, 0), Eigen::Vector2d(1e9, 1)));
+  EXPECT_EQ(tiled.tiles(), tiles);
+  tiled.clear();
+  EXPECT_TRUE(tiled.empty());
+}
+
+// The occupancy map as map_server reads it: a cell's pixel by world position.
+struct MapImage {
+  explicit MapImage(const std::filesystem::path& yaml_path) {
+    const YAML::Node yaml = YAML::LoadFile(yaml_path.string());
+    res = yaml["resolution"].as<double>();
+    origin = yaml["origin"].as<std::vector<double>>();
+    const std::string pgm =
+        readAll((yaml_path.parent_path() / yaml["image"].as<std::string>()).string());
+    std::istringstream in(pgm);
+    std::string magic;
+    int maxval = 0;
+    in >> magic >> w >> h >> maxval;
+    in.get();
+    pixels = pgm.substr(static_cast<size_t>(in.tellg()));
+  }
+  // 205 (unknown) outside the image.
+  int at(double x, double y) const {
+    const int cx = static_cast<int>(std::floor((x - origin[0]) / res));
+    const int cy = static_cast<int>(std::floor((y - origin[1]) / res));
+    if (cx < 0 || cy < 0 || cx >= w || cy >= h) return 205;
+    return static_cast<uint8_t>(pixels[static_cast<size_t>(h - 1 - cy) * w + cx]);
+  }
+  double res = 0;
+  std::vector<double> origin;
+  int w = 0, h = 0;
+  std::string pixels;
+};
+
+// Localization in a saved session: the frames' maps are frozen, so their world poses are final.
+// The writer draws them at once and keeps nothing of them: passing the same places again (the
+// soak's endless replays) leaves its memory as it was, and the map still shows the place, as the
+// same frames mapped (kept, drawn at the end) do.
+TEST(OccupancyMapWriter, FramesInFrozenMapsAreTracedAtOnceAndKeepNothing) {
+  const auto world = test::box(0, 0, 4, 4);
+  const auto dir = std::filesystem::temp_directory_path() / "laser2d_occupancy_frozen";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir / "mapped");
+  std::filesystem::create_directories(dir / "localized");
+  ScanPreprocessor pre;
+  pre.configure();
+  OccupancyMapWriter mapped, localized;
+  localized.file = "map";
+  mapped.begin((dir / "mapped").string());
+  localized.begin((dir / "localized").string());
+  test::ScanSpec spec;
+  spec.mount = se2(0.2, 0.0, 0.0);
+  std::vector<SE2> poses;
+  for (double x : {1.0, 2.0, 3.0})
+    for (double y : {1.0, 2.0, 3.0}) poses.push_back(se2(x, y, 0.3 * x - 0.7 * y));
+  RunResult mapped_result;
+  uint64_t seq = 0;
+  auto frameAt = [&](const SE2& pose, bool frozen) {
+    Frame frame;
+    frame.seq = seq;
+    frame.stamp = 10.0 + static_cast<double>(seq++);
+    frame.raw.set("front_laser", test::castScan(world, pose, spec));
+    pre.process(frame);
+    frame.estimate.valid = true;
+    frame.estimate.local_map = 3;  // a saved map whose origin is the world's
+    frame.estimate.in_map = Space2D::to3D(pose);
+    frame.estimate.world = Space2D::to3D(pose);
+    frame.estimate.frozen = frozen;
+    return frame;
+  };
+  for (const auto& p : poses) {
+    mapped.consume(frameAt(p, false));
+    mapped_result.trajectory.push_back(10.0 + static_cast<double>(seq - 1), Space2D::to3D(p));
+    localized.consume(frameAt(p, true));
+  }
+  EXPECT_EQ(localized.keptScans(), 0u);
+  EXPECT_EQ(localized.tracedFrames(), poses.size());
+  const size_t tiles = localized.tracedTiles();
+  EXPECT_GT(tiles, 0u);
+  // The same frames again, and again a little off (localization never lands twice on the same
+  // pose): nothing kept, no tile added.
+  for (int pass = 0; pass < 5; ++pass)
+    for (const auto& p : poses)
+      localized.consume(frameAt(p * se2(0.01 * pass, -0.01, 0.005), true));
+  EXPECT_EQ(localized.keptScans(), 0u);
+  EXPECT_EQ(localized.tracedFrames(), 6 * poses.size());
+  EXPECT_EQ(localized.tracedTiles(), tiles);
+  // Standing still: seen, drawn once.
+  for (int i = 0; i < 20; ++i) localized.consume(frameAt(se2(2.5, 2.5, 0.01 * (i % 2)), true));
+  EXPECT_EQ(localized.tracedFrames(), 6 * poses.size() + 1);
+  EXPECT_EQ(localized.seenFrames(), 6 * poses.size() + 20);
+  EXPECT_EQ(localized.keptScans(), 0u);
+  // A lost frame (its pose predicted, not measured) is not drawn: a lost robot drifting through
+  // the world would otherwise paint new area for as long as it runs.
+  for (int i = 0; i < 10; ++i) {
+    Frame lost = frameAt(se2(20.0 + i, 20.0, 0.0), true);
+    lost.estimate.lost = true;
+    localized.consume(lost);
+  }
+  EXPECT_EQ(localized.tracedFrames(), 6 * poses.size() + 1);
+  EXPECT_EQ(localized.tracedTiles(), tiles);
+
+  mapped.end(mapped_result);
+  localized.end(RunResult{});  // needs no trajectory: the frames were placed when they came
+  ASSERT_EQ(localized.written().size(), 3u);
+  const MapImage a(dir / "mapped" / "map.yaml"), b(dir / "localized" / "map.yaml");
+  // Inside free, outside unknown, the walls occupied, as in the mapped map.
+  for (double x = 0.5; x < 3.6; x += 0.5)
+    for (double y = 0.5; y < 3.6; y += 0.5) EXPECT_EQ(b.at(x, y), 254) << x << ", " << y;
+  EXPECT_EQ(b.at(-0.5, 2.0), 205);
+  int walls = 0, agree = 0, cells = 0;
+  for (double t = 0.3; t < 3.8; t += 0.25) {
+    // A wall on a cell border lands on either side of it.
+    walls += b.at(t, 0.02) == 0 || b.at(t, -0.02) == 0;
+    walls += b.at(4.02, t) == 0 || b.at(3.98, t) == 0;
+  }
+  EXPECT_GE(walls, 26);
+  for (double x = -0.3; x < 4.3; x += 0.05)
+    for (double y = -0.3; y < 4.3; y += 0.05) {
+      agree += a.at(x + 0.01, y + 0.01) == b.at(x + 0.01, y + 0.01);
+      ++cells;
+    }
+  EXPECT_GT(agree, cells * 97 / 100) << agree << " of " << cells;
+  // The shell's `save` mid-run draws the traced frames too.
+  EXPECT_NE(localized.invoke("save").find("wrote"), std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace plugslam::laser2d

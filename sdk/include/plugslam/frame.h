@@ -14,6 +14,11 @@ struct FrameEstimate {
   int64_t local_map = -1;                                 ///< id of the local map it belongs to
   Eigen::Isometry3d in_map = Eigen::Isometry3d::Identity();  ///< pose in the local map's frame
   Eigen::Isometry3d world = Eigen::Isometry3d::Identity();   ///< pose in the world, at the time
+  /// The local map is frozen (localization in saved maps): nothing will correct `world` later,
+  /// so a sink may use it as final. Last members: plugins built before them read the rest.
+  bool frozen = false;
+  /// The alignment failed: the pose is the motion model's prediction, not a measured one.
+  bool lost = false;
 };
 
 /// All readings of one time step, then their preprocessed cues and the pose estimate.

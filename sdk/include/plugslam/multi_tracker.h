@@ -45,6 +45,12 @@ class MultiTracker : public Tracker {
       "prediction counts as failed and the prediction is kept (empty: no limit; not applied "
       "when the motion model has no prediction)"};
 
+  Param<double> localize_tie{
+      this, "localize_tie", 0.02, "",
+      "localization: saved maps whose alignment's inlier ratio is within this of the best are "
+      "equally good, and the one nearest the motion prediction wins",
+      Range{0, 1}};
+
   void configure() override;
   int dimension() const override { return S::kDim; }
   void track(Frame& frame) override;
@@ -64,7 +70,7 @@ class MultiTracker : public Tracker {
  private:
   Pose predict(const Frame& frame);
   void merge(const Frame& frame);
-  void writeEstimate(Frame& frame) const;
+  void writeEstimate(Frame& frame, bool lost) const;
   void startLocalMap(const Frame& frame, const typename S::Matrix& information);
   void trackFrozen(Frame& frame);
 

@@ -93,8 +93,11 @@ template <class S>
 void MultiTracker<S>::trackFrozen(Frame& frame) {
   // Localization: the frame is aligned against the map it is in and the maps whose origins are
   // nearest its predicted world pose; the valid alignment explaining most of the frame wins (maps
-  // of different passes need not agree where the mapping run closed no loop). The pose is kept in
-  // the winning map's frame. Nothing is merged or split.
+  // of different passes need not agree where the mapping run closed no loop). Alignments within
+  // localize_tie of the best inlier ratio are equally good (most are at 1.0), and the one closest
+  // to the prediction wins among them: a map that also admits a turned solution (built while the
+  // robot turned, a corridor) must not win for being tried first. The pose is kept in the winning
+  // map's frame. Nothing is merged or split.
   constexpr size_t kNearest = 3;
   ++stats_.frames;
   const Eigen::Isometry3d at = located_ ? located_->origin : Eigen::Isometry3d::Identity();
@@ -114,17 +117,34 @@ void MultiTracker<S>::trackFrozen(Frame& frame) {
   AlignResult<S> best_result;
   Pose best_previous = Pose::Identity(), fallback_guess = Pose::Identity();
   std::shared_ptr<const LocalMap> fallback = k > 0 ? near[0].second : located_;
+  struct Tried {
+    std::shared_ptr<const LocalMap> map;
+    AlignResult<S> result;
+    Pose previous;
+    double correction;  // translation [m] + rotation [rad] from the prediction
+  };
+  std::vector<Tried> valid;
+  double best_ratio = 0;
   for (const auto& m : candidates) {
     const Eigen::Isometry3d to_map = m->origin.inverse();
     const Pose previous = S::normalized(S::from3D(to_map * previous_world));
     const Pose guess = S::normalized(S::from3D(to_map * guess_world));
     if (m == fallback) fallback_guess = guess;
     AlignResult<S> r = aligner->align(frame, m->scene, AlignContext<S>{previous, guess});
-    if (r.valid && (!best || r.inlierRatio() > best_result.inlierRatio())) {
-      best = m;
-      best_result = r;
-      best_previous = previous;
-    }
+    if (!r.valid) continue;
+    const Pose correction = S::normalized(guess.inverse() * r.pose);
+    best_ratio = std::max(best_ratio, r.inlierRatio());
+    valid.push_back({m, r, previous, S::distance(correction) + S::angle(correction)});
+  }
+  const Tried* chosen = nullptr;
+  for (const auto& t : valid)
+    if (t.result.inlierRatio() >= best_ratio - localize_tie() &&
+        (!chosen || t.correction < chosen->correction))
+      chosen = &t;
+  if (chosen) {
+    best = chosen->map;
+    best_result = chosen->result;
+    best_previous = chosen->previous;
   }
   if (best) {
     located_ = best;
@@ -145,6 +165,8 @@ void MultiTracker<S>::trackFrozen(Frame& frame) {
   frame.estimate.local_map = located_->id;
   frame.estimate.in_map = S::to3D(pose_);
   frame.estimate.world = located_->origin * frame.estimate.in_map;
+  frame.estimate.frozen = true;
+  frame.estimate.lost = best == nullptr;
 }
 
 template <class S>
@@ -164,7 +186,7 @@ void MultiTracker<S>::track(Frame& frame) {
       pose_ = guess;
       last_motion_ = S::normalized(previous.inverse() * pose_);
       merge(frame);
-      writeEstimate(frame);
+      writeEstimate(frame, false);
       return;
     }
     if (aligned.valid && predicted_by_model_ && !max_correction().empty()) {
@@ -208,15 +230,17 @@ void MultiTracker<S>::track(Frame& frame) {
     }
   }
   if (frames_in_map_ == 0) merge(frame);
-  writeEstimate(frame);
+  writeEstimate(frame, lost);
 }
 
 template <class S>
-void MultiTracker<S>::writeEstimate(Frame& frame) const {
+void MultiTracker<S>::writeEstimate(Frame& frame, bool lost) const {
   frame.estimate.valid = true;
   frame.estimate.local_map = map_->id;
   frame.estimate.in_map = S::to3D(pose_);
   frame.estimate.world = map_->origin * frame.estimate.in_map;
+  frame.estimate.frozen = false;  // the back-end may still move this map
+  frame.estimate.lost = lost;
 }
 
 template <class S>

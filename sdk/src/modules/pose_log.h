@@ -2,7 +2,10 @@
 // An append-only log of stamped poses whose memory does not grow with the run: past a chunk of
 // records it moves them to an anonymous temporary file and reads them back on demand. The
 // pipeline keeps one pose per frame for its outputs (a corrected trajectory needs every frame),
-// so without this a localization run of days would grow by ~150 bytes per frame.
+// so without this a localization run of days would grow by ~150 bytes per frame. The chunk is
+// small (1024 records, 112 KiB) so that filling it is not itself a growth a soak can see: at
+// 16384 records the two logs of a run added 3.5 MiB over the first 16k frames (+19 % of intel's
+// localization RSS); one write per 1024 frames costs nothing measurable.
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <cstdio>
@@ -23,8 +26,10 @@ class PoseLog {
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   };
 
+  /// Records kept in memory by default before they move to the file.
+  static constexpr std::size_t kDefaultChunk = 1024;
   /// `chunk`: records kept in memory before they move to the file.
-  explicit PoseLog(std::size_t chunk = 16384);
+  explicit PoseLog(std::size_t chunk = kDefaultChunk);
   ~PoseLog();
   PoseLog(const PoseLog&) = delete;
   PoseLog& operator=(const PoseLog&) = delete;
