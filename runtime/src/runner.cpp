@@ -249,6 +249,7 @@ RunReport runPipeline(RunConfig& run, const RunOptions& options) {
   for (;;) {
     if (options.interrupted && options.interrupted()) {
       stopped_by = "interrupted";
+      if (options.on_interrupt) options.on_interrupt();
       break;
     }
     try {

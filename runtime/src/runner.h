@@ -37,6 +37,9 @@ struct RunOptions {
   std::function<void(uint64_t frame, int64_t total, double elapsed_s, uint64_t loops)> progress;
   /// Checked between frames: when it returns true the run stops ("interrupted"); may be empty.
   std::function<bool()> interrupted;
+  /// Called once when `interrupted` stopped the run, before the run finishes: the final
+  /// optimization of a large graph can take minutes, so a front-end saves what is built first.
+  std::function<void()> on_interrupt;
   /// Called when an error stopped the run, after its outputs and run.json were written (so a
   /// front-end can save the session); may be empty. The error is rethrown afterwards.
   std::function<void()> stopped_by_error;

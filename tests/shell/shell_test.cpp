@@ -377,8 +377,13 @@ TEST_F(ShellTest, InterruptedRunLeavesALoadableSession) {
   const std::string log = readFile(path("run.log"));
   ASSERT_TRUE(WIFEXITED(status)) << log;
   EXPECT_EQ(WEXITSTATUS(status), 130) << log;
+  // Saved once before the run finishes (a second Ctrl-C during a long final optimization keeps
+  // it), then again with the final optimization.
+  expectHas(log, "interrupted: session saved in " + out + "/session");
+  expectHas(log, "Ctrl-C again quits now");
   expectHas(log, "interrupted at frame");
   expectHas(log, "session saved in " + out + "/session");
+  EXPECT_FALSE(std::filesystem::exists(out + "/session.new")) << "the atomic save left its copy";
   EXPECT_NE(readFile(out + "/run.json").find("\"stopped_by\": \"interrupted\""), std::string::npos);
   // The session loads and a run extends it.
   Result r = sh("PLUGSLAM_PLUGIN_PATH=" + pluginDir() + " " + bin() + " run --session " + out +

@@ -78,17 +78,19 @@ namespace {
 // Saves a session into `dir` as a whole: written beside it first, then moved into place, so a
 // kill at any moment leaves either the previous checkpoint or the new one (or, between the two
 // renames, the previous one as dir.old), never a half-written session.
-void writeCheckpoint(const std::string& dir, const std::string& config_yaml, Pipeline& pipeline) {
+SessionSummary writeCheckpoint(const std::string& dir, const std::string& config_yaml,
+                               Pipeline& pipeline) {
   namespace fs = boost::filesystem;
   const fs::path target(dir), fresh(dir + ".new"), old(dir + ".old");
   boost::system::error_code ec;
   fs::remove_all(fresh, ec);
-  saveSession(fresh.string(), config_yaml, pipeline);
+  const SessionSummary summary = saveSession(fresh.string(), config_yaml, pipeline);
   fs::remove_all(old, ec);
   if (fs::exists(target)) fs::rename(target, old);
   fs::rename(fresh, target);
   fs::remove_all(old, ec);
   spdlog::debug("checkpoint written to {}", dir);
+  return summary;
 }
 
 }  // namespace
@@ -160,6 +162,16 @@ void addRunCommand(CLI::App& root, int& exit_code) {
         spdlog::info("frame {}{} {:.1f} Hz{} loops {}", frame, pct, hz, eta, loops);
     };
     options.interrupted = [] { return g_interrupted.load(); };
+    const std::string session_out = (boost::filesystem::path(out_dir) / "session").string();
+    options.on_interrupt = [&] {
+      // Saved before the final optimization and the outputs, which can take minutes on a large
+      // graph: a second Ctrl-C (the default action again) then loses nothing built so far.
+      SessionSummary s = writeCheckpoint(session_out, config_yaml, *run->pipeline);
+      std::cerr << fmt::format(
+          "\ninterrupted: session saved in {} ({} local maps); finishing the run (final "
+          "optimization, outputs); Ctrl-C again quits now and keeps that session\n",
+          session_out, s.maps);
+    };
     options.stopped_by_error = [&] {
       // The maps built before the error are kept: the same session an interrupted run saves.
       const std::string dir = (boost::filesystem::path(out_dir) / "session").string();
@@ -184,11 +196,11 @@ void addRunCommand(CLI::App& root, int& exit_code) {
                                run->pipeline->reference(), *report.ate_rmse, *report.ate_max,
                                report.rpe_rmse.value_or(NAN));
     if (report.stopped_by == "interrupted") {
-      const std::string dir = (boost::filesystem::path(out_dir) / "session").string();
-      SessionSummary s = saveSession(dir, YAML::Dump(doc.root) + "\n", *run->pipeline);
+      // Again, now with the final optimization; atomically, so a kill mid-save keeps the first.
+      SessionSummary s = writeCheckpoint(session_out, config_yaml, *run->pipeline);
       std::cout << fmt::format("interrupted at frame {}: session saved in {} ({} local maps); "
                                "continue with: plugslam run --session {}\n",
-                               report.frames, dir, s.maps, dir);
+                               report.frames, session_out, s.maps, session_out);
       exit_code = kInterrupted;
       return;
     }
