@@ -89,6 +89,18 @@ class LoopValidator : public Configurable {
                         std::string& reason) = 0;
 };
 
+/// A loop validator that also sees the graph snapshot the candidate and query come from, so it can
+/// look at the maps around them. GraphSlam calls validateInView() on such validators (found by
+/// dynamic_cast, so LoopValidator's own interface is unchanged).
+class ViewLoopValidator : public LoopValidator {
+ public:
+  ~ViewLoopValidator() override;
+  /// As validate(); `candidate` is view.maps[candidate.id], `query` view.maps[query.id].
+  virtual bool validateInView(const GraphView& view, const LocalMap& candidate,
+                              const LocalMap& query, const Eigen::Isometry3d& guess,
+                              LoopClosure& closure, std::string& reason) = 0;
+};
+
 /// Counters of the back-end.
 struct GraphStats {
   uint64_t nodes = 0, edges = 0;

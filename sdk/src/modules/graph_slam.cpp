@@ -17,6 +17,7 @@ inline namespace abi_v1 {
 
 LoopDetector::~LoopDetector() = default;
 LoopValidator::~LoopValidator() = default;
+ViewLoopValidator::~ViewLoopValidator() = default;
 GraphBackend::~GraphBackend() = default;
 
 void GraphBackend::restore(const std::vector<std::shared_ptr<LocalMap>>&,
@@ -354,7 +355,11 @@ void GraphSlam<S>::runLoopJob(LoopJob& job) {
         Eigen::Isometry3d current = c.matched ? c.relative : view.relative(id, query_id);
         const auto validate_start = std::chrono::steady_clock::now();
         for (auto& validator : validators) {
-          if (!validator->validate(candidate, query, current, closure, reason)) {
+          auto* in_view = dynamic_cast<ViewLoopValidator*>(&*validator);
+          const bool accepted =
+              in_view ? in_view->validateInView(view, candidate, query, current, closure, reason)
+                      : validator->validate(candidate, query, current, closure, reason);
+          if (!accepted) {
             ok = false;
             break;
           }

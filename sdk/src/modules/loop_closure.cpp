@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "plugslam/errors.h"
+
 namespace plugslam {
 inline namespace abi_v1 {
 
@@ -29,6 +31,36 @@ std::vector<LoopCandidate> ProximityDetector::detect(const GraphView& view,
   return out;
 }
 
+SceneMerger::~SceneMerger() = default;
+
+std::vector<int64_t> pathNeighbours(const GraphView& view, int64_t id, double length,
+                                    int64_t before, double min_gap) {
+  std::vector<std::pair<double, int64_t>> found;
+  const auto n = static_cast<int64_t>(view.maps.size());
+  if (id < 0 || id >= n || length <= 0) return {};
+  before = std::min(before, n);
+  const double end = before < n ? view.travelled[before] : view.travelled[n - 1];
+  const double at = view.travelled[id];
+  // A neighbour must be joined to `id` by odometry edges only: walking stops where a chain
+  // starts anew (a tracker reset or another session), whose relative placement is unknown.
+  const auto usable = [&](int64_t k) { return k < before && end - view.travelled[k] >= min_gap; };
+  for (int64_t k = id; k > 0 && view.maps[k]->previous == k - 1; --k) {
+    const double d = at - view.travelled[k - 1];
+    if (d > length) break;
+    if (usable(k - 1)) found.emplace_back(d, k - 1);
+  }
+  for (int64_t k = id + 1; k < before && view.maps[k]->previous == k - 1; ++k) {
+    const double d = view.travelled[k] - at;
+    if (d > length || !usable(k)) break;
+    found.emplace_back(d, k);
+  }
+  std::sort(found.begin(), found.end());
+  std::vector<int64_t> out;
+  out.reserve(found.size());
+  for (const auto& f : found) out.push_back(f.second);
+  return out;
+}
+
 template <class S>
 AlignmentValidator<S>::AlignmentValidator() = default;
 template <class S>
@@ -38,15 +70,51 @@ template <class S>
 bool AlignmentValidator<S>::validate(const LocalMap& candidate, const LocalMap& query,
                                      const Eigen::Isometry3d& guess, LoopClosure& closure,
                                      std::string& reason) {
+  if (neighbourhood() > 0 || query_neighbourhood() > 0) {
+    reason = "a neighbourhood needs the graph (validateInView)";
+    return false;
+  }
+  return check(candidate.scene, query.scene, guess, closure, reason);
+}
+
+template <class S>
+PropertyContainer AlignmentValidator<S>::widened(const GraphView& view, const LocalMap& map,
+                                                 double length, int64_t before, double min_gap) {
+  PropertyContainer scene = map.scene;
+  for (int64_t k : pathNeighbours(view, map.id, length, before, min_gap))
+    merger->append(scene, view.maps[k]->scene, view.relative(map.id, k));
+  return scene;
+}
+
+template <class S>
+bool AlignmentValidator<S>::validateInView(const GraphView& view, const LocalMap& candidate,
+                                           const LocalMap& query, const Eigen::Isometry3d& guess,
+                                           LoopClosure& closure, std::string& reason) {
+  const double around = neighbourhood(), behind = query_neighbourhood();
+  if (around <= 0 && behind <= 0) return check(candidate.scene, query.scene, guess, closure, reason);
+  if (!merger) throw InputError("AlignmentValidator: a neighbourhood needs a `merger`");
+  // The candidate's neighbourhood keeps clear of the query's own recent path (which would
+  // otherwise vouch for the query).
+  const PropertyContainer wide_candidate =
+      around > 0 ? widened(view, candidate, around, query.id, around + behind) : candidate.scene;
+  const PropertyContainer wide_query =
+      behind > 0 ? widened(view, query, behind, query.id, 0) : query.scene;
+  return check(wide_candidate, wide_query, guess, closure, reason);
+}
+
+template <class S>
+bool AlignmentValidator<S>::check(const PropertyContainer& candidate,
+                                  const PropertyContainer& query, const Eigen::Isometry3d& guess,
+                                  LoopClosure& closure, std::string& reason) {
   if (!aligner || aligner->slices.empty()) {
     reason = "the validator's aligner has no slices";
     return false;
   }
   // The query's scene plays the measurement: its cues have the names the slices bind to.
   Frame frame;
-  frame.measurement = query.scene;
+  frame.measurement = query;
   const typename S::Pose g = S::from3D(guess);
-  AlignResult<S> r = aligner->align(frame, candidate.scene, AlignContext<S>{g, g});
+  AlignResult<S> r = aligner->align(frame, candidate, AlignContext<S>{g, g});
   if (!r.valid) {
     reason = "alignment failed (" + std::to_string(r.inliers) + " inliers)";
     return false;
