@@ -393,9 +393,8 @@ void buildPoseGraph(FactorGraph& g, int n, const std::vector<std::pair<int, int>
   std::vector<SE2> truth;
   for (int k = 0; k < n; ++k) truth.push_back(se2(30.0 * nd(rng), 30.0 * nd(rng), nd(rng)));
   for (int k = 0; k < n; ++k) {
-    g.addVariable<VariableSE2>(k, k == 0 ? truth[0]
-                                         : SE2(truth[k] * se2(0.05 * nd(rng), 0.05 * nd(rng),
-                                                              0.05 * nd(rng))));
+    g.addVariable<VariableSE2>(
+        k, k == 0 ? truth[0] : SE2(truth[k] * se2(0.05 * nd(rng), 0.05 * nd(rng), 0.05 * nd(rng))));
   }
   for (const auto& [i, j] : edges) {
     g.emplaceFactor<BetweenFactorSE2>(&g.get<VariableSE2>(i), &g.get<VariableSE2>(j),
@@ -454,8 +453,10 @@ TEST(Optimizer, AutoKeepsTheBlockPathOnSparseFillAndLeavesItOnDenseFill) {
     const OptimizeResult r = optimizer.optimize(g);
     EXPECT_TRUE(r.ok()) << toString(r.reason);
     EXPECT_LT(r.final_chi2, 1e-6 * r.initial_chi2);
-    const Factorization expected =
-        f == Factorization::kAuto ? Factorization::kSupernodal : Factorization::kBlock;
+    // On the reference BLAS the block kernels win at any fill (docs/architecture.md).
+    const Factorization expected = f == Factorization::kAuto && hasOptimizedBlas()
+                                       ? Factorization::kSupernodal
+                                       : Factorization::kBlock;
     EXPECT_EQ(r.factorization, expected) << toString(r.factorization);
     finals.push_back(r.final_chi2);
     // The decision is kept for the unchanged structure.

@@ -1,6 +1,7 @@
 #include "plugslam/solver/optimizer.h"
 
 #include <cholmod.h>
+#include <dlfcn.h>
 #include <spdlog/spdlog.h>
 
 #include <Eigen/Cholesky>
@@ -20,12 +21,26 @@ double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// kAuto leaves the block kernels for CHOLMOD's supernodal factorisation when L's block columns
-// are this long on average (BlockCholesky::Fill::density). Measured (docs/architecture.md,
-// Deviations): the standard pose graphs stay below 30, where the block kernels win 2-4x; the
-// intel soak graphs reach XXX, where supernodal wins XXX.
+// With an optimised BLAS, kAuto leaves the block kernels for CHOLMOD's supernodal factorisation
+// when L's block columns are this long on average (BlockCholesky::Fill::density). Measured with
+// OpenBLAS 0.3.21, one thread (docs/architecture.md, Deviations): block and supernodal tie at 91
+// (intel replayed 10 times), supernodal wins 2.8x at 227 (20 times) and 3.5x at 615; the
+// standard pose graphs stay at or below 43 (sphere2500), where the block kernels win 1.3-2.6x.
 constexpr double kDenseFillDensity = 100.0;
 }  // namespace
+
+bool hasOptimizedBlas() {
+  // Reference BLAS has no such symbol, and on it the block kernels beat supernodal at every
+  // density measured, up to a fully dense factor (3x at density 1245).
+  static const bool found = [] {
+    for (const char* symbol :
+         {"openblas_get_config", "MKL_Get_Version", "bli_info_get_version_str"}) {
+      if (dlsym(RTLD_DEFAULT, symbol)) return true;
+    }
+    return false;
+  }();
+  return found;
+}
 
 const char* toString(Factorization f) {
   switch (f) {
@@ -395,8 +410,8 @@ std::vector<int> Optimizer::Impl::blockOrdering(const std::vector<std::vector<in
 
 bool Optimizer::Impl::chooseBlockPath(const std::vector<std::vector<int>>& above) {
   const bool automatic = factorization == Factorization::kAuto;
-  cholmod_kind = automatic || factorization == Factorization::kBlock ? Factorization::kAuto
-                                                                      : factorization;
+  cholmod_kind =
+      automatic || factorization == Factorization::kBlock ? Factorization::kAuto : factorization;
   if (factorization != Factorization::kBlock && !automatic) return false;
   if (block_dim.empty()) return false;
   const int bd = block_dim[0];
@@ -413,16 +428,18 @@ bool Optimizer::Impl::chooseBlockPath(const std::vector<std::vector<int>>& above
   if (automatic) {
     // Measured on the se-sync graphs (docs/benchmarks.md): the block kernels beat CHOLMOD's
     // simplicial path 3-4x on 2D graphs and its supernodal path 4x on sphere2500 (reference
-    // BLAS). They do O(1) work per block product, though: when L fills in densely (a building
-    // mapped over and over, every pass closing loops with every other), BLAS-3 on CHOLMOD's
-    // dense supernodes wins. Decided once per structure, before the factor is allocated.
+    // BLAS). When L fills in densely (a building mapped over and over, every pass closing loops
+    // with every other), an optimised BLAS-3 on CHOLMOD's dense supernodes wins; the reference
+    // BLAS does not. Decided once per structure, before the factor is allocated.
     const detail::BlockCholesky::Fill fill = detail::BlockCholesky::predictFill(above, perm);
-    const bool dense_fill = fill.density() > kDenseFillDensity;
+    const bool blas = hasOptimizedBlas();
+    const bool dense_fill = blas && fill.density() > kDenseFillDensity;
     spdlog::debug(
         "optimizer: {} blocks of size {}, {:.0f} in H, {:.0f} in L, {:.3g} block flops, density "
-        "{:.1f} (threshold {:.0f}): {}",
-        above.size(), bd, fill.matrix_blocks, fill.factor_blocks, fill.block_flops,
-        fill.density(), kDenseFillDensity, dense_fill ? "CHOLMOD supernodal" : "block Cholesky");
+        "{:.1f} (threshold {:.0f}, {} BLAS): {}",
+        above.size(), bd, fill.matrix_blocks, fill.factor_blocks, fill.block_flops, fill.density(),
+        kDenseFillDensity, blas ? "optimised" : "reference",
+        dense_fill ? "CHOLMOD supernodal" : "block Cholesky");
     if (dense_fill) {
       dense_fill_above = above;
       dense_fill_dim = bd;

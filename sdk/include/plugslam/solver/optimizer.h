@@ -29,13 +29,17 @@ enum class GaugeMode {
 enum class Factorization {
   kSupernodal,  ///< supernodal LL' (BLAS-3 on dense supernodes)
   kSimplicial,  ///< simplicial LDL' (no BLAS; often faster for small blocks and plain BLAS)
-  kAuto,        ///< block LL' when every variable has the same dimension and L's fill is sparse;
-                ///< supernodal when it fills in densely; else CHOLMOD's choice
+  kAuto,        ///< block LL' when every variable has the same dimension (supernodal instead
+                ///< when L fills in densely and the BLAS is optimised); else CHOLMOD's choice
   kBlock,       ///< plugslam's block LL' (equal-size variables; otherwise CHOLMOD's choice)
 };
 
 /// "supernodal", "simplicial", "auto" or "block".
 const char* toString(Factorization f);
+
+/// Whether CHOLMOD runs on an optimised BLAS (OpenBLAS, MKL or BLIS loaded in the process):
+/// only then does kAuto trade the block kernels for supernodal on densely filling graphs.
+bool hasOptimizedBlas();
 
 /// Why an optimisation stopped.
 enum class StopReason {
