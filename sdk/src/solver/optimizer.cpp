@@ -119,6 +119,7 @@ struct Optimizer::Impl {
   std::unique_ptr<detail::BlockCholesky> block;
   std::vector<std::vector<int>> block_above;  // pattern the block analysis was made for
   int block_analyzed_dim = 0;
+  bool block_fill_checked = false;  // kAuto judged the analysed pattern's fill (kBlock does not)
   // kAuto found this pattern's fill too dense for the block kernels: CHOLMOD supernodal.
   std::vector<std::vector<int>> dense_fill_above;
   int dense_fill_dim = 0;
@@ -419,7 +420,10 @@ bool Optimizer::Impl::chooseBlockPath(const std::vector<std::vector<int>>& above
     if (d != bd) return false;
   }
   if (!detail::BlockCholesky::supportsBlockSize(bd)) return false;
-  if (block && block_analyzed_dim == bd && block_above == above) return true;
+  if (block && block_analyzed_dim == bd && block_above == above &&
+      (!automatic || block_fill_checked)) {
+    return true;
+  }
   if (automatic && dense_fill_dim == bd && dense_fill_above == above) {
     cholmod_kind = Factorization::kSupernodal;
     return false;
@@ -453,6 +457,7 @@ bool Optimizer::Impl::chooseBlockPath(const std::vector<std::vector<int>>& above
   block->analyze(bd, above, perm);
   block_above = above;
   block_analyzed_dim = bd;
+  block_fill_checked = automatic;
   return true;
 }
 
