@@ -63,7 +63,7 @@ void expectHas(const std::string& s, const std::string& part) {
 TEST_F(Cli, VersionAndHelp) {
   auto r = run("--version");
   EXPECT_EQ(r.code, 0);
-  expectHas(r.out, "plugslam 0.1.0 (plugin ABI 1.1)");
+  expectHas(r.out, "plugslam 0.1.0 (plugin ABI 1.2)");
   r = run("--help");
   EXPECT_EQ(r.code, 0);
   for (auto c : {"plugins", "describe", "config", "validate", "run", "reference"}) expectHas(r.out, c);

@@ -75,7 +75,7 @@ TEST(PluginLoader, RefusesWrongAbiMajor) {
   std::string e = refusal(pm, "plugslam_wrongabi.so");
   EXPECT_TRUE(oneSentence(e)) << e;
   EXPECT_NE(e.find("plugin 'wrongabi'"), std::string::npos) << e;
-  EXPECT_NE(e.find("was built for plugin ABI 2.0 (SDK 9.0.0), but this host speaks ABI 1.1"),
+  EXPECT_NE(e.find("was built for plugin ABI 2.0 (SDK 9.0.0), but this host speaks ABI 1.2"),
             std::string::npos)
       << e;
   EXPECT_FALSE(pm.isLoaded("wrongabi"));

@@ -139,3 +139,32 @@ TEST(BlockCholesky, UnsupportedBlockSizeIsAnInputError) {
   EXPECT_THROW(chol.analyze(5, {{}, {0}}, {0, 1}), plugslam::InputError);
   EXPECT_FALSE(BlockCholesky::supportsBlockSize(5));
 }
+
+TEST(BlockCholesky, PredictFillOfAChainAndOfAFullPattern) {
+  const int nb = 50;
+  std::vector<int> identity(nb);
+  std::iota(identity.begin(), identity.end(), 0);
+  // A chain in its natural order does not fill in: L has the diagonal and one block below it.
+  std::vector<std::vector<int>> chain(nb);
+  for (int c = 1; c < nb; ++c) chain[c] = {c - 1};
+  const BlockCholesky::Fill fc = BlockCholesky::predictFill(chain, identity);
+  EXPECT_EQ(fc.matrix_blocks, 2 * nb - 1);
+  EXPECT_EQ(fc.factor_blocks, 2 * nb - 1);
+  EXPECT_EQ(fc.block_flops, 4.0 * (nb - 1) + 1.0);
+  EXPECT_LT(fc.density(), 2.0);
+  // Reversed, every column c keeps one block below it too: the chain has no fill either way.
+  std::vector<int> reversed(identity.rbegin(), identity.rend());
+  EXPECT_EQ(BlockCholesky::predictFill(chain, reversed).factor_blocks, 2 * nb - 1);
+  // An arrow pointing at the first block, eliminated first, fills L completely.
+  std::vector<std::vector<int>> arrow(nb);
+  for (int c = 1; c < nb; ++c) arrow[c] = {0};
+  const BlockCholesky::Fill fa = BlockCholesky::predictFill(arrow, identity);
+  EXPECT_EQ(fa.matrix_blocks, 2 * nb - 1);
+  EXPECT_EQ(fa.factor_blocks, nb * (nb + 1) / 2);
+  double flops = 0.0;
+  for (int k = 1; k <= nb; ++k) flops += double(k) * k;
+  EXPECT_EQ(fa.block_flops, flops);
+  EXPECT_NEAR(fa.density(), (2.0 * nb + 1.0) / 3.0, 1e-9);
+  // Eliminated last, the hub costs nothing: one block below every other diagonal.
+  EXPECT_EQ(BlockCholesky::predictFill(arrow, reversed).factor_blocks, 2 * nb - 1);
+}

@@ -170,13 +170,12 @@ bool BlockCholesky::supportsBlockSize(int block_dim) {
 BlockCholesky::BlockCholesky() : impl_(std::make_unique<Impl>()) {}
 BlockCholesky::~BlockCholesky() = default;
 
-void BlockCholesky::analyze(int block_dim, const std::vector<std::vector<int>>& above,
-                            const std::vector<int>& perm) {
-  if (!supportsBlockSize(block_dim)) {
-    throw InputError("block Cholesky: no kernel for blocks of size " + std::to_string(block_dim));
-  }
-  Impl& im = *impl_;
-  Structure& s = im.s;
+namespace {
+
+// The permuted upper block pattern (a_ptr, a_row) of `above` under perm, and its elimination
+// tree (parent[k] = -1 at roots).
+void permutedPatternAndTree(const std::vector<std::vector<int>>& above,
+                            const std::vector<int>& perm, Structure& s, std::vector<int>& parent) {
   const int nb = int(above.size());
   s.nb = nb;
   s.perm = perm;
@@ -206,7 +205,8 @@ void BlockCholesky::analyze(int block_dim, const std::vector<std::vector<int>>& 
   }
 
   // Elimination tree (Liu's algorithm with path compression on the upper pattern).
-  std::vector<int> parent(nb, -1), ancestor(nb, -1);
+  parent.assign(nb, -1);
+  std::vector<int> ancestor(nb, -1);
   for (int k = 0; k < nb; ++k) {
     for (int t = s.a_ptr[k]; t < s.a_ptr[k + 1]; ++t) {
       for (int i = s.a_row[t]; i != -1 && i < k;) {
@@ -217,6 +217,48 @@ void BlockCholesky::analyze(int block_dim, const std::vector<std::vector<int>>& 
       }
     }
   }
+}
+
+}  // namespace
+
+BlockCholesky::Fill BlockCholesky::predictFill(const std::vector<std::vector<int>>& above,
+                                               const std::vector<int>& perm) {
+  Structure s;
+  std::vector<int> parent;
+  permutedPatternAndTree(above, perm, s, parent);
+  const int nb = s.nb;
+  // Column counts of L from the row patterns (the ereach of each row), counted without storing
+  // them: O(nnz(L)) time, O(n) memory, so a dense fill can be judged before it is allocated.
+  std::vector<int> mark(nb, -1);
+  std::vector<double> col_count(nb, 1.0);
+  for (int k = 0; k < nb; ++k) {
+    mark[k] = k;
+    for (int t = s.a_ptr[k]; t < s.a_ptr[k + 1]; ++t) {
+      for (int i = s.a_row[t]; mark[i] != k; i = parent[i]) {
+        mark[i] = k;
+        col_count[i] += 1.0;
+      }
+    }
+  }
+  Fill fill;
+  fill.matrix_blocks = double(s.a_row.size());
+  for (double c : col_count) {
+    fill.factor_blocks += c;
+    fill.block_flops += c * c;
+  }
+  return fill;
+}
+
+void BlockCholesky::analyze(int block_dim, const std::vector<std::vector<int>>& above,
+                            const std::vector<int>& perm) {
+  if (!supportsBlockSize(block_dim)) {
+    throw InputError("block Cholesky: no kernel for blocks of size " + std::to_string(block_dim));
+  }
+  Impl& im = *impl_;
+  Structure& s = im.s;
+  std::vector<int> parent;
+  permutedPatternAndTree(above, perm, s, parent);
+  const int nb = s.nb;
 
   // Row patterns of L: the reach of each column's entries in the elimination tree, in
   // topological order (cs_ereach).

@@ -15,6 +15,20 @@ class BlockCholesky {
   /// Block sizes with a compiled kernel.
   static bool supportsBlockSize(int block_dim);
 
+  /// Size of a factorisation, from the symbolic analysis.
+  struct Fill {
+    double matrix_blocks = 0.0;  ///< blocks in the upper triangle of the matrix (diagonal included)
+    double factor_blocks = 0.0;  ///< blocks in L (diagonal included)
+    double block_flops = 0.0;    ///< sum over block columns of L of (blocks in the column)^2
+    /// Mean length of L's block columns weighted by their work (block_flops / factor_blocks):
+    /// a few blocks on sparse (planar) graphs, hundreds when L fills in densely.
+    double density() const { return factor_blocks > 0.0 ? block_flops / factor_blocks : 0.0; }
+  };
+  /// The fill of L under the ordering perm (same arguments as analyze), in O(nnz(L)) time and
+  /// O(blocks) memory: decides between the block kernels and a supernodal factorisation before
+  /// either allocates the factor.
+  static Fill predictFill(const std::vector<std::vector<int>>& above, const std::vector<int>& perm);
+
   BlockCholesky();
   ~BlockCholesky();
   BlockCholesky(const BlockCholesky&) = delete;

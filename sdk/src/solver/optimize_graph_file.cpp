@@ -120,10 +120,11 @@ std::string toJson(const OptimizeReport& r) {
       buf, sizeof(buf),
       "{\"poses\": %zu, \"edges\": %zu, \"dimension\": %d, \"non_pd_information\": %zu, "
       "\"initial_chi2\": %.17g, \"final_chi2\": %.17g, \"se_sync_objective\": %.17g, "
-      "\"iterations\": %d, \"stop_reason\": \"%s\", \"time_read\": %.6f, \"time_init\": %.6f, "
-      "\"time_optimize\": %.6f, \"time_write\": %.6f}",
+      "\"iterations\": %d, \"stop_reason\": \"%s\", \"factorization_used\": \"%s\", "
+      "\"time_read\": %.6f, \"time_init\": %.6f, \"time_optimize\": %.6f, \"time_write\": %.6f}",
       r.poses, r.edges, r.file.dimension, r.file.non_pd_information, r.initial_chi2, r.final_chi2,
-      r.se_sync_objective, r.iterations, toString(r.reason), r.time_read, r.time_init,
+      r.se_sync_objective, r.iterations, toString(r.reason),
+      r.result.dense ? "dense" : toString(r.result.factorization), r.time_read, r.time_init,
       r.time_optimize, r.time_write);
   return buf;
 }

@@ -1,6 +1,7 @@
 #include "plugslam/solver/optimizer.h"
 
 #include <cholmod.h>
+#include <dlfcn.h>
 #include <spdlog/spdlog.h>
 
 #include <Eigen/Cholesky>
@@ -19,7 +20,41 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
+
+// With an optimised BLAS, kAuto leaves the block kernels for CHOLMOD's supernodal factorisation
+// when L's block columns are this long on average (BlockCholesky::Fill::density). Measured with
+// OpenBLAS 0.3.21, one thread (docs/architecture.md, Deviations): block and supernodal tie at 91
+// (intel replayed 10 times), supernodal wins 2.8x at 227 (20 times) and 3.5x at 615; the
+// standard pose graphs stay at or below 43 (sphere2500), where the block kernels win 1.3-2.6x.
+constexpr double kDenseFillDensity = 100.0;
 }  // namespace
+
+bool hasOptimizedBlas() {
+  // Reference BLAS has no such symbol, and on it the block kernels beat supernodal at every
+  // density measured, up to a fully dense factor (3x at density 1245).
+  static const bool found = [] {
+    for (const char* symbol :
+         {"openblas_get_config", "MKL_Get_Version", "bli_info_get_version_str"}) {
+      if (dlsym(RTLD_DEFAULT, symbol)) return true;
+    }
+    return false;
+  }();
+  return found;
+}
+
+const char* toString(Factorization f) {
+  switch (f) {
+    case Factorization::kSupernodal:
+      return "supernodal";
+    case Factorization::kSimplicial:
+      return "simplicial";
+    case Factorization::kAuto:
+      return "auto";
+    case Factorization::kBlock:
+      return "block";
+  }
+  return "unknown";
+}
 
 const char* toString(StopReason r) {
   switch (r) {
@@ -75,7 +110,8 @@ struct Optimizer::Impl {
   std::vector<double> diag_backup;
   int n = 0;
   bool dense = false;
-  Factorization factorization = Factorization::kSupernodal;
+  Factorization factorization = Factorization::kSupernodal;  // as requested
+  Factorization cholmod_kind = Factorization::kAuto;         // CHOLMOD's kind for this structure
   Factorization analyzed_with = Factorization::kSupernodal;
   // Block path: every active variable has the same dimension and the block factorisation was
   // chosen; H lives in block's values instead of CHOLMOD's compressed columns.
@@ -83,6 +119,10 @@ struct Optimizer::Impl {
   std::unique_ptr<detail::BlockCholesky> block;
   std::vector<std::vector<int>> block_above;  // pattern the block analysis was made for
   int block_analyzed_dim = 0;
+  bool block_fill_checked = false;  // kAuto judged the analysed pattern's fill (kBlock does not)
+  // kAuto found this pattern's fill too dense for the block kernels: CHOLMOD supernodal.
+  std::vector<std::vector<int>> dense_fill_above;
+  int dense_fill_dim = 0;
 
   // Sparse storage.
   std::vector<int> colptr, rowind;
@@ -103,6 +143,8 @@ struct Optimizer::Impl {
   // Chooses the block path for this pattern (analysing it when it changed); false: use CHOLMOD.
   bool chooseBlockPath(const std::vector<std::vector<int>>& above);
   std::vector<int> blockOrdering(const std::vector<std::vector<int>>& above);
+  // What solved the last system: kBlock, kSupernodal or kSimplicial (kAuto for the dense path).
+  Factorization factorizationUsed() const;
   double linearize(const FactorGraph& graph);
   bool solve(double lambda);  // factorises H + lambda I and solves for dx
   bool backSolve();           // dx from the current b and the last factorisation
@@ -307,7 +349,7 @@ void Optimizer::Impl::buildSparsePattern(const std::vector<std::vector<int>>& ab
     }
   }
   const bool same =
-      factor && new_colptr == colptr && new_rowind == rowind && analyzed_with == factorization;
+      factor && new_colptr == colptr && new_rowind == rowind && analyzed_with == cholmod_kind;
   if (same) return;
   freeCholmod();
   colptr.swap(new_colptr);
@@ -327,15 +369,15 @@ void Optimizer::Impl::buildSparsePattern(const std::vector<std::vector<int>>& ab
     const int blk = block_perm[k];
     for (int j = 0; j < block_dim[blk]; ++j) perm.push_back(block_offset[blk] + j);
   }
-  common.supernodal = factorization == Factorization::kSupernodal   ? CHOLMOD_SUPERNODAL
-                      : factorization == Factorization::kSimplicial ? CHOLMOD_SIMPLICIAL
-                                                                    : CHOLMOD_AUTO;
+  common.supernodal = cholmod_kind == Factorization::kSupernodal   ? CHOLMOD_SUPERNODAL
+                      : cholmod_kind == Factorization::kSimplicial ? CHOLMOD_SIMPLICIAL
+                                                                   : CHOLMOD_AUTO;
   // Only the block ordering: by default CHOLMOD would also run AMD on the scalar matrix.
   common.nmethods = 1;
   common.method[0].ordering = CHOLMOD_GIVEN;
   factor = cholmod_analyze_p(matrix, perm.data(), nullptr, 0, &common);
 
-  analyzed_with = factorization;
+  analyzed_with = cholmod_kind;
   rhs = cholmod_allocate_dense(n, 1, n, CHOLMOD_REAL, &common);
 }
 
@@ -368,24 +410,61 @@ std::vector<int> Optimizer::Impl::blockOrdering(const std::vector<std::vector<in
 }
 
 bool Optimizer::Impl::chooseBlockPath(const std::vector<std::vector<int>>& above) {
-  if (factorization != Factorization::kBlock && factorization != Factorization::kAuto) {
-    return false;
-  }
+  const bool automatic = factorization == Factorization::kAuto;
+  cholmod_kind =
+      automatic || factorization == Factorization::kBlock ? Factorization::kAuto : factorization;
+  if (factorization != Factorization::kBlock && !automatic) return false;
   if (block_dim.empty()) return false;
   const int bd = block_dim[0];
   for (int d : block_dim) {
     if (d != bd) return false;
   }
   if (!detail::BlockCholesky::supportsBlockSize(bd)) return false;
-  if (!block || block_analyzed_dim != bd || block_above != above) {
-    if (!block) block = std::make_unique<detail::BlockCholesky>();
-    block->analyze(bd, above, blockOrdering(above));
-    block_above = above;
-    block_analyzed_dim = bd;
+  if (block && block_analyzed_dim == bd && block_above == above &&
+      (!automatic || block_fill_checked)) {
+    return true;
   }
-  // Measured on the se-sync graphs (docs/benchmarks.md): the block kernels beat CHOLMOD's
-  // simplicial path 3-4x on 2D graphs and its supernodal path 4x on sphere2500 (reference BLAS).
+  if (automatic && dense_fill_dim == bd && dense_fill_above == above) {
+    cholmod_kind = Factorization::kSupernodal;
+    return false;
+  }
+  const std::vector<int> perm = blockOrdering(above);
+  if (automatic) {
+    // Measured on the se-sync graphs (docs/benchmarks.md): the block kernels beat CHOLMOD's
+    // simplicial path 3-4x on 2D graphs and its supernodal path 4x on sphere2500 (reference
+    // BLAS). When L fills in densely (a building mapped over and over, every pass closing loops
+    // with every other), an optimised BLAS-3 on CHOLMOD's dense supernodes wins; the reference
+    // BLAS does not. Decided once per structure, before the factor is allocated.
+    const detail::BlockCholesky::Fill fill = detail::BlockCholesky::predictFill(above, perm);
+    const bool blas = hasOptimizedBlas();
+    const bool dense_fill = blas && fill.density() > kDenseFillDensity;
+    spdlog::debug(
+        "optimizer: {} blocks of size {}, {:.0f} in H, {:.0f} in L, {:.3g} block flops, density "
+        "{:.1f} (threshold {:.0f}, {} BLAS): {}",
+        above.size(), bd, fill.matrix_blocks, fill.factor_blocks, fill.block_flops, fill.density(),
+        kDenseFillDensity, blas ? "optimised" : "reference",
+        dense_fill ? "CHOLMOD supernodal" : "block Cholesky");
+    if (dense_fill) {
+      dense_fill_above = above;
+      dense_fill_dim = bd;
+      block.reset();  // a block factor of another structure is not worth its memory any more
+      block_above.clear();
+      cholmod_kind = Factorization::kSupernodal;
+      return false;
+    }
+  }
+  if (!block) block = std::make_unique<detail::BlockCholesky>();
+  block->analyze(bd, above, perm);
+  block_above = above;
+  block_analyzed_dim = bd;
+  block_fill_checked = automatic;
   return true;
+}
+
+Factorization Optimizer::Impl::factorizationUsed() const {
+  if (dense) return Factorization::kAuto;
+  if (use_block) return Factorization::kBlock;
+  return factor && factor->is_super ? Factorization::kSupernodal : Factorization::kSimplicial;
 }
 
 double Optimizer::Impl::linearize(const FactorGraph& graph) {
@@ -462,6 +541,7 @@ OptimizeResult Optimizer::optimize(FactorGraph& graph) {
   im.factorization = options_.factorization;
   im.has_factor = false;
   im.build(graph, options_, result);
+  result.factorization = im.factorizationUsed();
   result.time_setup = secondsSince(t_start);
   result.initial_chi2 = result.final_chi2 = graph.robustChi2();
   if (im.n == 0 || graph.numFactors() == 0) {

@@ -29,9 +29,17 @@ enum class GaugeMode {
 enum class Factorization {
   kSupernodal,  ///< supernodal LL' (BLAS-3 on dense supernodes)
   kSimplicial,  ///< simplicial LDL' (no BLAS; often faster for small blocks and plain BLAS)
-  kAuto,        ///< block LL' when every variable has the same dimension, else CHOLMOD's choice
+  kAuto,        ///< block LL' when every variable has the same dimension (supernodal instead
+                ///< when L fills in densely and the BLAS is optimised); else CHOLMOD's choice
   kBlock,       ///< plugslam's block LL' (equal-size variables; otherwise CHOLMOD's choice)
 };
+
+/// "supernodal", "simplicial", "auto" or "block".
+const char* toString(Factorization f);
+
+/// Whether CHOLMOD runs on an optimised BLAS (OpenBLAS, MKL or BLIS loaded in the process):
+/// only then does kAuto trade the block kernels for supernodal on densely filling graphs.
+bool hasOptimizedBlas();
 
 /// Why an optimisation stopped.
 enum class StopReason {
@@ -86,6 +94,9 @@ struct OptimizeResult {
   bool dense = false;                 ///< dense path used
   int singular_systems = 0;           ///< factorisations that failed (indefinite or singular)
   std::vector<IterationStats> stats;  ///< one entry per iteration
+  /// The sparse factorisation that solved the system: kBlock, kSupernodal or kSimplicial; kAuto
+  /// when none did (the dense path, or nothing to optimise). Appended in ABI 1.2.
+  Factorization factorization = Factorization::kAuto;
   /// True when the run stopped without a failure (converged or out of iterations).
   bool ok() const {
     return reason == StopReason::kConverged || reason == StopReason::kMaxIterations;
