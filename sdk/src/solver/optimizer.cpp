@@ -15,6 +15,11 @@
 namespace plugslam {
 inline namespace abi_v1 {
 
+// ABI 1.2 put `factorization` into the padding before `stats`: a 1.1 plugin's OptimizeResult
+// (returned by value, so the caller allocates it) must keep its size (LP64: 80 bytes).
+static_assert(sizeof(void*) != 8 || sizeof(OptimizeResult) == 80,
+              "OptimizeResult changed size: plugins built against ABI 1.x would break");
+
 namespace {
 using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t0) {

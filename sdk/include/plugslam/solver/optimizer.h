@@ -93,10 +93,11 @@ struct OptimizeResult {
   int system_size = 0;                ///< scalar unknowns
   bool dense = false;                 ///< dense path used
   int singular_systems = 0;           ///< factorisations that failed (indefinite or singular)
-  std::vector<IterationStats> stats;  ///< one entry per iteration
   /// The sparse factorisation that solved the system: kBlock, kSupernodal or kSimplicial; kAuto
-  /// when none did (the dense path, or nothing to optimise). Appended in ABI 1.2.
+  /// when none did (the dense path, or nothing to optimise). Added in ABI 1.2 in what was the
+  /// padding before `stats`: size and layout are those of 1.1, so 1.1 plugins still call optimize.
   Factorization factorization = Factorization::kAuto;
+  std::vector<IterationStats> stats;  ///< one entry per iteration
   /// True when the run stopped without a failure (converged or out of iterations).
   bool ok() const {
     return reason == StopReason::kConverged || reason == StopReason::kMaxIterations;
