@@ -4,15 +4,9 @@
 # of those two scans. Usage: loop_errors.py RUN_DIR (with graph.g2o, trajectory.tum and
 # reference.tum, one pose per scan; run with outputs TrajectoryWriter tum and sdk.GraphWriter).
 import sys, math
+from tum2d import load, relative
 d = sys.argv[1]
-def tum(p):
-    out = []
-    for l in open(p):
-        if l.startswith('#') or not l.strip(): continue
-        f = list(map(float, l.split()))
-        out.append((f[1], f[2], 2*math.atan2(f[6], f[7])))
-    return out
-T = tum(d+'/trajectory.tum'); R = tum(d+'/reference.tum')
+T = [p[1:] for p in load(d+'/trajectory.tum')]; R = load(d+'/reference.tum')
 V = {}; E = []
 for l in open(d+'/graph.g2o'):
     f = l.split()
@@ -22,15 +16,12 @@ scan = {}
 for k, (vx, vy, vt) in V.items():
     best = min(range(len(T)), key=lambda i: (T[i][0]-vx)**2 + (T[i][1]-vy)**2 + math.remainder(T[i][2]-vt, 2*math.pi)**2)
     scan[k] = best
-def rel(a, b):
-    c, s = math.cos(a[2]), math.sin(a[2]); dx, dy = b[0]-a[0], b[1]-a[1]
-    return c*dx+s*dy, -s*dx+c*dy
 bad = []; n = 0
 for a, b, mx, my, mt in E:
     if b - a == 1: continue
     n += 1
     i, j = scan[a], scan[b]
-    r = rel(R[i], R[j]); e = math.hypot(r[0]-mx, r[1]-my)
+    r = relative(R[i], R[j]); e = math.hypot(r[0]-mx, r[1]-my)
     if e > 0.5: bad.append((e, a, b, i, j))
 bad.sort(key=lambda z: z[1])
 print(f"{n} loop edges in the final graph, {len(bad)} off by > 0.5 m from the reference (by query map):")
