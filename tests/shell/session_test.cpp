@@ -47,6 +47,24 @@ class Session : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
 
   std::shared_ptr<RunConfig> build(const ConfigDocument& doc) { return buildRun(doc, plugins_); }
+  // Why the real-log tests cannot run: a CARMEN plugin not built (empty: they can; the plugin
+  // folder is then searched).
+  std::string carmenPluginsMissing() {
+    const std::string plugin_dir = plugslam::testing::buildDir() + "/plugins";
+    for (const char* p : {"io", "laser2d", "odometry"})
+      if (!fs::exists(plugin_dir + "/plugslam_" + p + ".so"))
+        return "plugin '" + std::string(p) + "' is not built in " + plugin_dir;
+    plugins_.addSearchDir(plugin_dir);
+    return "";
+  }
+  // The shipped CARMEN config on `log`, without outputs.
+  static ConfigDocument carmenConfig(const std::string& log) {
+    ConfigDocument doc =
+        loadConfigFile(plugslam::testing::sourceDir() + "/configs/laser2d_carmen.yaml");
+    applyOverride(doc, "source.path=" + log);
+    applyOverride(doc, "outputs=[]");
+    return doc;
+  }
   RunReport run(RunConfig& r, const std::string& out) {
     RunOptions o;
     o.out_dir = (dir_ / out).string();
@@ -191,15 +209,8 @@ TEST_F(Session, IntelLocalizationFollowsTheMappedTrajectory) {
   const std::string log =
       plugslam::testing::dataDir() + "/laser2d/intel-gfs-corrected/intel-corrected.log.gz";
   if (!fs::exists(log)) GTEST_SKIP() << "intel log not found: " << log << " (set PLUGSLAM_DATA)";
-  const std::string plugin_dir = plugslam::testing::buildDir() + "/plugins";
-  for (const char* p : {"io", "laser2d", "odometry"})
-    if (!fs::exists(plugin_dir + "/plugslam_" + p + ".so"))
-      GTEST_SKIP() << "plugin '" << p << "' is not built in " << plugin_dir;
-  plugins_.addSearchDir(plugin_dir);
-  ConfigDocument doc =
-      loadConfigFile(plugslam::testing::sourceDir() + "/configs/laser2d_carmen.yaml");
-  applyOverride(doc, "source.path=" + log);
-  applyOverride(doc, "outputs=[]");
+  if (const std::string why = carmenPluginsMissing(); !why.empty()) GTEST_SKIP() << why;
+  ConfigDocument doc = carmenConfig(log);
   // Loops closed, so the maps of different passes agree where the robot localizes.
   applyOverride(doc,
                 "pipeline.graph={type: sdk.GraphSlam2D, deterministic: true, loop_detectors: "
@@ -238,15 +249,8 @@ TEST_F(Session, Freiburg079LocalizationHoldsOverReplays) {
                           "/laser2d/freiburg-079-gfs-corrected/freiburg-079-corrected.log.gz";
   if (!fs::exists(log))
     GTEST_SKIP() << "Freiburg 079 log not found: " << log << " (set PLUGSLAM_DATA)";
-  const std::string plugin_dir = plugslam::testing::buildDir() + "/plugins";
-  for (const char* p : {"io", "laser2d", "odometry"})
-    if (!fs::exists(plugin_dir + "/plugslam_" + p + ".so"))
-      GTEST_SKIP() << "plugin '" << p << "' is not built in " << plugin_dir;
-  plugins_.addSearchDir(plugin_dir);
-  ConfigDocument doc =
-      loadConfigFile(plugslam::testing::sourceDir() + "/configs/laser2d_carmen.yaml");
-  applyOverride(doc, "source.path=" + log);
-  applyOverride(doc, "outputs=[]");
+  if (const std::string why = carmenPluginsMissing(); !why.empty()) GTEST_SKIP() << why;
+  ConfigDocument doc = carmenConfig(log);
   applyOverride(doc, "pipeline.graph.deterministic=true");
   auto mapping = build(doc);
   RunReport mapped = run(*mapping, "map");

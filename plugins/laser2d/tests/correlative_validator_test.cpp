@@ -35,24 +35,12 @@ LocalMap makeMap(const std::vector<test::Segment>& world, const SE2& origin,
   return map;
 }
 
-// An irregular building: an outer wall, a partition with a door and a few boxes.
-std::vector<test::Segment> building() {
-  std::vector<test::Segment> w = test::box(0, 0, 14, 10);
-  w.push_back({{6, 0}, {6, 4}});
-  w.push_back({{6, 5.2}, {6, 10}});
-  for (const auto& s : test::box(2, 6.5, 3, 7.2)) w.push_back(s);
-  for (const auto& s : test::box(9.5, 2, 10.1, 3.4)) w.push_back(s);
-  for (const auto& s : test::box(11, 7, 12.5, 7.4)) w.push_back(s);
-  w.push_back({{0, 3}, {1.5, 3}});
-  return w;
-}
-
 double elapsedMs(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
 TEST(CorrelativeValidator, RecoversALoopFarFromTheGuess) {
-  const auto world = building();
+  const auto world = test::building();
   const SE2 c_origin = se2(3, 3, 0.2), q_origin = se2(4, 2.5, -0.5);
   const LocalMap candidate =
       makeMap(world, c_origin, {se2(3, 3, 0.2), se2(3.5, 3.2, 0.4), se2(4, 3.5, 0.6)}, 30, 1);
@@ -84,7 +72,7 @@ TEST(CorrelativeValidator, RecoversALoopFarFromTheGuess) {
 }
 
 TEST(CorrelativeValidator, RejectsADifferentPlace) {
-  const auto world = building();
+  const auto world = test::building();
   const LocalMap candidate =
       makeMap(world, se2(3, 3, 0), {se2(3, 3, 0), se2(3.5, 3.2, 0.4)}, 30, 1);
   // A round-ish hall of another shape: walls at other distances and angles.

@@ -35,18 +35,6 @@ std::shared_ptr<LocalMap> makeMap(int64_t id, const std::vector<test::Segment>& 
   return map;
 }
 
-// An irregular building: an outer wall, a partition with a door and a few boxes.
-std::vector<test::Segment> building() {
-  std::vector<test::Segment> w = test::box(0, 0, 14, 10);
-  w.push_back({{6, 0}, {6, 4}});
-  w.push_back({{6, 5.2}, {6, 10}});
-  for (const auto& s : test::box(2, 6.5, 3, 7.2)) w.push_back(s);
-  for (const auto& s : test::box(9.5, 2, 10.1, 3.4)) w.push_back(s);
-  for (const auto& s : test::box(11, 7, 12.5, 7.4)) w.push_back(s);
-  w.push_back({{0, 3}, {1.5, 3}});
-  return w;
-}
-
 // Three candidate maps along a short path, then (30 m of path later) the query map.
 struct Scenario {
   GraphView view;
@@ -60,7 +48,7 @@ struct Scenario {
 
 Scenario revisit(const std::vector<test::Segment>& query_world, const SE2& query_truth,
                  const SE2& query_estimate) {
-  const auto world = building();
+  const auto world = test::building();
   Scenario s;
   const SE2 c[3] = {se2(2, 2, 0.1), se2(3, 2.3, 0.3), se2(4, 2.8, 0.5)};
   for (int i = 0; i < 3; ++i)
@@ -76,7 +64,7 @@ Scenario revisit(const std::vector<test::Segment>& query_world, const SE2& query
 TEST(GlobalMatchDetector, FindsARevisitFarFromTheEstimate) {
   // The truth is 3.9 m and 1.1 rad away from the estimate: far outside a proximity gate.
   const SE2 truth = se2(4, 5.5, 2.6);
-  const Scenario s = revisit(building(), truth, truth * se2(2.5, -3.0, 1.1));
+  const Scenario s = revisit(test::building(), truth, truth * se2(2.5, -3.0, 1.1));
   GlobalMatchDetector d;
   d.configure();
   const auto found = d.detect(s.view, *s.view.maps[3]);
@@ -109,7 +97,7 @@ TEST(GlobalMatchDetector, ProposesNothingForAPlaceItNeverSaw) {
 
 TEST(GlobalMatchDetector, WaitsWhileLoopsKeepClosing) {
   const SE2 truth = se2(4, 5.5, 2.6);
-  Scenario s = revisit(building(), truth, truth * se2(0.5, 0.2, 0.1));
+  Scenario s = revisit(test::building(), truth, truth * se2(0.5, 0.2, 0.1));
   GlobalMatchDetector d;
   d.configure();
   s.view.last_loop_travelled = 30.0;  // 2 m of path ago: the proximity detector is coping

@@ -18,6 +18,17 @@ std::vector<Segment> room(double w, double h) {
   return out;
 }
 
+std::vector<Segment> building() {
+  std::vector<Segment> w = box(0, 0, 14, 10);
+  w.push_back({{6, 0}, {6, 4}});
+  w.push_back({{6, 5.2}, {6, 10}});
+  for (const auto& s : box(2, 6.5, 3, 7.2)) w.push_back(s);
+  for (const auto& s : box(9.5, 2, 10.1, 3.4)) w.push_back(s);
+  for (const auto& s : box(11, 7, 12.5, 7.4)) w.push_back(s);
+  w.push_back({{0, 3}, {1.5, 3}});
+  return w;
+}
+
 std::vector<Segment> corridor(double x0, double x1, double half_width) {
   return {{{x0, -half_width}, {x1, -half_width}},
           {{x0, half_width}, {x1, half_width}},

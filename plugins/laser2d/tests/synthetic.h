@@ -18,6 +18,9 @@ struct Segment {
 std::vector<Segment> box(double x0, double y0, double x1, double y1);
 /// A room [0, w] x [0, h] with two pillars, so every direction is constrained.
 std::vector<Segment> room(double w, double h);
+/// An irregular 14 x 10 m building: outer walls, a partition with a door and a few boxes, so a
+/// scan matches it in one place only (loop search and validation tests).
+std::vector<Segment> building();
 /// A corridor along x: walls y = +-half_width from x = x0 to x1, an end wall at x = x1 only.
 std::vector<Segment> corridor(double x0, double x1, double half_width);
 
