@@ -11,6 +11,8 @@
 #include <sstream>
 #include <string>
 
+#include "plugslam/version.h"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -63,7 +65,9 @@ void expectHas(const std::string& s, const std::string& part) {
 TEST_F(Cli, VersionAndHelp) {
   auto r = run("--version");
   EXPECT_EQ(r.code, 0);
-  expectHas(r.out, "plugslam 0.1.0 (plugin ABI 1.2)");
+  expectHas(r.out, std::string("plugslam ") + PLUGSLAM_VERSION_STRING + " (plugin ABI " +
+                       std::to_string(PLUGSLAM_ABI_MAJOR) + "." +
+                       std::to_string(PLUGSLAM_ABI_MINOR) + ")");
   r = run("--help");
   EXPECT_EQ(r.code, 0);
   for (auto c : {"plugins", "describe", "config", "validate", "run", "reference"}) expectHas(r.out, c);

@@ -153,6 +153,15 @@ class GraphSlam : public GraphBackend {
   SlotList<LoopValidator> validators{
       this, "validators",
       "every validator must accept a candidate; each starts from the pose the previous found"};
+  SlotList<LoopDetector> final_detectors{
+      this, "final_detectors",
+      "run once over every map when the run ends, on the optimized estimate (e.g. a wider "
+      "proximity search than drift allows online); their validated closures join the graph "
+      "before the final optimization"};
+  Param<int> final_rounds{this, "final_rounds", 1, "",
+                          "final_detectors passes; each runs on the estimate the previous one "
+                          "optimized (pairs its drift kept apart now align) and adds only new pairs",
+                          Range{1, 100}};
   Param<bool> deterministic{this, "deterministic", false, "",
                             "search loops and optimize inline on the front-end thread "
                             "(bit-identical replays)"};
@@ -203,8 +212,8 @@ class GraphSlam : public GraphBackend {
       Range{0, 1e6}};
   Param<double> residual_translation{
       this, "residual_translation", 0.1, "m",
-      "after each optimization the active loop that disagrees most with the optimized graph, "
-      "if its error exceeds this (0: never)...",
+      "after each optimization the active loop that disagrees most with the optimized graph "
+      "(and any at least half as far off), if its error exceeds this (0: never)...",
       Range{0, 1e6}};
   Param<double> residual_rotation{
       this, "residual_rotation", 0.1, "rad",
@@ -243,6 +252,8 @@ class GraphSlam : public GraphBackend {
     GraphView view;
     std::vector<int64_t> queries;
     std::vector<GraphEdge> closures;  // validated, in order
+    bool final_pass = false;          // final_detectors over every map (see finish())
+    std::vector<std::pair<int64_t, int64_t>> linked;  // (query, candidate) pairs to skip, sorted
     uint64_t candidates = 0, rejections = 0;
     double detection_time = 0, validation_time = 0;  // seconds
   };
@@ -250,6 +261,9 @@ class GraphSlam : public GraphBackend {
   void runLoopJob(LoopJob& job);  // the only user of the detectors and validators
   void applyLoopJob(const LoopJob& job);
   void startLoopJob();
+  // A final pass: final_detectors over every map on the optimized estimate, then optimize;
+  // returns the number of closures it added.
+  size_t finalPass();
 
   Job makeJob() const;
   void runJob(Job& job) const;
@@ -259,7 +273,8 @@ class GraphSlam : public GraphBackend {
   // residual_translation), so that the graph needs another optimization.
   bool applyJob(const Job& job);
   // The active loop of `job` whose residual at the job's solution is largest relative to the
-  // residual bounds, if any exceeds them: rejected for good.
+  // residual bounds, if any exceeds them, and every loop at least half as far off: rejected for
+  // good.
   bool rejectWorstLoop(const Job& job);
   void startJob();
 

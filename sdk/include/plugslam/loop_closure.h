@@ -20,6 +20,10 @@ class ProximityDetector : public LoopDetector {
                            "ignore maps fewer metres back along the path", Range{0, 1e9}};
   Param<int> max_candidates{this, "max_candidates", 3, "", "closest candidates kept",
                             Range{1, 1000}};
+  Param<double> spacing{this, "spacing", 0.0, "m",
+                        "candidates kept are at least this much path apart (spreads them over "
+                        "the visits of a place; 0: the closest whatever their path)",
+                        Range{0, 1e9}};
   std::vector<LoopCandidate> detect(const GraphView& view, const LocalMap& query) override;
 };
 

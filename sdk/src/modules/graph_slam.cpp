@@ -333,7 +333,7 @@ void GraphSlam<S>::runLoopJob(LoopJob& job) {
     // lie far from the estimate), and not again once it closed a loop.
     std::vector<std::pair<int64_t, bool>> tried;
     std::vector<int64_t> closed;
-    for (auto& detector : loop_detectors) {
+    for (auto& detector : job.final_pass ? final_detectors : loop_detectors) {
       const auto detect_start = std::chrono::steady_clock::now();
       const std::vector<LoopCandidate> candidates = detector->detect(view, query);
       job.detection_time += secondsSince(detect_start);
@@ -342,6 +342,9 @@ void GraphSlam<S>::runLoopJob(LoopJob& job) {
         if (id < 0 || id >= static_cast<int64_t>(view.maps.size()) || id == query_id) continue;
         if (std::find(closed.begin(), closed.end(), id) != closed.end()) continue;
         if (std::find(tried.begin(), tried.end(), std::make_pair(id, c.matched)) != tried.end())
+          continue;
+        if (std::binary_search(job.linked.begin(), job.linked.end(),
+                               std::make_pair(query_id, id)))
           continue;
         tried.emplace_back(id, c.matched);
         ++job.candidates;
@@ -538,9 +541,11 @@ template <class S>
 bool GraphSlam<S>::rejectWorstLoop(const Job& job) {
   const double max_t = residual_translation(), max_r = residual_rotation();
   if (max_t <= 0 && max_r <= 0) return false;
-  double worst = 1.0;
-  const GraphEdge* worst_edge = nullptr;
-  double worst_t = 0, worst_r = 0;
+  struct Bad {
+    double ratio, t, r;
+    int64_t from, to;
+  };
+  std::vector<Bad> bad;
   for (const GraphEdge& e : job.edges) {
     if (!e.loop) continue;
     const Eigen::Isometry3d err = e.relative.inverse() * S::to3D(job.after[e.from]).inverse() *
@@ -548,23 +553,30 @@ bool GraphSlam<S>::rejectWorstLoop(const Job& job) {
     const double t = err.translation().norm();
     const double r = Eigen::AngleAxisd(err.linear()).angle();
     const double ratio = std::max(max_t > 0 ? t / max_t : 0.0, max_r > 0 ? r / max_r : 0.0);
-    if (ratio > worst) {
-      worst = ratio;
-      worst_edge = &e;
-      worst_t = t;
-      worst_r = r;
+    if (ratio > 1.0) bad.push_back({ratio, t, r, e.from, e.to});
+  }
+  if (bad.empty()) return false;
+  // The worst loop goes, and with it every loop at least half as far off: one wrong loop bends
+  // its neighbours' residuals by less than its own, so they stay for the next round, while many
+  // loops off at once (thousands from a final pass) do not cost one optimization each.
+  const double worst =
+      std::max_element(bad.begin(), bad.end(), [](const Bad& a, const Bad& b) {
+        return a.ratio < b.ratio;
+      })->ratio;
+  bool rejected = false;
+  for (const Bad& b : bad) {
+    if (b.ratio < 0.8 * worst) continue;
+    for (Loop& l : loops_) {
+      if (!l.active || l.edge.from != b.from || l.edge.to != b.to) continue;
+      l.active = false;
+      l.vetoed = true;
+      rejected = true;
+      spdlog::debug("loop {} -> {} rejected by its residual ({:.3f} m, {:.3f} rad)", l.edge.to,
+                    l.edge.from, b.t, b.r);
+      break;
     }
   }
-  if (!worst_edge) return false;
-  for (Loop& l : loops_) {
-    if (!l.active || l.edge.from != worst_edge->from || l.edge.to != worst_edge->to) continue;
-    l.active = false;
-    l.vetoed = true;
-    spdlog::debug("loop {} -> {} rejected by its residual ({:.3f} m, {:.3f} rad)", l.edge.to,
-                  l.edge.from, worst_t, worst_r);
-    return true;
-  }
-  return false;
+  return rejected;
 }
 
 template <class S>
@@ -632,6 +644,34 @@ void GraphSlam<S>::finish() {
   }
   if (running_.valid()) applyJob(running_.get());
   if (pending_ || stats_.optimizations > 0) optimizeNow();
+  if (final_detectors.empty() || validators.empty() || maps_.size() < 2) return;
+  for (int round = 0; round < final_rounds(); ++round)
+    if (finalPass() == 0) break;
+}
+
+template <class S>
+size_t GraphSlam<S>::finalPass() {
+  // Online, a detector's gate must allow for the drift since the candidate; once the loops are
+  // closed the estimate is good everywhere, so maps that overlap but were never close enough to
+  // be proposed (or were proposed under drift and failed) can be tied now. Many such ties make
+  // the map consistent between revisits, not only at the loop closures.
+  LoopJob job = makeLoopJob();
+  job.final_pass = true;
+  job.queries.clear();
+  for (const auto& m : maps_) job.queries.push_back(m->id);
+  for (const auto& l : loops_) job.linked.emplace_back(l.edge.to, l.edge.from);
+  std::sort(job.linked.begin(), job.linked.end());
+  const size_t before = loops_.size();
+  runLoopJob(job);
+  stats_.candidates += job.candidates;
+  stats_.detection_time += job.detection_time;
+  stats_.validation_time += job.validation_time;
+  validator_rejections_ += job.rejections;
+  for (const GraphEdge& e : job.closures) loops_.push_back(Loop{e, true});
+  const size_t added = loops_.size() - before;
+  spdlog::info("final loop pass: {} closures from {} candidates", added, job.candidates);
+  if (added > 0) optimizeNow();
+  return added;
 }
 
 template class GraphSlam<Space2D>;

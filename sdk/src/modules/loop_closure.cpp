@@ -22,9 +22,14 @@ std::vector<LoopCandidate> ProximityDetector::detect(const GraphView& view,
   }
   std::sort(found.begin(), found.end());
   std::vector<LoopCandidate> out;
-  for (size_t i = 0; i < found.size() && static_cast<int>(i) < max_candidates(); ++i) {
+  for (size_t i = 0; i < found.size() && static_cast<int>(out.size()) < max_candidates(); ++i) {
+    const int64_t id = found[i].second;
+    const bool crowded = std::any_of(out.begin(), out.end(), [&](const LoopCandidate& c) {
+      return std::abs(view.travelled[c.id] - view.travelled[id]) < spacing();
+    });
+    if (crowded) continue;
     LoopCandidate c;
-    c.id = found[i].second;
+    c.id = id;
     c.score = found[i].first;
     out.push_back(c);
   }
