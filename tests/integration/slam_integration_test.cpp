@@ -104,13 +104,14 @@ TEST(Slam, IntelMatchesTheReferenceAndIsAsCrisp) {
   Trajectory ref = readTrajectory((out / "reference.tum").string());
   ASSERT_EQ(est.size(), 910u);
   RelationResult rel = evaluateRelations(est, relationsFromTrajectory(ref, 2.0));
-  // Issue 5: <= 0.05 m and <= 1 deg mean against GMapping's poses (measured 0.045 m, 0.6 deg).
+  // Issue 5: <= 0.05 m and <= 1 deg mean against GMapping's poses (measured 0.043 m, 0.57 deg).
   EXPECT_LT(rel.translation.mean, 0.05);
   EXPECT_LT(rel.rotation_deg.mean, 1.0);
   const Crispness c = crispness(log, out);
   const double c_ours = c.ours, c_ref = c.reference;
-  // A broken map (double walls, bent corridors) is far above the reference's crispness.
-  EXPECT_LT(c_ours, 1.1 * c_ref) << "ours " << c_ours << " reference " << c_ref;
+  // Issue 5: at least as crisp as GMapping's map (measured 0.0215 against 0.0229; 0.0226 before
+  // the final loop pass). A double wall or a bent corridor is far above it.
+  EXPECT_LE(c_ours, c_ref) << "ours " << c_ours << " reference " << c_ref;
   fs::remove_all(out);
 }
 
@@ -193,17 +194,19 @@ TEST(Slam, EdmontonClosesLoopsOnItsSparseScans) {
   Trajectory est = readTrajectory((out / "trajectory.tum").string());
   Trajectory ref = readTrajectory((out / "reference.tum").string());
   RelationResult rel = evaluateRelations(est, relationsFromTrajectory(ref, 2.0));
-  EXPECT_LT(rel.translation.mean, 0.06);  // measured 0.0561 m
-  EXPECT_LT(rel.rotation_deg.mean, 1.0);  // measured 0.39 deg
+  EXPECT_LT(rel.translation.mean, 0.06);  // measured 0.0522 m
+  EXPECT_LT(rel.rotation_deg.mean, 1.0);  // measured 0.37 deg
   const Crispness c = crispness(log, out);
   const double c_ours = c.ours, c_ref = c.reference;
-  EXPECT_LE(c_ours, c_ref) << "ours " << c_ours << " reference " << c_ref;  // 0.0504, 0.0518
+  EXPECT_LE(c_ours, c_ref) << "ours " << c_ours << " reference " << c_ref;  // 0.0488, 0.0518
   fs::remove_all(out);
 }
 
 TEST(Slam, FreiburgCampusStaysInOnePiece) {
   // Sparse outdoor scans, 32 tracking failures, perceptual aliasing between facades: not at the
-  // issue's 0.05 m (measured 0.98 m, 2.1 deg). Before the global search's rotation window was
+  // issue's 0.05 m (measured 0.61 m, 0.77 deg: one region is placed 15 m along a facade that
+  // repeats). The final loop pass makes the map as crisp as GMapping's all the same (0.0464
+  // against 0.0467; 0.068 without it). Before the global search's rotation window was
   // capped, wrong matches at any angle tore the map apart (38 m, 28 deg); before the validator
   // asked for 30 inliers, a 47 m wrong loop matched on a few points got in (8-10 m); with looser
   // failure edges (fallback_sigma 0.3) Gauss-Newton diverged and the run died writing a map of
@@ -220,8 +223,12 @@ TEST(Slam, FreiburgCampusStaysInOnePiece) {
     Trajectory ref = readTrajectory((out / "reference.tum").string());
     ASSERT_EQ(est.size(), 2008u);
     RelationResult rel = evaluateRelations(est, relationsFromTrajectory(ref, 2.0));
-    EXPECT_LT(rel.translation.mean, 2.0) << extra;   // measured 0.98 m and 0.96 m
-    EXPECT_LT(rel.rotation_deg.mean, 5.0) << extra;  // measured 2.1 deg (shipped config)
+    EXPECT_LT(rel.translation.mean, 2.0) << extra;   // measured 0.61 m (shipped config)
+    EXPECT_LT(rel.rotation_deg.mean, 5.0) << extra;  // measured 0.77 deg (shipped config)
+    if (extra.empty()) {
+      const Crispness c = crispness(log, out);
+      EXPECT_LE(c.ours, c.reference) << "ours " << c.ours << " reference " << c.reference;
+    }
     fs::remove_all(out);
   }
 }
