@@ -213,7 +213,7 @@ class GraphSlam : public GraphBackend {
   Param<double> residual_translation{
       this, "residual_translation", 0.1, "m",
       "after each optimization the active loop that disagrees most with the optimized graph "
-      "(and any at least half as far off), if its error exceeds this (0: never)...",
+      "(and any at least 0.8 times as far off), if its error exceeds this (0: never)...",
       Range{0, 1e6}};
   Param<double> residual_rotation{
       this, "residual_rotation", 0.1, "rad",
@@ -273,8 +273,8 @@ class GraphSlam : public GraphBackend {
   // residual_translation), so that the graph needs another optimization.
   bool applyJob(const Job& job);
   // The active loop of `job` whose residual at the job's solution is largest relative to the
-  // residual bounds, if any exceeds them, and every loop at least half as far off: rejected for
-  // good.
+  // residual bounds, if any exceeds them, and every loop at least 0.8 times as far off:
+  // rejected for good.
   bool rejectWorstLoop(const Job& job);
   void startJob();
 

@@ -556,9 +556,9 @@ bool GraphSlam<S>::rejectWorstLoop(const Job& job) {
     if (ratio > 1.0) bad.push_back({ratio, t, r, e.from, e.to});
   }
   if (bad.empty()) return false;
-  // The worst loop goes, and with it every loop at least half as far off: one wrong loop bends
-  // its neighbours' residuals by less than its own, so they stay for the next round, while many
-  // loops off at once (thousands from a final pass) do not cost one optimization each.
+  // The worst loop goes, and with it every loop at least 0.8 times as far off: one wrong loop
+  // bends its neighbours' residuals by less than its own, so most stay for the next round, while
+  // many loops off at once (thousands from a final pass) do not cost one optimization each.
   const double worst =
       std::max_element(bad.begin(), bad.end(), [](const Bad& a, const Bad& b) {
         return a.ratio < b.ratio;
