@@ -92,6 +92,9 @@ for rel in "${logs[@]}"; do
     mkdir -p "$run"
     args=(run "$cfg" -o "$run/out" --set source.repeat=0 --checkpoint-every 0)
     [ "$mode" = localize ] && args+=(--session "$base/session" --localize)
+    # Endless mapping piles every replay onto the same places: the final loop pass would try
+    # ~24 candidates for each of tens of thousands of maps after the SIGINT (memory is measured).
+    [ "$mode" = mapping ] && args+=(--set 'pipeline.graph.final_detectors=[]')
     echo "== $name $mode: ${seconds}s" >&2
     sample_run "$run" "$bin" "${args[@]}"
     rows+=("$name $mode $frames $run")

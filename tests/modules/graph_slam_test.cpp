@@ -384,6 +384,37 @@ TEST(GraphSlam, AFinalPassTiesMapsTheOnlineSearchMissed) {
   }
 }
 
+TEST(GraphSlam, TheFinalPassLeavesARestoredSessionAlone) {
+  // A saved session's maps were searched when they were made, and in localization they are
+  // frozen: the final pass queries only maps the run added, here none.
+  LoopWorld lw;
+  auto first = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
+      Registry::instance().create("sdk.GraphSlam2D"));
+  first->deterministic = true;
+  first->validators.assign(makeValidator());
+  first->configure();
+  auto maps = driveLoop(lw, *first, 0.006, false);
+  std::vector<Eigen::Isometry3d> before;
+  for (const auto& m : maps) before.push_back(m->origin);
+
+  auto graph = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
+      Registry::instance().create("sdk.GraphSlam2D"));
+  graph->deterministic = true;
+  graph->validators.assign(makeValidator());
+  auto d = std::make_shared<ProximityDetector>();
+  d->radius = 10.0;
+  d->max_radius = 10.0;
+  d->drift = 0.0;
+  graph->final_detectors.assign(d);
+  graph->configure();
+  graph->restore(maps, first->edges());
+  graph->finish();
+  EXPECT_EQ(graph->stats().loops_accepted, 0u);
+  EXPECT_EQ(graph->stats().candidates, 0u);
+  for (size_t k = 0; k < maps.size(); ++k)
+    EXPECT_TRUE(maps[k]->origin.isApprox(before[k])) << "map " << k << " moved";
+}
+
 namespace {
 // Proposes map 0 for one query at a given pose, as a global search does after large drift.
 class MatchingDetector : public LoopDetector {

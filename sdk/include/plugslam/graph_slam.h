@@ -155,9 +155,10 @@ class GraphSlam : public GraphBackend {
       "every validator must accept a candidate; each starts from the pose the previous found"};
   SlotList<LoopDetector> final_detectors{
       this, "final_detectors",
-      "run once over every map when the run ends, on the optimized estimate (e.g. a wider "
-      "proximity search than drift allows online); their validated closures join the graph "
-      "before the final optimization"};
+      "run once over every map this run added when it ends, on the optimized estimate (e.g. a "
+      "wider proximity search than drift allows online); their validated closures join the "
+      "graph (guarded by the validators and the residual check, not the consistency window) "
+      "before a last optimization"};
   Param<int> final_rounds{this, "final_rounds", 1, "",
                           "final_detectors passes; each runs on the estimate the previous one "
                           "optimized (pairs its drift kept apart now align) and adds only new pairs",
@@ -287,6 +288,7 @@ class GraphSlam : public GraphBackend {
   void selectConsistentLoops();
 
   std::vector<std::shared_ptr<LocalMap>> maps_;
+  size_t restored_ = 0;  // maps from restore(): the final pass does not query them
   std::vector<double> travelled_;
   // Per map: its graph component (sessions, tracker resets), and the summed translation and
   // rotation variances of the weak odometry edges from its component's first map to it (the

@@ -344,7 +344,7 @@ void GraphSlam<S>::runLoopJob(LoopJob& job) {
         if (std::find(tried.begin(), tried.end(), std::make_pair(id, c.matched)) != tried.end())
           continue;
         if (std::binary_search(job.linked.begin(), job.linked.end(),
-                               std::make_pair(query_id, id)))
+                               std::make_pair(std::max(query_id, id), std::min(query_id, id))))
           continue;
         tried.emplace_back(id, c.matched);
         ++job.candidates;
@@ -457,6 +457,7 @@ void GraphSlam<S>::restore(const std::vector<std::shared_ptr<LocalMap>>& maps,
     addChain(prev, odometry);
   }
   stats_.optimizations = 0;
+  restored_ = maps_.size();
 }
 
 template <class S>
@@ -563,18 +564,24 @@ bool GraphSlam<S>::rejectWorstLoop(const Job& job) {
       std::max_element(bad.begin(), bad.end(), [](const Bad& a, const Bad& b) {
         return a.ratio < b.ratio;
       })->ratio;
+  std::vector<Bad> going;
+  for (const Bad& b : bad)
+    if (b.ratio >= 0.8 * worst) going.push_back(b);
+  const auto key = [](int64_t from, int64_t to) { return std::make_pair(from, to); };
+  std::sort(going.begin(), going.end(),
+            [&](const Bad& a, const Bad& b) { return key(a.from, a.to) < key(b.from, b.to); });
   bool rejected = false;
-  for (const Bad& b : bad) {
-    if (b.ratio < 0.8 * worst) continue;
-    for (Loop& l : loops_) {
-      if (!l.active || l.edge.from != b.from || l.edge.to != b.to) continue;
-      l.active = false;
-      l.vetoed = true;
-      rejected = true;
-      spdlog::debug("loop {} -> {} rejected by its residual ({:.3f} m, {:.3f} rad)", l.edge.to,
-                    l.edge.from, b.t, b.r);
-      break;
-    }
+  for (Loop& l : loops_) {
+    if (!l.active) continue;
+    const auto it = std::lower_bound(
+        going.begin(), going.end(), key(l.edge.from, l.edge.to),
+        [&](const Bad& b, const std::pair<int64_t, int64_t>& k) { return key(b.from, b.to) < k; });
+    if (it == going.end() || it->from != l.edge.from || it->to != l.edge.to) continue;
+    l.active = false;
+    l.vetoed = true;
+    rejected = true;
+    spdlog::debug("loop {} -> {} rejected by its residual ({:.3f} m, {:.3f} rad)", l.edge.to,
+                  l.edge.from, it->t, it->r);
   }
   return rejected;
 }
@@ -644,7 +651,11 @@ void GraphSlam<S>::finish() {
   }
   if (running_.valid()) applyJob(running_.get());
   if (pending_ || stats_.optimizations > 0) optimizeNow();
-  if (final_detectors.empty() || validators.empty() || maps_.size() < 2) return;
+  // A restored session's maps were searched when they were made (and in localization they are
+  // frozen): the final pass only queries the maps this run added.
+  if (final_detectors.empty() || validators.empty() || maps_.size() < 2 ||
+      maps_.size() <= restored_)
+    return;
   for (int round = 0; round < final_rounds(); ++round)
     if (finalPass() == 0) break;
 }
@@ -658,8 +669,11 @@ size_t GraphSlam<S>::finalPass() {
   LoopJob job = makeLoopJob();
   job.final_pass = true;
   job.queries.clear();
-  for (const auto& m : maps_) job.queries.push_back(m->id);
-  for (const auto& l : loops_) job.linked.emplace_back(l.edge.to, l.edge.from);
+  for (size_t id = restored_; id < maps_.size(); ++id)
+    job.queries.push_back(static_cast<int64_t>(id));
+  // Pairs ever closed, kept or rejected, newer map first (a detector may propose either order).
+  for (const auto& l : loops_)
+    job.linked.emplace_back(std::max(l.edge.to, l.edge.from), std::min(l.edge.to, l.edge.from));
   std::sort(job.linked.begin(), job.linked.end());
   const size_t before = loops_.size();
   runLoopJob(job);
