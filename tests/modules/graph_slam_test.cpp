@@ -384,6 +384,34 @@ TEST(GraphSlam, AFinalPassTiesMapsTheOnlineSearchMissed) {
   }
 }
 
+TEST(GraphSlam, TheFinalPassWaitsForTheBackEndThread) {
+  // Threaded, loops found online may still be searched or optimized when the run ends: the
+  // final pass starts from their result and adds none of their pairs again.
+  LoopWorld lw;
+  auto graph = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
+      Registry::instance().create("sdk.GraphSlam2D"));
+  graph->loop_detectors.assign(Registry::instance().create("sdk.ProximityDetector"));
+  graph->validators.assign(makeValidator());
+  auto d = std::make_shared<ProximityDetector>();
+  d->radius = 10.0;
+  d->max_radius = 10.0;
+  d->drift = 0.0;
+  d->max_candidates = 8;
+  graph->final_detectors.assign(d);
+  graph->configure();
+  auto maps = driveLoop(lw, *graph, 0.006, true);
+  for (size_t k = 0; k < maps.size(); ++k)
+    EXPECT_LT((Space2D::from3D(maps[k]->origin).translation() - lw.origins[k].translation()).norm(),
+              0.05)
+        << "map " << k;
+  std::vector<std::pair<int64_t, int64_t>> pairs;
+  for (const auto& e : graph->edges())
+    if (e.loop) pairs.emplace_back(std::max(e.to, e.from), std::min(e.to, e.from));
+  std::sort(pairs.begin(), pairs.end());
+  EXPECT_GT(pairs.size(), 1u);
+  EXPECT_EQ(std::adjacent_find(pairs.begin(), pairs.end()), pairs.end());
+}
+
 TEST(GraphSlam, TheFinalPassLeavesARestoredSessionAlone) {
   // A saved session's maps were searched when they were made, and in localization they are
   // frozen: the final pass queries only maps the run added, here none.
