@@ -22,6 +22,12 @@ Landmarks scatter(int n, double extent, unsigned seed) {
   return w;
 }
 
+// A 2D graph back-end from the registry, as a pipeline builds it.
+std::shared_ptr<GraphSlam<Space2D>> newGraph() {
+  return std::dynamic_pointer_cast<GraphSlam<Space2D>>(
+      Registry::instance().create("sdk.GraphSlam2D"));
+}
+
 std::shared_ptr<AlignmentValidator<Space2D>> makeValidator() {
   registerLandmarkCue();
   auto v = std::dynamic_pointer_cast<AlignmentValidator<Space2D>>(
@@ -95,8 +101,7 @@ std::vector<std::shared_ptr<LocalMap>> driveLoop(const LoopWorld& lw, GraphSlam<
 
 TEST(GraphSlam, ClosesASyntheticLoopAndRemovesTheDrift) {
   LoopWorld lw;
-  auto graph = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
-      Registry::instance().create("sdk.GraphSlam2D"));
+  auto graph = newGraph();
   graph->deterministic = true;
   graph->loop_detectors.assign(Registry::instance().create("sdk.ProximityDetector"));
   graph->validators.assign(makeValidator());
@@ -123,8 +128,7 @@ TEST(GraphSlam, ClosesASyntheticLoopAndRemovesTheDrift) {
 
 TEST(GraphSlam, BackEndThreadGivesTheSameCorrection) {
   LoopWorld lw;
-  auto graph = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
-      Registry::instance().create("sdk.GraphSlam2D"));
+  auto graph = newGraph();
   graph->loop_detectors.assign(Registry::instance().create("sdk.ProximityDetector"));
   graph->validators.assign(makeValidator());
   auto maps = driveLoop(lw, *graph, 0.006, true);
@@ -236,8 +240,7 @@ class CorruptingValidator : public LoopValidator {
 
 TEST(GraphSlam, AFalseLoopIsRejectedByConsistency) {
   LoopWorld lw;
-  auto graph = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
-      Registry::instance().create("sdk.GraphSlam2D"));
+  auto graph = newGraph();
   graph->deterministic = true;
   graph->loop_detectors.assign(Registry::instance().create("sdk.ProximityDetector"));
   auto v = std::make_shared<CorruptingValidator>();
@@ -260,8 +263,7 @@ TEST(GraphSlam, AFalseLoopAcrossATrackingFailureIsRejectedByConsistency) {
   // check is off so that only the consistency check decides.
   for (double sigmas : {0.0, 3.0}) {
     LoopWorld lw;
-    auto graph = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
-        Registry::instance().create("sdk.GraphSlam2D"));
+    auto graph = newGraph();
     graph->deterministic = true;
     graph->consistency_break_sigmas = sigmas;
     graph->residual_translation = 0.0;
@@ -296,8 +298,7 @@ TEST(GraphSlam, AFalseLoopAloneInItsWindowIsRejectedByItsResidual) {
       // already sees the false loop: the control without the residual check runs inline only.
       if (!residual_check && !deterministic) continue;
       LoopWorld lw;
-      auto graph = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
-          Registry::instance().create("sdk.GraphSlam2D"));
+      auto graph = newGraph();
       graph->deterministic = deterministic;
       graph->consistency_window = 0.0;
       if (!residual_check) {
@@ -331,6 +332,18 @@ TEST(GraphSlam, AFalseLoopAloneInItsWindowIsRejectedByItsResidual) {
   }
 }
 
+namespace {
+// A final pass's detector: 10 m in the optimized estimate, no drift allowance.
+std::shared_ptr<ProximityDetector> finalProximity() {
+  auto d = std::make_shared<ProximityDetector>();
+  d->radius = 10.0;
+  d->max_radius = 10.0;
+  d->drift = 0.0;
+  d->max_candidates = 8;
+  return d;
+}
+}  // namespace
+
 TEST(GraphSlam, AFinalPassTiesMapsTheOnlineSearchMissed) {
   // No detector online: the loop stays open and the drift stays. The final pass searches every
   // map on the optimized estimate; its closures join the graph and remove the drift. Two
@@ -338,20 +351,14 @@ TEST(GraphSlam, AFinalPassTiesMapsTheOnlineSearchMissed) {
   // optimizations than false loops), and a second round adds no pair twice.
   for (bool final_pass : {false, true}) {
     LoopWorld lw;
-    auto graph = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
-        Registry::instance().create("sdk.GraphSlam2D"));
+    auto graph = newGraph();
     graph->deterministic = true;
     graph->consistency_window = 0.0;
     auto v = std::make_shared<CorruptingValidator>();
     v->victims = {29, 31};
     graph->validators.assign(v);
     if (final_pass) {
-      auto d = std::make_shared<ProximityDetector>();
-      d->radius = 10.0;
-      d->max_radius = 10.0;
-      d->drift = 0.0;
-      d->max_candidates = 8;
-      graph->final_detectors.assign(d);
+      graph->final_detectors.assign(finalProximity());
       graph->final_rounds = 2;
     }
     graph->configure();
@@ -388,16 +395,10 @@ TEST(GraphSlam, TheFinalPassWaitsForTheBackEndThread) {
   // Threaded, loops found online may still be searched or optimized when the run ends: the
   // final pass starts from their result and adds none of their pairs again.
   LoopWorld lw;
-  auto graph = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
-      Registry::instance().create("sdk.GraphSlam2D"));
+  auto graph = newGraph();
   graph->loop_detectors.assign(Registry::instance().create("sdk.ProximityDetector"));
   graph->validators.assign(makeValidator());
-  auto d = std::make_shared<ProximityDetector>();
-  d->radius = 10.0;
-  d->max_radius = 10.0;
-  d->drift = 0.0;
-  d->max_candidates = 8;
-  graph->final_detectors.assign(d);
+  graph->final_detectors.assign(finalProximity());
   graph->configure();
   auto maps = driveLoop(lw, *graph, 0.006, true);
   for (size_t k = 0; k < maps.size(); ++k)
@@ -416,8 +417,7 @@ TEST(GraphSlam, TheFinalPassLeavesARestoredSessionAlone) {
   // A saved session's maps were searched when they were made, and in localization they are
   // frozen: the final pass queries only maps the run added, here none.
   LoopWorld lw;
-  auto first = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
-      Registry::instance().create("sdk.GraphSlam2D"));
+  auto first = newGraph();
   first->deterministic = true;
   first->validators.assign(makeValidator());
   first->configure();
@@ -425,15 +425,10 @@ TEST(GraphSlam, TheFinalPassLeavesARestoredSessionAlone) {
   std::vector<Eigen::Isometry3d> before;
   for (const auto& m : maps) before.push_back(m->origin);
 
-  auto graph = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
-      Registry::instance().create("sdk.GraphSlam2D"));
+  auto graph = newGraph();
   graph->deterministic = true;
   graph->validators.assign(makeValidator());
-  auto d = std::make_shared<ProximityDetector>();
-  d->radius = 10.0;
-  d->max_radius = 10.0;
-  d->drift = 0.0;
-  graph->final_detectors.assign(d);
+  graph->final_detectors.assign(finalProximity());
   graph->configure();
   graph->restore(maps, first->edges());
   graph->finish();
@@ -474,8 +469,7 @@ class RecordingValidator : public LoopValidator {
 TEST(GraphSlam, ValidatorsStartFromADetectorsMatch) {
   for (bool deterministic : {true, false}) {
     LoopWorld lw;
-    auto graph = std::dynamic_pointer_cast<GraphSlam<Space2D>>(
-        Registry::instance().create("sdk.GraphSlam2D"));
+    auto graph = newGraph();
     graph->deterministic = deterministic;
     // The proximity detector also proposes map 0 for the last map, from the drifted estimate;
     // the matched proposal of the same map must still be tried.
