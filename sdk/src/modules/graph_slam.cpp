@@ -397,6 +397,12 @@ void GraphSlam<S>::applyLoopJob(const LoopJob& job) {
   validator_rejections_ += job.rejections;
   if (job.closures.empty()) return;
   for (const GraphEdge& e : job.closures) loops_.push_back(Loop{e, true});
+  if (job.final_pass) {
+    // The consistency window re-decides recent loops; a final pass's span the whole run and
+    // are judged by their residuals after this optimization.
+    optimizeNow();
+    return;
+  }
   selectConsistentLoops();
   pending_ = true;
   if (deterministic()) {
@@ -675,17 +681,11 @@ size_t GraphSlam<S>::finalPass() {
   for (const auto& l : loops_)
     job.linked.emplace_back(std::max(l.edge.to, l.edge.from), std::min(l.edge.to, l.edge.from));
   std::sort(job.linked.begin(), job.linked.end());
-  const size_t before = loops_.size();
   runLoopJob(job);
-  stats_.candidates += job.candidates;
-  stats_.detection_time += job.detection_time;
-  stats_.validation_time += job.validation_time;
-  validator_rejections_ += job.rejections;
-  for (const GraphEdge& e : job.closures) loops_.push_back(Loop{e, true});
-  const size_t added = loops_.size() - before;
-  spdlog::info("final loop pass: {} closures from {} candidates", added, job.candidates);
-  if (added > 0) optimizeNow();
-  return added;
+  spdlog::info("final loop pass: {} closures from {} candidates", job.closures.size(),
+               job.candidates);
+  applyLoopJob(job);
+  return job.closures.size();
 }
 
 template class GraphSlam<Space2D>;
