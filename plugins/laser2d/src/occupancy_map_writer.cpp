@@ -68,6 +68,16 @@ void OccupancyMapWriter::trace(const PointCloud2D& cloud, const SE2& world) {
   }
 }
 
+std::vector<const PointCloud2D*> OccupancyMapWriter::cloudsOf(const Frame& frame) {
+  std::vector<const PointCloud2D*> out;
+  for (const auto& name : measurements()) {
+    const PointCloud2D* cloud = frame.measurement.find<PointCloud2D>(name);
+    if (cloud && !cloud->empty()) out.push_back(cloud);
+  }
+  if (!out.empty()) ++frames_;
+  return out;
+}
+
 void OccupancyMapWriter::consume(const Frame& frame) {
   const bool estimated = frame.estimate.valid;
   if (estimated && frame.estimate.frozen) {
@@ -82,16 +92,10 @@ void OccupancyMapWriter::consume(const Frame& frame) {
         (!last_traced_valid_ ||
          std::hypot(at[0] - last_traced_[0], at[1] - last_traced_[1]) >= min_distance() ||
          std::abs(normalizeAngle(at[2] - last_traced_[2])) >= min_angle());
-    bool seen = false;
-    for (const auto& name : measurements()) {
-      const PointCloud2D* cloud = frame.measurement.find<PointCloud2D>(name);
-      if (!cloud || cloud->empty()) continue;
-      if (!seen) ++frames_;
-      seen = true;
-      if (!moved) continue;
-      trace(*cloud, world);
-    }
-    if (seen && moved) {
+    const std::vector<const PointCloud2D*> clouds = cloudsOf(frame);
+    if (moved)
+      for (const PointCloud2D* cloud : clouds) trace(*cloud, world);
+    if (!clouds.empty() && moved) {
       ++traced_frames_;
       last_traced_valid_ = true;
       std::copy(at, at + 3, last_traced_);
@@ -102,12 +106,7 @@ void OccupancyMapWriter::consume(const Frame& frame) {
   const double pose[3] = {in_map.translation().x(), in_map.translation().y(),
                           angleOf(in_map.linear())};
   const SE2 world = Space2D::from3D(frame.estimate.world);
-  bool seen = false;
-  for (const auto& name : measurements()) {
-    const PointCloud2D* cloud = frame.measurement.find<PointCloud2D>(name);
-    if (!cloud || cloud->empty()) continue;
-    if (!seen) ++frames_;
-    seen = true;
+  for (const PointCloud2D* cloud : cloudsOf(frame)) {
     // Several entries of one frame are kept together (the test sees the first one only).
     // Without an estimate there is nothing to compare: kept (the trajectory may place it).
     if (estimated && !isNew(frame.estimate.local_map, pose) &&

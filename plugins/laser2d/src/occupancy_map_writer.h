@@ -78,6 +78,8 @@ class OccupancyMapWriter final : public Sink {
   const std::vector<std::string>& written() const { return written_; }
 
  private:
+  // The frame's non-empty clouds among `measurements`; counts the frame as seen when any.
+  std::vector<const PointCloud2D*> cloudsOf(const Frame& frame);
   static constexpr int64_t kNoMap = -1;  // a frame without an estimate
   struct KeptScan {
     double stamp;
