@@ -203,14 +203,16 @@ TEST(Slam, EdmontonClosesLoopsOnItsSparseScans) {
 }
 
 TEST(Slam, FreiburgCampusStaysInOnePiece) {
-  // Sparse outdoor scans, 32 tracking failures, perceptual aliasing between facades: not at the
-  // issue's 0.05 m (measured 0.61 m, 0.77 deg: one region is placed 15 m along a facade that
-  // repeats). The final loop pass makes the map as crisp as GMapping's all the same (0.0464
-  // against 0.0467; 0.068 without it). Before the global search's rotation window was
-  // capped, wrong matches at any angle tore the map apart (38 m, 28 deg); before the validator
-  // asked for 30 inliers, a 47 m wrong loop matched on a few points got in (8-10 m); with looser
-  // failure edges (fallback_sigma 0.3) Gauss-Newton diverged and the run died writing a map of
-  // 1e12 cells. Both runs must finish with a map of the campus's size and shape.
+  // Sparse outdoor scans, 32 tracking failures, perceptual aliasing between facades. Measured
+  // 0.073 m, 0.43 deg (the bound is 0.05 m; in most regions where we disagree with
+  // GMapping most, our scans agree with each other better than its do) and crispness 0.0437
+  // against the reference's 0.0467. Before the odometry audit, one stretch of path was tied
+  // 15 m along a repeating facade (0.61 m, 0.77 deg); before the final loop pass, crispness was
+  // 0.068; before the global search's rotation window was capped, wrong matches at any angle
+  // tore the map apart (38 m, 28 deg); before the validator asked for 30 inliers, a 47 m wrong
+  // loop matched on a few points got in (8-10 m); with looser failure edges (fallback_sigma 0.3)
+  // Gauss-Newton diverged and the run died writing a map of 1e12 cells. That run must still
+  // finish with a map of the campus's size and shape (measured 1.09 m, 2.6 deg).
   const std::string log = plugslam::testing::dataDir() +
                           "/laser2d/freiburg-campus-gfs-corrected/freiburg-campus-corrected.log.gz";
   if (!fs::exists(log)) GTEST_SKIP() << "campus log not found at " << log << " (set PLUGSLAM_DATA)";
@@ -223,8 +225,8 @@ TEST(Slam, FreiburgCampusStaysInOnePiece) {
     Trajectory ref = readTrajectory((out / "reference.tum").string());
     ASSERT_EQ(est.size(), 2008u);
     RelationResult rel = evaluateRelations(est, relationsFromTrajectory(ref, 2.0));
-    EXPECT_LT(rel.translation.mean, 2.0) << extra;   // measured 0.61 m (shipped config)
-    EXPECT_LT(rel.rotation_deg.mean, 5.0) << extra;  // measured 0.77 deg (shipped config)
+    EXPECT_LT(rel.translation.mean, extra.empty() ? 0.15 : 2.0) << extra;
+    EXPECT_LT(rel.rotation_deg.mean, extra.empty() ? 1.0 : 5.0) << extra;
     if (extra.empty()) {
       const Crispness c = crispness(log, out);
       EXPECT_LE(c.ours, c.reference) << "ours " << c.ours << " reference " << c.reference;

@@ -225,9 +225,11 @@ class CorruptingValidator : public LoopValidator {
   std::vector<int64_t> victims;          // more queries whose every closure is corrupted
   int corrupted = 0;                     // closures made false so far
   Eigen::Vector3d offset{2.5, -1.5, 0};  // the false loop's error
+  double information_gain = 1.0;         // every closure as sure as a dense scan's
   bool validate(const LocalMap& c, const LocalMap& q, const Eigen::Isometry3d& guess,
                 LoopClosure& closure, std::string& reason) override {
     if (!inner->validate(c, q, guess, closure, reason)) return false;
+    closure.edge.information *= information_gain;
     if ((q.id == victim && c.id == victim_candidate) ||
         std::find(victims.begin(), victims.end(), q.id) != victims.end()) {
       closure.edge.relative.translation() += offset;
@@ -260,7 +262,8 @@ TEST(GraphSlam, AFalseLoopAcrossATrackingFailureIsRejectedByConsistency) {
   // every cycle it forms with the other loops runs through that edge. Counted as no evidence
   // (consistency_break_sigmas 0), the false loop stays; with the weak edge's std. devs in the
   // tolerance, its 7 m error is still far outside it and the loop is rejected. The residual
-  // check is off so that only the consistency check decides.
+  // check and the odometry audit are off so that only the consistency check decides (the audit
+  // alone rejects this loop too: TheOdometryAuditRejectsLoopsThatStretchAFailureEdge).
   for (double sigmas : {0.0, 3.0}) {
     LoopWorld lw;
     auto graph = newGraph();
@@ -268,6 +271,8 @@ TEST(GraphSlam, AFalseLoopAcrossATrackingFailureIsRejectedByConsistency) {
     graph->consistency_break_sigmas = sigmas;
     graph->residual_translation = 0.0;
     graph->residual_rotation = 0.0;
+    graph->audit_translation = 0.0;
+    graph->audit_rotation = 0.0;
     auto detector = std::make_shared<ProximityDetector>();
     detector->max_candidates = 1;  // the last map's only loop is the false one
     graph->loop_detectors.assign(detector);
@@ -328,6 +333,56 @@ TEST(GraphSlam, AFalseLoopAloneInItsWindowIsRejectedByItsResidual) {
       } else {
         EXPECT_GT(end_error, 0.1) << mode;  // what the false loop does when it stays
       }
+    }
+  }
+}
+
+TEST(GraphSlam, TheOdometryAuditRejectsLoopsThatStretchAFailureEdge) {
+  // The last map follows a tracking failure (a weak edge) and both its loops are false by the
+  // same 4 m, as where a facade repeats: they agree with each other, they are surer than the
+  // weak edge (as a dense scan's are), so the weak edge absorbs their error and the residual
+  // check does not see them; the consistency check counts cycles through weak edges as no
+  // evidence here (its 0 setting). The graph then says the robot moved 4 m more than odometry
+  // did between two maps: the audit rejects the loops that pull the map there and keeps the
+  // right loops of maps 30 and 31.
+  for (bool audit : {false, true}) {
+    LoopWorld lw;
+    auto graph = newGraph();
+    graph->deterministic = true;
+    graph->consistency_break_sigmas = 0.0;
+    if (!audit) {
+      graph->audit_translation = 0.0;
+      graph->audit_rotation = 0.0;
+    }
+    auto detector = std::make_shared<ProximityDetector>();
+    detector->radius = 6.5;  // maps 30-32 reach back to maps 0-2
+    detector->max_radius = 6.5;
+    graph->loop_detectors.assign(detector);
+    auto v = std::make_shared<CorruptingValidator>();
+    const int64_t last = static_cast<int64_t>(lw.origins.size()) - 1;
+    v->victims = {last};
+    v->offset = Eigen::Vector3d(4, 0, 0);
+    v->information_gain = 100.0;
+    graph->validators.assign(v);
+    graph->configure();
+    // Stiff odometry, and a weak edge 20 times looser in rotation into the last map: a break.
+    auto maps = driveLoop(lw, *graph, 0.002, false, nullptr, 1e4, last,
+                          Eigen::Vector3d(0.1, 0.1, 0.2));
+    const std::string mode = audit ? "audited" : "not audited";
+    int false_loops = 0, right_loops = 0;
+    for (const auto& e : graph->edges())
+      if (e.loop) (e.to == last ? false_loops : right_loops) += 1;
+    ASSERT_GE(v->corrupted, 2) << mode;
+    EXPECT_GE(right_loops, 2) << mode;
+    const double error =
+        (Space2D::from3D(maps[last]->origin).translation() - lw.origins[last].translation()).norm();
+    if (audit) {
+      EXPECT_EQ(false_loops, 0) << mode;
+      EXPECT_LT(error, 0.1) << mode;
+      EXPECT_GE(graph->stats().loops_rejected, static_cast<uint64_t>(v->corrupted)) << mode;
+    } else {
+      EXPECT_EQ(false_loops, v->corrupted) << mode;  // what the audit is for
+      EXPECT_GT(error, 3.0) << mode;
     }
   }
 }

@@ -222,6 +222,21 @@ class GraphSlam : public GraphBackend {
       "wrong loop alone in its consistency window has no other loop to disagree with)",
       Range{0, 10}};
 
+  Param<double> audit_translation{
+      this, "audit_translation", 2.0, "m",
+      "when the run ends, an odometry edge the optimized graph stretches by more than this (and "
+      "audit_sigmas of its std. dev.) is evidence of wrong loops: the loops joining the "
+      "stretch of path on one side of it (between tracking failures) to the rest are rejected "
+      "when without them the edge holds; of the two sides, the one whose removal leaves the "
+      "odometry least bent (0: no audit)",
+      Range{0, 1e6}};
+  Param<double> audit_rotation{this, "audit_rotation", 0.5, "rad",
+                               "...or turns it by more than this (0: rotation not audited)",
+                               Range{0, 10}};
+  Param<double> audit_sigmas{this, "audit_sigmas", 5.0, "",
+                             "...and by more than this many of the edge's std. devs",
+                             Range{0, 1e6}};
+
   int dimension() const override { return S::kDim; }
   void mapStarted(const std::shared_ptr<LocalMap>& map) override;
   void mapClosed(const std::shared_ptr<LocalMap>& map) override;
@@ -265,6 +280,12 @@ class GraphSlam : public GraphBackend {
   // A final pass: final_detectors over every map on the optimized estimate, then optimize;
   // returns the number of closures it added.
   size_t finalPass();
+  // Odometry audit (see audit_translation): rejects the loops that stretch odometry edges
+  // beyond what odometry can err, re-optimizing after each rejection; returns the loops rejected.
+  size_t auditOdometry();
+  // Strain of each odometry edge of `job` at `estimate`: its error over its audit bound (> 1:
+  // the edge is stretched beyond the bound), in the order of job.edges' odometry edges.
+  std::vector<double> odometryStrain(const Job& job, const std::vector<Pose>& estimate) const;
 
   Job makeJob() const;
   void runJob(Job& job) const;

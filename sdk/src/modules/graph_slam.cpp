@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
+#include <tuple>
 
 #include "plugslam/errors.h"
 #include "plugslam/solver/graph_io.h"
@@ -67,6 +68,22 @@ Eigen::MatrixXd conditioned(const Eigen::MatrixXd& h, int dof) {
   for (int i = 0; i < ev.size(); ++i) ev[i] = std::max(ev[i], floor);
   return eig.eigenvectors() * ev.asDiagonal() * eig.eigenvectors().transpose();
 }
+
+// The largest translation and rotation variances of an edge, from its information (identity
+// when it has the wrong size).
+std::pair<double, double> maxVariances(const Eigen::MatrixXd& information, int dof) {
+  const Eigen::MatrixXd cov = information.rows() == dof && information.cols() == dof
+                                  ? Eigen::MatrixXd(information.inverse())
+                                  : Eigen::MatrixXd::Identity(dof, dof);
+  const int first_rotation = dof == 3 ? 2 : 3;  // (x, y, theta) or (x, y, z, rotation)
+  double var_t = 0, var_r = 0;
+  for (int i = 0; i < first_rotation; ++i) var_t = std::max(var_t, cov(i, i));
+  for (int i = first_rotation; i < dof; ++i) var_r = std::max(var_r, cov(i, i));
+  return {var_t, var_r};
+}
+
+// Rounds of the odometry audit: each rejects the loops of one stretch of path.
+constexpr int kAuditRounds = 10;
 
 }  // namespace
 
@@ -185,14 +202,7 @@ void GraphSlam<S>::addChain(int64_t previous, const GraphEdge* odometry) {
     return;
   }
   double var_t = 0, var_r = 0;
-  if (isBreak(*odometry)) {
-    const Eigen::MatrixXd cov = odometry->information.rows() == S::kDof
-                                    ? Eigen::MatrixXd(odometry->information.inverse())
-                                    : Eigen::MatrixXd::Identity(S::kDof, S::kDof);
-    const int first_rotation = S::kDof == 3 ? 2 : 3;  // (x, y, theta) or (x, y, z, rotation)
-    for (int i = 0; i < first_rotation; ++i) var_t = std::max(var_t, cov(i, i));
-    for (int i = first_rotation; i < S::kDof; ++i) var_r = std::max(var_r, cov(i, i));
-  }
+  if (isBreak(*odometry)) std::tie(var_t, var_r) = maxVariances(odometry->information, S::kDof);
   components_.push_back(components_[previous]);
   weak_var_t_.push_back(weak_var_t_[previous] + var_t);
   weak_var_r_.push_back(weak_var_r_[previous] + var_r);
@@ -657,13 +667,147 @@ void GraphSlam<S>::finish() {
   }
   if (running_.valid()) applyJob(running_.get());
   if (pending_ || stats_.optimizations > 0) optimizeNow();
+  auditOdometry();
   // A restored session's maps were searched when they were made (and in localization they are
   // frozen): the final pass only queries the maps this run added.
   if (final_detectors.empty() || validators.empty() || maps_.size() < 2 ||
       maps_.size() <= restored_)
     return;
-  for (int round = 0; round < final_rounds(); ++round)
+  for (int round = 0; round < final_rounds(); ++round) {
     if (finalPass() == 0) break;
+    auditOdometry();
+  }
+}
+
+template <class S>
+std::vector<double> GraphSlam<S>::odometryStrain(const Job& job,
+                                                 const std::vector<Pose>& estimate) const {
+  std::vector<double> strain;
+  const double k = audit_sigmas();
+  for (const GraphEdge& e : job.edges) {
+    if (e.loop) continue;
+    const Eigen::Isometry3d err = e.relative.inverse() * S::to3D(estimate[e.from]).inverse() *
+                                  S::to3D(estimate[e.to]);
+    const auto [var_t, var_r] = maxVariances(e.information, S::kDof);
+    double s = 0;
+    if (audit_translation() > 0)
+      s = err.translation().norm() / std::max(audit_translation(), k * std::sqrt(var_t));
+    if (audit_rotation() > 0)
+      s = std::max(s, Eigen::AngleAxisd(err.linear()).angle() /
+                          std::max(audit_rotation(), k * std::sqrt(var_r)));
+    strain.push_back(s);
+  }
+  return strain;
+}
+
+template <class S>
+size_t GraphSlam<S>::auditOdometry() {
+  if ((audit_translation() <= 0 && audit_rotation() <= 0) || loops_.empty()) return 0;
+  // Stretches of path the front-end tied together: a tracking failure's weak edge (or a new
+  // graph component) starts the next. Between stretches only the motion model's prediction
+  // holds, so loops can bend the graph there; but wheel odometry between two maps does not err
+  // by metres, and where the optimized graph says it did, the loops that pull a stretch there are
+  // what is wrong (on freiburg-campus, a stretch tied 15 m along a repeating facade).
+  const size_t n = maps_.size();
+  std::vector<size_t> stretch(n);
+  size_t stretches = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const int64_t p = maps_[i]->previous;
+    const bool starts = p < 0 || weak_var_t_[i] != weak_var_t_[p] || weak_var_r_[i] != weak_var_r_[p];
+    stretch[i] = starts ? stretches++ : stretch[p];
+  }
+  // How far the odometry is bent overall: strains below the bound count too, so that a side whose
+  // removal only moves the stretch to another edge (short of its bound) is not taken for a fix.
+  const auto total = [](const std::vector<double>& strain) {
+    double t = 0;
+    for (double s : strain) t += s * s;
+    return t;
+  };
+  size_t rejected = 0;
+  for (int round = 0; round < kAuditRounds; ++round) {
+    const Job job = makeJob();
+    const std::vector<double> strain = odometryStrain(job, job.before);  // one per edges_
+    const size_t worst = std::max_element(strain.begin(), strain.end()) - strain.begin();
+    if (strain.empty() || strain[worst] <= 1) break;
+    // The active loops joining each stretch to another (loops among restored maps were audited
+    // in their own session).
+    std::vector<std::vector<size_t>> joining(stretches);
+    for (size_t i = 0; i < loops_.size(); ++i) {
+      const GraphEdge& e = loops_[i].edge;
+      if (!loops_[i].active || stretch[e.from] == stretch[e.to]) continue;
+      if (std::max(e.from, e.to) < static_cast<int64_t>(restored_)) continue;
+      joining[stretch[e.from]].push_back(i);
+      joining[stretch[e.to]].push_back(i);
+    }
+    // The nearest stretch with such loops on either side of the stretched edge (stretches of
+    // one failed frame each, between consecutive failures, hold none).
+    const GraphEdge& edge = edges_[worst];
+    std::vector<size_t> sides;
+    for (int64_t m = edge.from; m >= 0; m = maps_[m]->previous)
+      if (!joining[stretch[m]].empty()) {
+        sides.push_back(stretch[m]);
+        break;
+      }
+    for (int64_t m = edge.to; m < static_cast<int64_t>(n);) {
+      if (!joining[stretch[m]].empty()) {
+        sides.push_back(stretch[m]);
+        break;
+      }
+      if (m + 1 >= static_cast<int64_t>(n) || maps_[m + 1]->previous != m) break;
+      ++m;
+    }
+    // Without one side's loops, does the edge hold? Of the sides for which it does, the one
+    // whose removal leaves the odometry least bent goes (the other side's loops, right, only
+    // carry the stretch along to its next edge); on a tie, the one with fewer loops.
+    const double before = total(strain);
+    size_t best = stretches;
+    double best_total = before;
+    for (size_t side : sides) {
+      std::vector<char> drop(loops_.size(), 0);
+      for (size_t i : joining[side]) drop[i] = 1;
+      Job trial = makeJob();
+      trial.edges = edges_;
+      for (size_t i = 0; i < loops_.size(); ++i)
+        if (loops_[i].active && !drop[i]) trial.edges.push_back(loops_[i].edge);
+      runJob(trial);
+      if (!trial.ok) continue;
+      const std::vector<double> after = odometryStrain(trial, trial.after);
+      const double after_total = total(after);
+      if (after[worst] > 1 || after_total >= before) continue;
+      // (Both sides may hold the same loops: the other side's only ones are to this one.)
+      if (best == stretches || after_total < best_total ||
+          (after_total == best_total && joining[side].size() <= joining[best].size())) {
+        best = side;
+        best_total = after_total;
+      }
+    }
+    const Eigen::Isometry3d err = edge.relative.inverse() * maps_[edge.from]->origin.inverse() *
+                                  maps_[edge.to]->origin;
+    if (best == stretches) {
+      spdlog::info("odometry audit: the graph stretches odometry edge {} -> {} by {:.2f} m, "
+                   "{:.3f} rad; no side's loops explain it, kept",
+                   edge.from, edge.to, err.translation().norm(),
+                   Eigen::AngleAxisd(err.linear()).angle());
+      break;
+    }
+    int64_t first = -1, last = -1;
+    for (size_t i = 0; i < n; ++i)
+      if (stretch[i] == best) {
+        if (first < 0) first = static_cast<int64_t>(i);
+        last = static_cast<int64_t>(i);
+      }
+    for (size_t i : joining[best]) {
+      loops_[i].active = false;
+      loops_[i].vetoed = true;
+    }
+    rejected += joining[best].size();
+    spdlog::info("odometry audit: the graph stretched odometry edge {} -> {} by {:.2f} m, "
+                 "{:.3f} rad; rejected the {} loops joining maps {}-{} to the rest",
+                 edge.from, edge.to, err.translation().norm(),
+                 Eigen::AngleAxisd(err.linear()).angle(), joining[best].size(), first, last);
+    optimizeNow();
+  }
+  return rejected;
 }
 
 template <class S>
