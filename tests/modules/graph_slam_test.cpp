@@ -69,7 +69,7 @@ std::vector<std::shared_ptr<LocalMap>> driveLoop(const LoopWorld& lw, GraphSlam<
                                                  double bias, bool poll,
                                                  Eigen::Isometry2d* dead_reckoning = nullptr,
                                                  double odometry_information = 100.0,
-                                                 size_t weak_map = 0,
+                                                 const std::vector<size_t>& weak_maps = {},
                                                  const Eigen::Vector3d& weak_sigma = {}) {
   std::vector<std::shared_ptr<LocalMap>> maps;
   Eigen::Isometry2d estimate = lw.origins[0];
@@ -82,7 +82,7 @@ std::vector<std::shared_ptr<LocalMap>> driveLoop(const LoopWorld& lw, GraphSlam<
       m->relative = Space2D::to3D(rel);
       m->information = Eigen::Matrix3d::Identity() * odometry_information;
       // A tracking failure's fallback edge into this map: right, but far less sure.
-      if (weak_map > 0 && k == weak_map)
+      if (std::find(weak_maps.begin(), weak_maps.end(), k) != weak_maps.end())
         m->information = weak_sigma.array().square().inverse().matrix().asDiagonal();
     }
     m->origin = Space2D::to3D(estimate);
@@ -283,7 +283,7 @@ TEST(GraphSlam, AFalseLoopAcrossATrackingFailureIsRejectedByConsistency) {
     graph->validators.assign(v);
     graph->configure();
     // Stiff odometry (0.01 rad) and a weak edge 20 times looser in rotation: a break.
-    driveLoop(lw, *graph, 0.0005, false, nullptr, 1e4, lw.origins.size() - 1,
+    driveLoop(lw, *graph, 0.0005, false, nullptr, 1e4, {lw.origins.size() - 1},
               Eigen::Vector3d(0.1, 0.1, 0.2));
     bool false_loop_active = false;
     for (const auto& e : graph->edges())
@@ -366,7 +366,7 @@ TEST(GraphSlam, TheOdometryAuditRejectsLoopsThatStretchAFailureEdge) {
     graph->validators.assign(v);
     graph->configure();
     // Stiff odometry, and a weak edge 20 times looser in rotation into the last map: a break.
-    auto maps = driveLoop(lw, *graph, 0.002, false, nullptr, 1e4, last,
+    auto maps = driveLoop(lw, *graph, 0.002, false, nullptr, 1e4, {static_cast<size_t>(last)},
                           Eigen::Vector3d(0.1, 0.1, 0.2));
     const std::string mode = audit ? "audited" : "not audited";
     int false_loops = 0, right_loops = 0;
@@ -382,6 +382,144 @@ TEST(GraphSlam, TheOdometryAuditRejectsLoopsThatStretchAFailureEdge) {
       EXPECT_GE(graph->stats().loops_rejected, static_cast<uint64_t>(v->corrupted)) << mode;
     } else {
       EXPECT_EQ(false_loops, v->corrupted) << mode;  // what the audit is for
+      EXPECT_GT(error, 3.0) << mode;
+    }
+  }
+}
+
+TEST(GraphSlam, TheOdometryAuditTakesTheSideOfTheWrongLoops) {
+  // A stretch in the middle of the path (maps 29-30, between tracking failures into maps 29 and
+  // 31) has only false loops, 4 m off alike; the stretch after it (maps 31-32) has right ones.
+  // Both stretches' loops go to the same older maps, so either side's removal lets one of the
+  // stretched edges hold; only the false side's leaves no edge bent. The audit rejects the false
+  // loops, keeps the right ones, and maps 29-30 end where they were.
+  LoopWorld lw;
+  auto graph = newGraph();
+  graph->deterministic = true;
+  graph->consistency_break_sigmas = 0.0;
+  auto detector = std::make_shared<ProximityDetector>();
+  detector->radius = 6.5;  // maps 29-32 reach back to maps 0-2
+  detector->max_radius = 6.5;
+  graph->loop_detectors.assign(detector);
+  auto v = std::make_shared<CorruptingValidator>();
+  v->victims = {29, 30};
+  v->offset = Eigen::Vector3d(4, 0, 0);
+  v->information_gain = 100.0;
+  graph->validators.assign(v);
+  graph->configure();
+  auto maps = driveLoop(lw, *graph, 0.002, false, nullptr, 1e4, {29, 31},
+                        Eigen::Vector3d(0.1, 0.1, 0.2));
+  ASSERT_GE(v->corrupted, 2);
+  int false_loops = 0, right_loops = 0;
+  for (const auto& e : graph->edges())
+    if (e.loop) (e.to == 29 || e.to == 30 ? false_loops : right_loops) += 1;
+  EXPECT_EQ(false_loops, 0);
+  EXPECT_GE(right_loops, 2);
+  for (size_t k = 29; k < maps.size(); ++k)
+    EXPECT_LT((Space2D::from3D(maps[k]->origin).translation() - lw.origins[k].translation()).norm(),
+              0.1)
+        << "map " << k;
+}
+
+namespace {
+// 3D loop closure without data: the detector proposes maps 0 and 1 to the last maps, the
+// validator returns the true relative pose (false by `offset` for the victims), very sure.
+struct Truth3D {
+  std::vector<Eigen::Isometry3d> origins;
+};
+class TruthDetector : public LoopDetector {
+ public:
+  int64_t first_query = 0;
+  std::vector<LoopCandidate> detect(const GraphView&, const LocalMap& q) override {
+    if (q.id < first_query) return {};
+    std::vector<LoopCandidate> out(2);
+    out[0].id = 0;
+    out[1].id = 1;
+    return out;
+  }
+};
+class TruthValidator : public LoopValidator {
+ public:
+  std::shared_ptr<Truth3D> truth;
+  std::vector<int64_t> victims;
+  Eigen::Vector3d offset{4, 0, 0};
+  bool validate(const LocalMap& c, const LocalMap& q, const Eigen::Isometry3d&,
+                LoopClosure& closure, std::string&) override {
+    closure.edge.relative = truth->origins[c.id].inverse() * truth->origins[q.id];
+    if (std::find(victims.begin(), victims.end(), q.id) != victims.end())
+      closure.edge.relative.translation() += offset;
+    closure.edge.information = Eigen::MatrixXd::Identity(6, 6) * 1e6;
+    closure.overlap = 1.0;
+    return true;
+  }
+};
+}  // namespace
+
+TEST(GraphSlam, TheOdometryAuditWorksIn3D) {
+  // Maps every 2 m around a 10 x 10 m square, climbing 0.1 m a map; the last one follows a
+  // tracking failure and its loops are 4 m off: the 3D back-end's audit rejects them.
+  auto truth = std::make_shared<Truth3D>();
+  for (int k = 0; k <= 20; ++k) {
+    const int side = std::min(k / 5, 3), step = k - 5 * side;
+    const Eigen::Vector2d corners[4] = {{0, 0}, {10, 0}, {10, 10}, {0, 10}};
+    const Eigen::Vector2d a = corners[side], b = corners[(side + 1) % 4];
+    const Eigen::Vector2d p = a + (b - a) * (step / 5.0);  // map 20 is back at map 0
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.translation() = Eigen::Vector3d(p.x(), p.y(), k == 20 ? 0.0 : 0.1 * k);
+    t.linear() = Eigen::AngleAxisd(std::atan2((b - a).y(), (b - a).x()),
+                                   Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    truth->origins.push_back(t);
+  }
+  for (bool audit : {false, true}) {
+    auto graph = std::dynamic_pointer_cast<GraphSlam<Space3D>>(
+        Registry::instance().create("sdk.GraphSlam3D"));
+    ASSERT_TRUE(graph);
+    graph->deterministic = true;
+    graph->consistency_break_sigmas = 0.0;
+    if (!audit) {
+      graph->audit_translation = 0.0;
+      graph->audit_rotation = 0.0;
+    }
+    auto detector = std::make_shared<TruthDetector>();
+    detector->first_query = 19;
+    graph->loop_detectors.assign(detector);
+    auto validator = std::make_shared<TruthValidator>();
+    validator->truth = truth;
+    validator->victims = {20};
+    graph->validators.assign(validator);
+    graph->configure();
+    std::vector<std::shared_ptr<LocalMap>> maps;
+    for (size_t k = 0; k < truth->origins.size(); ++k) {
+      auto m = std::make_shared<LocalMap>();
+      m->id = static_cast<int64_t>(k);
+      m->dimension = 3;
+      m->origin = truth->origins[k];
+      if (k > 0) {
+        m->previous = static_cast<int64_t>(k - 1);
+        m->relative = truth->origins[k - 1].inverse() * truth->origins[k];
+        Eigen::Matrix<double, 6, 1> sigma;
+        if (k == 20)
+          sigma << 0.1, 0.1, 0.1, 0.2, 0.2, 0.2;  // a tracking failure's weak edge
+        else
+          sigma << 0.01, 0.01, 0.01, 0.01, 0.01, 0.01;
+        m->information = sigma.array().square().inverse().matrix().asDiagonal();
+      }
+      maps.push_back(m);
+      graph->mapStarted(m);
+      if (k > 0) graph->mapClosed(maps[k - 1]);
+    }
+    graph->mapClosed(maps.back());
+    graph->finish();
+    int false_loops = 0, right_loops = 0;
+    for (const auto& e : graph->edges())
+      if (e.loop) (e.to == 20 ? false_loops : right_loops) += 1;
+    const double error = (maps[20]->origin.translation() - truth->origins[20].translation()).norm();
+    const std::string mode = audit ? "audited" : "not audited";
+    EXPECT_EQ(right_loops, 2) << mode;
+    EXPECT_EQ(false_loops, audit ? 0 : 2) << mode;
+    if (audit) {
+      EXPECT_LT(error, 0.01) << mode;
+    } else {
       EXPECT_GT(error, 3.0) << mode;
     }
   }

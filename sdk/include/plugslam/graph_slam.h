@@ -228,7 +228,8 @@ class GraphSlam : public GraphBackend {
       "audit_sigmas of its std. dev.) is evidence of wrong loops: the loops joining the "
       "stretch of path on one side of it (between tracking failures) to the rest are rejected "
       "when without them the edge holds; of the two sides, the one whose removal leaves the "
-      "odometry least bent (0: no audit)",
+      "odometry least bent (0 here and in audit_rotation: no audit; turn it off for data where "
+      "the robot was carried, or a log jumps, between two maps)",
       Range{0, 1e6}};
   Param<double> audit_rotation{this, "audit_rotation", 0.5, "rad",
                                "...or turns it by more than this (0: rotation not audited)",
@@ -323,6 +324,7 @@ class GraphSlam : public GraphBackend {
     GraphEdge edge;
     bool active = true;
     bool vetoed = false;  // rejected by its residual after an optimization: never restored
+    bool audited = false;  // rejected by the odometry audit: the final pass may close its pair
   };
   std::vector<Loop> loops_;       // every validated loop, active or rejected by consistency
   uint64_t validator_rejections_ = 0;

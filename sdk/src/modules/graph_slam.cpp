@@ -709,12 +709,15 @@ size_t GraphSlam<S>::auditOdometry() {
   // by metres, and where the optimized graph says it did, the loops that pull a stretch there are
   // what is wrong (on freiburg-campus, a stretch tied 15 m along a repeating facade).
   const size_t n = maps_.size();
-  std::vector<size_t> stretch(n);
+  std::vector<size_t> stretch(n), length;
   size_t stretches = 0;
   for (size_t i = 0; i < n; ++i) {
     const int64_t p = maps_[i]->previous;
-    const bool starts = p < 0 || weak_var_t_[i] != weak_var_t_[p] || weak_var_r_[i] != weak_var_r_[p];
+    const bool starts = p < 0 || components_[i] != components_[p] ||
+                        weak_var_t_[i] != weak_var_t_[p] || weak_var_r_[i] != weak_var_r_[p];
     stretch[i] = starts ? stretches++ : stretch[p];
+    if (starts) length.push_back(0);
+    ++length[stretch[i]];
   }
   // How far the odometry is bent overall: strains below the bound count too, so that a side whose
   // removal only moves the stretch to another edge (short of its bound) is not taken for a fix.
@@ -723,14 +726,24 @@ size_t GraphSlam<S>::auditOdometry() {
     for (double s : strain) t += s * s;
     return t;
   };
+  // Edges between stretches that no side explains; edges inside a stretch are the tracker's own
+  // (no loops' choice of stretch explains them) and edges between restored maps were the
+  // restored session's.
+  std::vector<char> settled(edges_.size(), 0);
+  for (size_t j = 0; j < edges_.size(); ++j)
+    settled[j] = stretch[edges_[j].from] == stretch[edges_[j].to] ||
+                 edges_[j].to < static_cast<int64_t>(restored_);
   size_t rejected = 0;
   for (int round = 0; round < kAuditRounds; ++round) {
     const Job job = makeJob();
     const std::vector<double> strain = odometryStrain(job, job.before);  // one per edges_
-    const size_t worst = std::max_element(strain.begin(), strain.end()) - strain.begin();
-    if (strain.empty() || strain[worst] <= 1) break;
-    // The active loops joining each stretch to another (loops among restored maps were audited
-    // in their own session).
+    size_t worst = edges_.size();
+    for (size_t j = 0; j < strain.size(); ++j)
+      if (!settled[j] && strain[j] > 1 && (worst == edges_.size() || strain[j] > strain[worst]))
+        worst = j;
+    if (worst == edges_.size()) break;
+    // The active loops joining each stretch to another (loops among restored maps belong to
+    // their own session).
     std::vector<std::vector<size_t>> joining(stretches);
     for (size_t i = 0; i < loops_.size(); ++i) {
       const GraphEdge& e = loops_[i].edge;
@@ -750,22 +763,32 @@ size_t GraphSlam<S>::auditOdometry() {
       }
     for (int64_t m = edge.to; m < static_cast<int64_t>(n);) {
       if (!joining[stretch[m]].empty()) {
-        sides.push_back(stretch[m]);
+        // Both sides may hold the same loops (the other side's only ones are to this one): then
+        // they are tried once, named by the shorter stretch.
+        if (sides.empty() || joining[sides[0]] != joining[stretch[m]])
+          sides.push_back(stretch[m]);
+        else if (length[stretch[m]] < length[sides[0]])
+          sides[0] = stretch[m];
         break;
       }
       if (m + 1 >= static_cast<int64_t>(n) || maps_[m + 1]->previous != m) break;
       ++m;
     }
-    // Without one side's loops, does the edge hold? Of the sides for which it does, the one
-    // whose removal leaves the odometry least bent goes (the other side's loops, right, only
-    // carry the stretch along to its next edge); on a tie, the one with fewer loops.
+    // Without one side's loops, does the edge hold, with no other edge pushed past its bound?
+    // Of the sides for which it does, the one whose removal leaves the odometry least bent goes
+    // (the other side's loops, right, only carry the stretch along to its next edge); on a tie,
+    // the one with fewer loops.
     const double before = total(strain);
     size_t best = stretches;
     double best_total = before;
+    Job best_trial;
     for (size_t side : sides) {
       std::vector<char> drop(loops_.size(), 0);
       for (size_t i : joining[side]) drop[i] = 1;
-      Job trial = makeJob();
+      Job trial;
+      trial.nodes = job.nodes;
+      trial.anchors = job.anchors;
+      trial.before = job.before;
       trial.edges = edges_;
       for (size_t i = 0; i < loops_.size(); ++i)
         if (loops_[i].active && !drop[i]) trial.edges.push_back(loops_[i].edge);
@@ -773,12 +796,16 @@ size_t GraphSlam<S>::auditOdometry() {
       if (!trial.ok) continue;
       const std::vector<double> after = odometryStrain(trial, trial.after);
       const double after_total = total(after);
-      if (after[worst] > 1 || after_total >= before) continue;
-      // (Both sides may hold the same loops: the other side's only ones are to this one.)
+      if (!(after[worst] <= 1) || !(after_total < before)) continue;
+      bool moved = false;  // the stretch only moved to another edge
+      for (size_t j = 0; j < after.size() && !moved; ++j)
+        moved = j != worst && after[j] > 1 && !(strain[j] > 1);
+      if (moved) continue;
       if (best == stretches || after_total < best_total ||
           (after_total == best_total && joining[side].size() <= joining[best].size())) {
         best = side;
         best_total = after_total;
+        best_trial = std::move(trial);
       }
     }
     const Eigen::Isometry3d err = edge.relative.inverse() * maps_[edge.from]->origin.inverse() *
@@ -788,24 +815,47 @@ size_t GraphSlam<S>::auditOdometry() {
                    "{:.3f} rad; no side's loops explain it, kept",
                    edge.from, edge.to, err.translation().norm(),
                    Eigen::AngleAxisd(err.linear()).angle());
-      break;
+      settled[worst] = 1;
+      continue;
     }
+    for (size_t i : joining[best]) {
+      loops_[i].active = false;
+      loops_[i].vetoed = true;
+      loops_[i].audited = true;
+    }
+    // The trial is the graph without them: apply it rather than solve it again. Those of them
+    // that agree with the corrected graph (a stretch's right loops next to its wrong ones)
+    // come back.
+    pending_ = false;
+    applyJob(best_trial);
+    size_t reinstated = 0;
+    const double max_t = residual_translation(), max_r = residual_rotation();
+    if (max_t > 0 || max_r > 0)
+      for (size_t i : joining[best]) {
+        const GraphEdge& e = loops_[i].edge;
+        const Eigen::Isometry3d r =
+            e.relative.inverse() * maps_[e.from]->origin.inverse() * maps_[e.to]->origin;
+        if ((max_t > 0 && !(r.translation().norm() <= max_t)) ||
+            (max_r > 0 && !(Eigen::AngleAxisd(r.linear()).angle() <= max_r)))
+          continue;
+        loops_[i].active = true;
+        loops_[i].vetoed = false;
+        loops_[i].audited = false;
+        ++reinstated;
+      }
+    if (pending_ || reinstated > 0) optimizeNow();
+    rejected += joining[best].size() - reinstated;
     int64_t first = -1, last = -1;
     for (size_t i = 0; i < n; ++i)
       if (stretch[i] == best) {
         if (first < 0) first = static_cast<int64_t>(i);
         last = static_cast<int64_t>(i);
       }
-    for (size_t i : joining[best]) {
-      loops_[i].active = false;
-      loops_[i].vetoed = true;
-    }
-    rejected += joining[best].size();
     spdlog::info("odometry audit: the graph stretched odometry edge {} -> {} by {:.2f} m, "
-                 "{:.3f} rad; rejected the {} loops joining maps {}-{} to the rest",
+                 "{:.3f} rad; rejected {} of the {} loops joining maps {}-{} to the rest",
                  edge.from, edge.to, err.translation().norm(),
-                 Eigen::AngleAxisd(err.linear()).angle(), joining[best].size(), first, last);
-    optimizeNow();
+                 Eigen::AngleAxisd(err.linear()).angle(), joining[best].size() - reinstated,
+                 joining[best].size(), first, last);
   }
   return rejected;
 }
@@ -821,9 +871,12 @@ size_t GraphSlam<S>::finalPass() {
   job.queries.clear();
   for (size_t id = restored_; id < maps_.size(); ++id)
     job.queries.push_back(static_cast<int64_t>(id));
-  // Pairs ever closed, kept or rejected, newer map first (a detector may propose either order).
+  // Pairs ever closed, kept or rejected, newer map first (a detector may propose either order);
+  // but a pair the odometry audit rejected may be proposed again: validated from the corrected
+  // estimate, it closes where its maps now are, not where the wrong loops had put them.
   for (const auto& l : loops_)
-    job.linked.emplace_back(std::max(l.edge.to, l.edge.from), std::min(l.edge.to, l.edge.from));
+    if (!l.audited)
+      job.linked.emplace_back(std::max(l.edge.to, l.edge.from), std::min(l.edge.to, l.edge.from));
   std::sort(job.linked.begin(), job.linked.end());
   runLoopJob(job);
   spdlog::info("final loop pass: {} closures from {} candidates", job.closures.size(),
