@@ -458,6 +458,47 @@ TEST(GraphSlam, TheOdometryAuditKeepsRightLoopsWhoseDriftAWeakEdgeTakes) {
   EXPECT_EQ(accepted[true], accepted[false]);
 }
 
+TEST(GraphSlam, TheOdometryAuditLeavesARestoredSessionAlone) {
+  // A session saved without the audit holds the false loops of the first audit test and the
+  // weak edge they stretch. Restored, its maps and loops are the saved session's: the audit
+  // neither rejects them nor moves a map.
+  LoopWorld lw;
+  auto first = newGraph();
+  first->deterministic = true;
+  first->consistency_break_sigmas = 0.0;
+  first->audit_translation = 0.0;
+  first->audit_rotation = 0.0;
+  auto detector = std::make_shared<ProximityDetector>();
+  detector->radius = 6.5;
+  detector->max_radius = 6.5;
+  first->loop_detectors.assign(detector);
+  auto v = std::make_shared<CorruptingValidator>();
+  const int64_t last = static_cast<int64_t>(lw.origins.size()) - 1;
+  v->victims = {last};
+  v->offset = Eigen::Vector3d(4, 0, 0);
+  v->information_gain = 100.0;
+  first->validators.assign(v);
+  first->configure();
+  auto maps = driveLoop(lw, *first, 0.002, false, nullptr, 1e4, {static_cast<size_t>(last)},
+                        Eigen::Vector3d(0.1, 0.1, 0.2));
+  ASSERT_GT((Space2D::from3D(maps[last]->origin).translation() - lw.origins[last].translation()).norm(),
+            3.0);  // the false loops hold
+  std::vector<Eigen::Isometry3d> before;
+  for (const auto& m : maps) before.push_back(m->origin);
+
+  auto graph = newGraph();
+  graph->deterministic = true;
+  graph->validators.assign(makeValidator());
+  graph->configure();
+  graph->restore(maps, first->edges());
+  graph->optimizeNow();  // as a run that added nothing would have, had it closed a loop
+  graph->finish();
+  EXPECT_EQ(graph->stats().loops_accepted, first->stats().loops_accepted);
+  for (size_t k = 0; k < maps.size(); ++k)
+    EXPECT_LT((maps[k]->origin.translation() - before[k].translation()).norm(), 1e-3)
+        << "map " << k << " moved";
+}
+
 namespace {
 // 3D loop closure without data: the detector proposes maps 0 and 1 to the last maps, the
 // validator returns the true relative pose (false by `offset` for the victims), very sure.
