@@ -793,6 +793,8 @@ size_t GraphSlam<S>::auditOdometry() {
       for (size_t i = 0; i < loops_.size(); ++i)
         if (loops_[i].active && !drop[i]) trial.edges.push_back(loops_[i].edge);
       runJob(trial);
+      // Trials are optimizations too: their time counts (the one applied is counted when it is).
+      stats_.optimization_time += trial.seconds;
       if (!trial.ok) continue;
       const std::vector<double> after = odometryStrain(trial, trial.after);
       const double after_total = total(after);
@@ -827,6 +829,7 @@ size_t GraphSlam<S>::auditOdometry() {
     // that agree with the corrected graph (a stretch's right loops next to its wrong ones)
     // come back.
     pending_ = false;
+    stats_.optimization_time -= best_trial.seconds;  // applyJob counts it
     applyJob(best_trial);
     size_t reinstated = 0;
     const double max_t = residual_translation(), max_r = residual_rotation();
