@@ -337,17 +337,15 @@ TEST(GraphSlam, AFalseLoopAloneInItsWindowIsRejectedByItsResidual) {
   }
 }
 
-TEST(GraphSlam, TheOdometryAuditRejectsLoopsThatStretchAFailureEdge) {
-  // The last map follows a tracking failure (a weak edge) and both its loops are false by the
-  // same 4 m, as where a facade repeats: they agree with each other, they are surer than the
-  // weak edge (as a dense scan's are), so the weak edge absorbs their error and the residual
-  // check does not see them; the consistency check counts cycles through weak edges as no
-  // evidence here (its 0 setting). The graph then says the robot moved 4 m more than odometry
-  // did between two maps: the audit rejects the loops that pull the map there and keeps the
-  // right loops of maps 30 and 31.
-  for (bool audit : {false, true}) {
-    LoopWorld lw;
-    auto graph = newGraph();
+namespace {
+// The odometry audit's test graph: loops between maps up to 6.5 m apart (maps 29-32 reach back
+// to maps 0-2), a consistency check that counts cycles through weak edges as no evidence (its 0
+// setting), and the closures of `victims` false by the same 4 m, as where a facade repeats, and
+// surer than a weak edge (as a dense scan's are).
+struct FalseLoopGraph {
+  std::shared_ptr<GraphSlam<Space2D>> graph = newGraph();
+  std::shared_ptr<CorruptingValidator> validator = std::make_shared<CorruptingValidator>();
+  FalseLoopGraph(std::vector<int64_t> victims, bool audit) {
     graph->deterministic = true;
     graph->consistency_break_sigmas = 0.0;
     if (!audit) {
@@ -355,33 +353,46 @@ TEST(GraphSlam, TheOdometryAuditRejectsLoopsThatStretchAFailureEdge) {
       graph->audit_rotation = 0.0;
     }
     auto detector = std::make_shared<ProximityDetector>();
-    detector->radius = 6.5;  // maps 30-32 reach back to maps 0-2
+    detector->radius = 6.5;
     detector->max_radius = 6.5;
     graph->loop_detectors.assign(detector);
-    auto v = std::make_shared<CorruptingValidator>();
-    const int64_t last = static_cast<int64_t>(lw.origins.size()) - 1;
-    v->victims = {last};
-    v->offset = Eigen::Vector3d(4, 0, 0);
-    v->information_gain = 100.0;
-    graph->validators.assign(v);
+    validator->victims = std::move(victims);
+    validator->offset = Eigen::Vector3d(4, 0, 0);
+    validator->information_gain = 100.0;
+    graph->validators.assign(validator);
     graph->configure();
+  }
+};
+}  // namespace
+
+TEST(GraphSlam, TheOdometryAuditRejectsLoopsThatStretchAFailureEdge) {
+  // The last map follows a tracking failure (a weak edge) and both its loops are false alike:
+  // they agree with each other and the weak edge absorbs their error, so the residual check does
+  // not see them, nor does the consistency check here. The graph then says the robot moved 4 m
+  // more than odometry did between two maps: the audit rejects the loops that pull the map
+  // there and keeps the right loops of maps 30 and 31.
+  for (bool audit : {false, true}) {
+    LoopWorld lw;
+    const int64_t last = static_cast<int64_t>(lw.origins.size()) - 1;
+    FalseLoopGraph g({last}, audit);
     // Stiff odometry, and a weak edge 20 times looser in rotation into the last map: a break.
-    auto maps = driveLoop(lw, *graph, 0.002, false, nullptr, 1e4, {static_cast<size_t>(last)},
+    auto maps = driveLoop(lw, *g.graph, 0.002, false, nullptr, 1e4, {static_cast<size_t>(last)},
                           Eigen::Vector3d(0.1, 0.1, 0.2));
     const std::string mode = audit ? "audited" : "not audited";
     int false_loops = 0, right_loops = 0;
-    for (const auto& e : graph->edges())
+    for (const auto& e : g.graph->edges())
       if (e.loop) (e.to == last ? false_loops : right_loops) += 1;
-    ASSERT_GE(v->corrupted, 2) << mode;
+    ASSERT_GE(g.validator->corrupted, 2) << mode;
     EXPECT_GE(right_loops, 2) << mode;
     const double error =
         (Space2D::from3D(maps[last]->origin).translation() - lw.origins[last].translation()).norm();
     if (audit) {
       EXPECT_EQ(false_loops, 0) << mode;
       EXPECT_LT(error, 0.1) << mode;
-      EXPECT_GE(graph->stats().loops_rejected, static_cast<uint64_t>(v->corrupted)) << mode;
+      EXPECT_GE(g.graph->stats().loops_rejected, static_cast<uint64_t>(g.validator->corrupted))
+          << mode;
     } else {
-      EXPECT_EQ(false_loops, v->corrupted) << mode;  // what the audit is for
+      EXPECT_EQ(false_loops, g.validator->corrupted) << mode;  // what the audit is for
       EXPECT_GT(error, 3.0) << mode;
     }
   }
@@ -389,29 +400,17 @@ TEST(GraphSlam, TheOdometryAuditRejectsLoopsThatStretchAFailureEdge) {
 
 TEST(GraphSlam, TheOdometryAuditTakesTheSideOfTheWrongLoops) {
   // A stretch in the middle of the path (maps 29-30, between tracking failures into maps 29 and
-  // 31) has only false loops, 4 m off alike; the stretch after it (maps 31-32) has right ones.
-  // Both stretches' loops go to the same older maps, so either side's removal lets one of the
-  // stretched edges hold; only the false side's leaves no edge bent. The audit rejects the false
-  // loops, keeps the right ones, and maps 29-30 end where they were.
+  // 31) has only false loops; the stretch after it (maps 31-32) has right ones. Both stretches'
+  // loops go to the same older maps, so either side's removal lets one of the stretched edges
+  // hold; only the false side's leaves no edge bent. The audit rejects the false loops, keeps
+  // the right ones, and maps 29-30 end where they were.
   LoopWorld lw;
-  auto graph = newGraph();
-  graph->deterministic = true;
-  graph->consistency_break_sigmas = 0.0;
-  auto detector = std::make_shared<ProximityDetector>();
-  detector->radius = 6.5;  // maps 29-32 reach back to maps 0-2
-  detector->max_radius = 6.5;
-  graph->loop_detectors.assign(detector);
-  auto v = std::make_shared<CorruptingValidator>();
-  v->victims = {29, 30};
-  v->offset = Eigen::Vector3d(4, 0, 0);
-  v->information_gain = 100.0;
-  graph->validators.assign(v);
-  graph->configure();
-  auto maps = driveLoop(lw, *graph, 0.002, false, nullptr, 1e4, {29, 31},
+  FalseLoopGraph g({29, 30}, true);
+  auto maps = driveLoop(lw, *g.graph, 0.002, false, nullptr, 1e4, {29, 31},
                         Eigen::Vector3d(0.1, 0.1, 0.2));
-  ASSERT_GE(v->corrupted, 2);
+  ASSERT_GE(g.validator->corrupted, 2);
   int false_loops = 0, right_loops = 0;
-  for (const auto& e : graph->edges())
+  for (const auto& e : g.graph->edges())
     if (e.loop) (e.to == 29 || e.to == 30 ? false_loops : right_loops) += 1;
   EXPECT_EQ(false_loops, 0);
   EXPECT_GE(right_loops, 2);
@@ -463,22 +462,9 @@ TEST(GraphSlam, TheOdometryAuditLeavesARestoredSessionAlone) {
   // weak edge they stretch. Restored, its maps and loops are the saved session's: the audit
   // neither rejects them nor moves a map.
   LoopWorld lw;
-  auto first = newGraph();
-  first->deterministic = true;
-  first->consistency_break_sigmas = 0.0;
-  first->audit_translation = 0.0;
-  first->audit_rotation = 0.0;
-  auto detector = std::make_shared<ProximityDetector>();
-  detector->radius = 6.5;
-  detector->max_radius = 6.5;
-  first->loop_detectors.assign(detector);
-  auto v = std::make_shared<CorruptingValidator>();
   const int64_t last = static_cast<int64_t>(lw.origins.size()) - 1;
-  v->victims = {last};
-  v->offset = Eigen::Vector3d(4, 0, 0);
-  v->information_gain = 100.0;
-  first->validators.assign(v);
-  first->configure();
+  FalseLoopGraph g({last}, false);
+  auto& first = g.graph;
   auto maps = driveLoop(lw, *first, 0.002, false, nullptr, 1e4, {static_cast<size_t>(last)},
                         Eigen::Vector3d(0.1, 0.1, 0.2));
   ASSERT_GT((Space2D::from3D(maps[last]->origin).translation() - lw.origins[last].translation()).norm(),
