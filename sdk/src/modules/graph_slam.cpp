@@ -82,6 +82,13 @@ std::pair<double, double> maxVariances(const Eigen::MatrixXd& information, int d
   return {var_t, var_r};
 }
 
+// How far an edge's measurement is from the relative pose of its two maps at `from` and `to`
+// (identity when they agree).
+Eigen::Isometry3d edgeError(const GraphEdge& e, const Eigen::Isometry3d& from,
+                            const Eigen::Isometry3d& to) {
+  return e.relative.inverse() * from.inverse() * to;
+}
+
 // Rounds of the odometry audit: each rejects the loops of one stretch of path.
 constexpr int kAuditRounds = 10;
 
@@ -565,8 +572,8 @@ bool GraphSlam<S>::rejectWorstLoop(const Job& job) {
   std::vector<Bad> bad;
   for (const GraphEdge& e : job.edges) {
     if (!e.loop) continue;
-    const Eigen::Isometry3d err = e.relative.inverse() * S::to3D(job.after[e.from]).inverse() *
-                                  S::to3D(job.after[e.to]);
+    const Eigen::Isometry3d err =
+        edgeError(e, S::to3D(job.after[e.from]), S::to3D(job.after[e.to]));
     const double t = err.translation().norm();
     const double r = Eigen::AngleAxisd(err.linear()).angle();
     const double ratio = std::max(max_t > 0 ? t / max_t : 0.0, max_r > 0 ? r / max_r : 0.0);
@@ -686,8 +693,7 @@ std::vector<double> GraphSlam<S>::odometryStrain(const Job& job,
   const double k = audit_sigmas();
   for (const GraphEdge& e : job.edges) {
     if (e.loop) continue;
-    const Eigen::Isometry3d err = e.relative.inverse() * S::to3D(estimate[e.from]).inverse() *
-                                  S::to3D(estimate[e.to]);
+    const Eigen::Isometry3d err = edgeError(e, S::to3D(estimate[e.from]), S::to3D(estimate[e.to]));
     const auto [var_t, var_r] = maxVariances(e.information, S::kDof);
     double s = 0;
     if (audit_translation() > 0)
@@ -810,8 +816,7 @@ size_t GraphSlam<S>::auditOdometry() {
         best_trial = std::move(trial);
       }
     }
-    const Eigen::Isometry3d err = edge.relative.inverse() * maps_[edge.from]->origin.inverse() *
-                                  maps_[edge.to]->origin;
+    const Eigen::Isometry3d err = edgeError(edge, maps_[edge.from]->origin, maps_[edge.to]->origin);
     if (best == stretches) {
       spdlog::info("odometry audit: the graph stretches odometry edge {} -> {} by {:.2f} m, "
                    "{:.3f} rad; no side's loops explain it, kept",
@@ -836,8 +841,7 @@ size_t GraphSlam<S>::auditOdometry() {
     if (max_t > 0 || max_r > 0)
       for (size_t i : joining[best]) {
         const GraphEdge& e = loops_[i].edge;
-        const Eigen::Isometry3d r =
-            e.relative.inverse() * maps_[e.from]->origin.inverse() * maps_[e.to]->origin;
+        const Eigen::Isometry3d r = edgeError(e, maps_[e.from]->origin, maps_[e.to]->origin);
         if ((max_t > 0 && !(r.translation().norm() <= max_t)) ||
             (max_r > 0 && !(Eigen::AngleAxisd(r.linear()).angle() <= max_r)))
           continue;
