@@ -1,5 +1,8 @@
 #include "plugslam/sensor_data.h"
 
+#include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <cstring>
 #include <string>
 
@@ -97,18 +100,21 @@ void odometryFields(Ar& ar, O& o) {
   ar.endObject();
 }
 
+// The pinhole fields shared by CameraInfo and CameraIntrinsics.
 template <class Ar, class C>
-void cameraFields(Ar& ar, C& c) {
-  ar.beginObject();
+void pinholeFields(Ar& ar, C& c) {
   ar.field("fx", c.fx);
   ar.field("fy", c.fy);
   ar.field("cx", c.cx);
   ar.field("cy", c.cy);
   ar.field("width", c.width);
   ar.field("height", c.height);
-  ar.field("baseline", c.baseline);
-  ar.field("mount", c.mount);
-  ar.endObject();
+}
+
+void checkPinhole(InArchive& ar, double fx, double fy, int width, int height) {
+  if (!std::isfinite(fx) || !std::isfinite(fy))
+    ar.fail("camera focal lengths must be finite");
+  checkSize(ar, width, height);
 }
 
 // The fields before an image's pixels, shared by save and load.
@@ -134,8 +140,121 @@ void save(OutArchive& ar, const LaserScan& s) { scanFields(ar, s); }
 void load(InArchive& ar, LaserScan& s) { scanFields(ar, s); }
 void save(OutArchive& ar, const Odometry2D& o) { odometryFields(ar, o); }
 void load(InArchive& ar, Odometry2D& o) { odometryFields(ar, o); }
-void save(OutArchive& ar, const CameraInfo& c) { cameraFields(ar, c); }
-void load(InArchive& ar, CameraInfo& c) { cameraFields(ar, c); }
+
+bool Distortion::valid() const {
+  const size_t n = coefficients.size();
+  switch (model) {
+    case Model::kNone:
+      return n == 0;
+    case Model::kRadialTangential:
+      return n == 4 || n == 5 || n == 8 || n == 12 || n == 14;
+    case Model::kEquidistant:
+      return n == 4;
+  }
+  return false;
+}
+
+bool Distortion::isIdentity() const {
+  return model == Model::kNone ||
+         std::all_of(coefficients.begin(), coefficients.end(), [](double c) { return c == 0.0; });
+}
+
+bool parseDistortionModel(const std::string& name, Distortion::Model& model) {
+  std::string n = name;
+  for (char& ch : n) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (n.empty() || n == "none") {
+    model = Distortion::Model::kNone;
+  } else if (n == "radial-tangential" || n == "radtan" || n == "plumb_bob" ||
+             n == "rational_polynomial") {
+    model = Distortion::Model::kRadialTangential;
+  } else if (n == "equidistant" || n == "fisheye") {
+    model = Distortion::Model::kEquidistant;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+const char* distortionModelName(Distortion::Model model) {
+  switch (model) {
+    case Distortion::Model::kNone:
+      return "none";
+    case Distortion::Model::kRadialTangential:
+      return "radial-tangential";
+    case Distortion::Model::kEquidistant:
+      return "equidistant";
+  }
+  return "none";
+}
+
+void save(OutArchive& ar, const Distortion& d) {
+  ar.beginObject();
+  ar.field("model", std::string(distortionModelName(d.model)));
+  ar.field("coefficients", d.coefficients);
+  ar.endObject();
+}
+
+void load(InArchive& ar, Distortion& d) {
+  ar.beginObject();
+  std::string name;
+  ar.field("model", name);
+  if (!parseDistortionModel(name, d.model))
+    ar.fail("unknown distortion model '" + name +
+            "' (expected none, radial-tangential or equidistant)");
+  ar.field("coefficients", d.coefficients);
+  if (!d.valid())
+    ar.fail(std::to_string(d.coefficients.size()) + " coefficients do not fit the " +
+            distortionModelName(d.model) + " model (none: 0, radial-tangential: 4, 5, 8, 12 or " +
+            "14, equidistant: 4)");
+  ar.endObject();
+}
+
+void save(OutArchive& ar, const CameraIntrinsics& c) {
+  ar.beginObject();
+  pinholeFields(ar, c);
+  ar.field("distortion", c.distortion);
+  ar.endObject();
+}
+
+void load(InArchive& ar, CameraIntrinsics& c) {
+  ar.beginObject();
+  pinholeFields(ar, c);
+  checkPinhole(ar, c.fx, c.fy, c.width, c.height);
+  ar.field("distortion", c.distortion);
+  ar.endObject();
+}
+
+void save(OutArchive& ar, const CameraInfo& c) {
+  ar.beginObject();
+  pinholeFields(ar, c);
+  ar.field("baseline", c.baseline);
+  ar.field("mount", c.mount);
+  ar.field("distortion", c.distortion);
+  if (c.second) {
+    ar.field("second", *c.second);
+    ar.field("second_pose", c.second_pose);
+  }
+  ar.endObject();
+}
+
+void load(InArchive& ar, CameraInfo& c) {
+  ar.beginObject();
+  pinholeFields(ar, c);
+  checkPinhole(ar, c.fx, c.fy, c.width, c.height);
+  ar.field("baseline", c.baseline);
+  ar.field("mount", c.mount);
+  // Archives written before ABI 1.5 have neither: undistorted, and no second camera.
+  c.distortion = Distortion{};
+  if (ar.hasKey("distortion")) ar.field("distortion", c.distortion);
+  c.second.reset();
+  c.second_pose = Eigen::Isometry3d::Identity();
+  if (ar.hasKey("second")) {
+    c.second.emplace();
+    ar.field("second", *c.second);
+    ar.field("second_pose", c.second_pose);
+  }
+  ar.endObject();
+}
 
 void save(OutArchive& ar, const Image& im) {
   ar.beginObject();
