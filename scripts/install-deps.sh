@@ -11,6 +11,7 @@ PACKAGES=(
   time python3
   libopencv-core-dev libopencv-imgproc-dev libopencv-features2d-dev libopencv-calib3d-dev
   libopencv-imgcodecs-dev
+  nlohmann-json3-dev libjpeg62-turbo-dev
 )
 missing=()
 for p in "${PACKAGES[@]}"; do
