@@ -72,8 +72,8 @@ void writeRun(const fs::path& dir, const Trajectory& est, const Trajectory& ref)
       pgm.put(static_cast<char>(x > kWallX && x < kWallX + 0.1 ? 0 : 254));
     }
   pgm.close();
-  std::ofstream(dir / "map.yaml") << "image: map.pgm\nresolution: " << kRes << "\norigin: ["
-                                  << kOx << ", " << kOy << ", 0.0]\nnegate: 0\n";
+  std::ofstream(dir / "map.yaml") << "image: map.pgm\nresolution: " << kRes << "\norigin: [" << kOx
+                                  << ", " << kOy << ", 0.0]\nnegate: 0\n";
   // Four local maps at the corners; odometry 0-1-2-3, and one loop closure 2-0 (the diagonal).
   std::ofstream(dir / "graph.g2o")
       << "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 2 0 1.57\nVERTEX_SE2 2 2 1.5 3.14\n"
@@ -167,8 +167,8 @@ TEST_F(Render, MapPictureDrawsTrajectoryLoopsAndMapWhereTheyAre) {
     for (const auto& n : run.nodes) by_marker |= (q - n).norm() < 0.25;
     if (by_marker) continue;
     const Rgb c = pixelAt(png, p.toPixel(q));
-    EXPECT_EQ(closest(c), 0)
-        << "pose (" << q.transpose() << ") -> " << int(c.r) << "," << int(c.g) << "," << int(c.b);
+    EXPECT_EQ(closest(c), 0) << "pose (" << q.transpose() << ") -> " << int(c.r) << "," << int(c.g)
+                             << "," << int(c.b);
     ++checked;
   }
   EXPECT_GT(checked, 80);
@@ -294,7 +294,8 @@ TEST(RenderCanvas, PngRoundTripsAndTextIsDrawn) {
 // The CLI as a user runs it: exit codes and the files it says it wrote.
 TEST_F(Render, CommandLine) {
   auto run = [](const std::string& args, std::string& out) {
-    const std::string cmd = plugslam::testing::buildDir() + "/bin/plugslam render " + args + " 2>&1";
+    const std::string cmd =
+        plugslam::testing::buildDir() + "/bin/plugslam render " + args + " 2>&1";
     FILE* p = popen(cmd.c_str(), "r");
     char buf[4096];
     size_t n;

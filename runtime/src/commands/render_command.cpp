@@ -20,7 +20,8 @@ void addRenderCommand(CLI::App& root, int& exit_code) {
   static render::RenderOptions o;
   cmd->add_option("RUN_DIR", dir, "folder written by `plugslam run -o RUN_DIR`")->required();
   cmd->add_option("-o,--output", out, "where the pictures go (default: RUN_DIR)");
-  cmd->add_option("--trajectory", o.estimate_file, "estimated trajectory (default: RUN_DIR/trajectory.tum)");
+  cmd->add_option("--trajectory", o.estimate_file,
+                  "estimated trajectory (default: RUN_DIR/trajectory.tum)");
   cmd->add_option("--reference", o.reference_file,
                   "reference or ground truth (default: RUN_DIR/reference.tum or ground_truth.tum)");
   cmd->add_option("--align", align,

@@ -130,10 +130,8 @@ void Canvas::blend(int x, int y, Rgb c, double alpha) {
   rgb_[i + 2] = mix(rgb_[i + 2], c.b, alpha);
 }
 
-void Canvas::line(double x0, double y0, double x1, double y1, Rgb c, double width,
-                  double alpha) {
-  if (!std::isfinite(x0) || !std::isfinite(y0) || !std::isfinite(x1) || !std::isfinite(y1))
-    return;
+void Canvas::line(double x0, double y0, double x1, double y1, Rgb c, double width, double alpha) {
+  if (!std::isfinite(x0) || !std::isfinite(y0) || !std::isfinite(x1) || !std::isfinite(y1)) return;
   const double half = width / 2;
   // Coverage falls from 1 to 0 over the last pixel of the half width: edges are smooth.
   const double reach = half + 0.5;
@@ -175,8 +173,8 @@ void Canvas::text(int x, int y, const std::string& s, Rgb c, int scale, Align al
     const Glyph& g = glyphOf(ch);
     for (int row = 0; row < 7; ++row)
       for (int col = 0; col < 5; ++col)
-        if (g.rows[row][col] == '#') fill(x + col * scale, y + row * scale,
-                                          x + (col + 1) * scale, y + (row + 1) * scale, c);
+        if (g.rows[row][col] == '#')
+          fill(x + col * scale, y + row * scale, x + (col + 1) * scale, y + (row + 1) * scale, c);
     x += 6 * scale;
   }
 }

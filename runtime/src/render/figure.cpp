@@ -21,11 +21,20 @@ std::string escapeXml(const std::string& s) {
   std::string out;
   for (char c : s) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -320,8 +329,8 @@ std::string toSvg(const Figure& f) {
                          p.x + p.width / 2, p.y + p.height + 30 + kSvgFontPx, hex(kInk),
                          escapeXml(p.x_label));
       if (!p.y_label.empty())
-        s += fmt::format("<text x=\"{}\" y=\"{}\" fill=\"{}\">{}</text>\n", p.x, p.y - 8,
-                         hex(kInk), escapeXml(p.y_label));
+        s += fmt::format("<text x=\"{}\" y=\"{}\" fill=\"{}\">{}</text>\n", p.x, p.y - 8, hex(kInk),
+                         escapeXml(p.y_label));
     }
     if (!p.title.empty())
       s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"{}\">{}</text>\n",

@@ -28,14 +28,14 @@ struct Series {
   std::string css_class;  ///< SVG class of the element, so tools and tests can find it
   Kind kind = Kind::Line;
   Rgb color;
-  double width = 2;   ///< line width or dot diameter [px]
-  double alpha = 1;   ///< opacity
+  double width = 2;                     ///< line width or dot diameter [px]
+  double alpha = 1;                     ///< opacity
   std::vector<Eigen::Vector2d> points;  ///< data coordinates
 };
 
 /// A plot area on the figure with its own data range.
 struct Panel {
-  int x = 0, y = 0, width = 0, height = 0;   ///< plot area on the figure [px]
+  int x = 0, y = 0, width = 0, height = 0;            ///< plot area on the figure [px]
   double x_min = 0, x_max = 1, y_min = 0, y_max = 1;  ///< data range shown
   std::string title, x_label, y_label;
   std::vector<std::string> notes;  ///< lines of text in the top-right corner

@@ -66,7 +66,8 @@ GreyRaster readPgm(const std::string& path) {
                                  r.width, r.height, maxval));
   r.pixels.resize(static_cast<size_t>(r.width) * r.height);
   if (magic == "P5") {
-    in.read(reinterpret_cast<char*>(r.pixels.data()), static_cast<std::streamsize>(r.pixels.size()));
+    in.read(reinterpret_cast<char*>(r.pixels.data()),
+            static_cast<std::streamsize>(r.pixels.size()));
     if (in.gcount() != static_cast<std::streamsize>(r.pixels.size()))
       throw InputError("map image '" + path + "': truncated pixel data");
   } else {
@@ -166,8 +167,8 @@ RunData loadRun(const std::string& dir, const RenderOptions& options) {
   run.dir = dir;
   const fs::path d(dir);
   if (!fs::is_directory(d)) throw InputError("'" + dir + "' is not a folder");
-  const fs::path est = options.estimate_file.empty() ? d / "trajectory.tum"
-                                                     : fs::path(options.estimate_file);
+  const fs::path est =
+      options.estimate_file.empty() ? d / "trajectory.tum" : fs::path(options.estimate_file);
   if (!fs::exists(est))
     throw InputError("no trajectory in '" + dir + "': expected " + est.string() +
                      " (what `plugslam run -o DIR` writes)");
@@ -234,8 +235,8 @@ Figure mapFigure(const RunData& run, const RenderOptions& o) {
       const AteResult ate = computeAte(*run.reference, run.estimate, ao);
       const SimilarityTransform& s = ate.transform;
       for (const auto& p : *run.reference) {
-        const Eigen::Vector3d q = s.rotation.transpose() * (p.pose.translation() - s.translation) /
-                                  s.scale;
+        const Eigen::Vector3d q =
+            s.rotation.transpose() * (p.pose.translation() - s.translation) / s.scale;
         ref.push_back(q.head<2>());
       }
       ate_note = fmt::format("ATE RMSE {:.3f} m ({} alignment)", ate.translation.rmse,
@@ -281,25 +282,24 @@ Figure mapFigure(const RunData& run, const RenderOptions& o) {
   f.width = p.x + p.width + kRight;
   f.height = p.y + p.height + kBottom;
   const double path = run.estimate.pathLength();
-  f.title = fmt::format("{}: {} poses, {}, {} local maps, {} loop closures",
-                        fs::path(run.dir).filename().string().empty()
-                            ? run.dir
-                            : fs::path(run.dir).filename().string(),
-                        run.estimate.size(), lengthText(path), run.nodes.size(),
-                        run.loop_ends.size() / 2);
+  f.title = fmt::format(
+      "{}: {} poses, {}, {} local maps, {} loop closures",
+      fs::path(run.dir).filename().string().empty() ? run.dir
+                                                    : fs::path(run.dir).filename().string(),
+      run.estimate.size(), lengthText(path), run.nodes.size(), run.loop_ends.size() / 2);
   if (!ate_note.empty()) p.notes.push_back(ate_note);
   if (!run.loop_ends.empty()) {
     // Thousands of closures would paint the map over: fainter the more there are.
     const double alpha = std::clamp(10.0 / std::sqrt(run.loop_ends.size() / 2.0), 0.12, 0.6);
-    p.series.push_back({"loop closures", "loops", Series::Kind::Segments, kLoop, 1.0, alpha,
-                        run.loop_ends});
+    p.series.push_back(
+        {"loop closures", "loops", Series::Kind::Segments, kLoop, 1.0, alpha, run.loop_ends});
   }
   if (!ref.empty())
-    p.series.push_back({run.reference_path.empty()
-                            ? "reference"
-                            : "reference (" + fs::path(run.reference_path).filename().string() +
-                                  ")",
-                        "reference", Series::Kind::Line, kReference, 2.0, 0.9, ref});
+    p.series.push_back(
+        {run.reference_path.empty()
+             ? "reference"
+             : "reference (" + fs::path(run.reference_path).filename().string() + ")",
+         "reference", Series::Kind::Line, kReference, 2.0, 0.9, ref});
   p.series.push_back({"estimate", "estimate", Series::Kind::Line, kEstimate, 2.0, 1.0, est});
   if (!run.nodes.empty())
     p.series.push_back({"", "nodes", Series::Kind::Points, kNode, 3.0, 0.8, run.nodes});

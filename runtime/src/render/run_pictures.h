@@ -27,11 +27,11 @@ struct RunData {
 
 /// Options of the pictures.
 struct RenderOptions {
-  int width = 1000;                        ///< figure width [px]
-  std::optional<Alignment> alignment;      ///< reference onto estimate; default SE2 / SE3
-  double rpe_delta = 1.0;                  ///< RPE segment length [m]
-  std::string estimate_file;               ///< default: DIR/trajectory.tum
-  std::string reference_file;              ///< default: DIR/reference.tum or ground_truth.tum
+  int width = 1000;                    ///< figure width [px]
+  std::optional<Alignment> alignment;  ///< reference onto estimate; default SE2 / SE3
+  double rpe_delta = 1.0;              ///< RPE segment length [m]
+  std::string estimate_file;           ///< default: DIR/trajectory.tum
+  std::string reference_file;          ///< default: DIR/reference.tum or ground_truth.tum
 };
 
 /// Reads a run's folder; throws InputError naming the file when something is unreadable, and
