@@ -53,6 +53,7 @@ int runCli(int argc, char** argv) {
   addEvalCommand(app, exit_code);
   addOptimizeCommand(app, exit_code);
   addShellCommand(app, exit_code);
+  addRenderCommand(app, exit_code);
 
   app.parse_complete_callback([&] {
     auto console = spdlog::stderr_color_mt("plugslam");
