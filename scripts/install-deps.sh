@@ -9,6 +9,8 @@ PACKAGES=(
   libcli11-dev libnanoflann-dev libgtest-dev libgmock-dev
   zlib1g-dev liblz4-dev libbz2-dev libreadline-dev libpng-dev
   time python3
+  libopencv-core-dev libopencv-imgproc-dev libopencv-features2d-dev libopencv-calib3d-dev
+  libopencv-imgcodecs-dev
   nlohmann-json3-dev libjpeg62-turbo-dev
 )
 missing=()
