@@ -38,7 +38,10 @@ test("the page draws a session fed to it", { skip: missing || false }, async () 
     assert.equal(c.scanPoints, 360);
     // The status panel shows the /status message.
     await page.waitForFunction(() => document.querySelector('[data-status="local_maps"]')?.textContent === "60");
-    // Something is drawn where the robot is: the canvas centre is not the background colour.
+    // Something is drawn where the robot is: without the metre grid, the canvas centre is not
+    // all background colour.
+    await page.evaluate(() => (window.plugslamView.view.grid.visible = false));
+    await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
     const drawn = await page.evaluate(() => {
       const canvas = document.getElementById("view");
       const gl = canvas.getContext("webgl2") || canvas.getContext("webgl");
