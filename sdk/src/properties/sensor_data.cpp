@@ -7,68 +7,11 @@
 #include <string>
 
 #include "plugslam/archive.h"
+#include "properties/base64.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
 namespace {
-
-const char kBase64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-
-// Pixels travel as base64 text: the archive has no byte blob, and a string is compact in the
-// binary back-end and valid UTF-8 in the text one.
-std::string toBase64(const uint8_t* p, size_t n) {
-  std::string out;
-  out.reserve((n + 2) / 3 * 4);
-  size_t i = 0;
-  for (; i + 2 < n; i += 3) {
-    const uint32_t v = (uint32_t(p[i]) << 16) | (uint32_t(p[i + 1]) << 8) | p[i + 2];
-    out += kBase64[v >> 18];
-    out += kBase64[(v >> 12) & 63];
-    out += kBase64[(v >> 6) & 63];
-    out += kBase64[v & 63];
-  }
-  if (i < n) {
-    uint32_t v = uint32_t(p[i]) << 16;
-    if (i + 1 < n) v |= uint32_t(p[i + 1]) << 8;
-    out += kBase64[v >> 18];
-    out += kBase64[(v >> 12) & 63];
-    out += i + 1 < n ? kBase64[(v >> 6) & 63] : '=';
-    out += '=';
-  }
-  return out;
-}
-
-// Decodes into `out`; false on a character outside the alphabet or a bad length.
-bool fromBase64(const std::string& s, std::vector<uint8_t>& out) {
-  int8_t value[256];
-  std::memset(value, -1, sizeof(value));
-  for (int i = 0; i < 64; ++i)
-    value[static_cast<unsigned char>(kBase64[i])] = static_cast<int8_t>(i);
-  if (s.size() % 4 != 0) return false;
-  out.clear();
-  out.reserve(s.size() / 4 * 3);
-  for (size_t i = 0; i < s.size(); i += 4) {
-    const bool last = i + 4 == s.size();
-    int pad = 0;
-    uint32_t v = 0;
-    for (int k = 0; k < 4; ++k) {
-      const char c = s[i + k];
-      if (c == '=' && last && k >= 2) {
-        ++pad;
-        v <<= 6;
-        continue;
-      }
-      if (pad > 0) return false;
-      const int8_t d = value[static_cast<unsigned char>(c)];
-      if (d < 0) return false;
-      v = (v << 6) | static_cast<uint32_t>(d);
-    }
-    out.push_back(static_cast<uint8_t>(v >> 16));
-    if (pad < 2) out.push_back(static_cast<uint8_t>((v >> 8) & 255));
-    if (pad < 1) out.push_back(static_cast<uint8_t>(v & 255));
-  }
-  return true;
-}
 
 constexpr int kMaxSide = 1 << 16;
 
@@ -259,7 +202,7 @@ void load(InArchive& ar, CameraInfo& c) {
 void save(OutArchive& ar, const Image& im) {
   ar.beginObject();
   imageHeader(ar, im);
-  ar.field("data", toBase64(im.data.data(), im.data.size()));
+  ar.field("data", detail::toBase64(im.data.data(), im.data.size()));
   ar.endObject();
 }
 
@@ -271,7 +214,7 @@ void load(InArchive& ar, Image& im) {
   if (im.stride < im.width * im.channels) ar.fail("image stride must be >= width * channels");
   std::string text;
   ar.field("data", text);
-  if (!fromBase64(text, im.data)) ar.fail("image data is not valid base64");
+  if (!detail::fromBase64(text, im.data)) ar.fail("image data is not valid base64");
   if (im.data.size() != static_cast<size_t>(im.stride) * static_cast<size_t>(im.height))
     ar.fail("image data holds " + std::to_string(im.data.size()) +
             " bytes, expected stride * height = " +
@@ -288,7 +231,7 @@ void save(OutArchive& ar, const DepthImage& d) {
     std::memcpy(&bits, &d.data[i], 4);
     for (int k = 0; k < 4; ++k) bytes[4 * i + k] = static_cast<uint8_t>(bits >> (8 * k));
   }
-  ar.field("data", toBase64(bytes.data(), bytes.size()));
+  ar.field("data", detail::toBase64(bytes.data(), bytes.size()));
   ar.endObject();
 }
 
@@ -299,7 +242,7 @@ void load(InArchive& ar, DepthImage& d) {
   std::string text;
   ar.field("data", text);
   std::vector<uint8_t> bytes;
-  if (!fromBase64(text, bytes)) ar.fail("depth data is not valid base64");
+  if (!detail::fromBase64(text, bytes)) ar.fail("depth data is not valid base64");
   const size_t n = static_cast<size_t>(d.width) * static_cast<size_t>(d.height);
   if (bytes.size() != 4 * n)
     ar.fail("depth data holds " + std::to_string(bytes.size()) +
