@@ -1,8 +1,9 @@
-// PNG / JPEG image and 16-bit PNG depth decoding (readers/image_file). The first byte picks the
+// PNG / JPEG image and 16-bit PNG depth decoding (images/image_file, images/png). The first byte picks the
 // decoder: 0 as stored, 1 grey, 2 RGB, 3 depth; the rest is the file.
 #include "fuzz_common.h"
 #include "plugslam/errors.h"
-#include "readers/image_file.h"
+#include "images/image_file.h"
+#include "images/png.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;

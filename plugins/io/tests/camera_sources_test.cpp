@@ -11,7 +11,7 @@
 #include "camera_fixtures.h"
 #include "plugslam/errors.h"
 #include "plugslam/trajectory.h"
-#include "readers/image_file.h"
+#include "images/image_file.h"
 #include "sources/euroc_source.h"
 #include "sources/kitti_raw_source.h"
 #include "sources/kitti_source.h"

@@ -1,6 +1,6 @@
 // PNG and JPEG decoding for the camera sources: layouts, conversions, depth units, and every
 // kind of bad file giving a ParseError that names it.
-#include "readers/image_file.h"
+#include "images/image_file.h"
 
 #include <gtest/gtest.h>
 

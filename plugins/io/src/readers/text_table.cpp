@@ -6,7 +6,7 @@
 #include <cstring>
 
 #include "plugslam/errors.h"
-#include "readers/image_file.h"
+#include "images/image_file.h"
 
 namespace plugslam {
 namespace io {

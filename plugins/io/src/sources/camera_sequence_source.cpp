@@ -7,7 +7,7 @@
 #include <set>
 
 #include "plugslam/errors.h"
-#include "readers/image_file.h"
+#include "images/image_file.h"
 
 namespace plugslam {
 namespace io {

@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "plugslam/errors.h"
-#include "readers/image_file.h"
+#include "images/image_file.h"
 #include "readers/kitti_files.h"
 
 namespace plugslam {

@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "plugslam/errors.h"
-#include "readers/image_file.h"
+#include "images/image_file.h"
 #include "readers/text_table.h"
 #include "readers/tum_files.h"
 

@@ -1,7 +1,7 @@
 #pragma once
-// Image files of camera datasets: PNG (libpng) and JPEG (libjpeg-turbo) colour or grey images,
-// and 16-bit PNG depth images. Decoding works on bytes in memory, so the fuzz targets reach it
-// without files; the file functions read the whole file first.
+// Image files of camera datasets: PNG (images/png.h) and JPEG (images/jpeg.h) colour or grey
+// images, and 16-bit PNG depth images. Decoding works on bytes in memory, so the fuzz targets
+// reach it without files; the file functions read the whole file first.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -22,21 +22,19 @@ enum class ImageChannels {
 /// Largest image accepted, in pixels (a corrupt header must not ask for gigabytes).
 constexpr std::size_t kMaxImagePixels = std::size_t{1} << 26;
 
+/// ParseError(name) unless width x height is a non-empty image of at most kMaxImagePixels.
+void checkImageSize(const std::string& name, std::size_t width, std::size_t height);
+
 /// Decodes a PNG or a JPEG (told apart by their signatures); `name` appears in messages. Throws
 /// ParseError(name) when the bytes are not a complete, valid image of either kind.
 Image decodeImage(const std::uint8_t* data, std::size_t size, const std::string& name,
                   ImageChannels channels = ImageChannels::kAsStored);
-/// Decodes a 16-bit single-channel PNG whose values are depths in 1/units_per_metre metres;
-/// 0 and 65535 (the "no reading" codes of TUM, 7-Scenes and the Kinect drivers) become 0.
-/// Throws ParseError(name) for anything else (8-bit or colour PNGs included).
-DepthImage decodeDepthPng(const std::uint8_t* data, std::size_t size, const std::string& name,
-                          double units_per_metre);
 
 /// Reads a whole file; InputError naming it when it is missing or cannot be read.
 std::vector<std::uint8_t> readFileBytes(const std::string& path);
 /// readFileBytes + decodeImage.
 Image readImageFile(const std::string& path, ImageChannels channels = ImageChannels::kAsStored);
-/// readFileBytes + decodeDepthPng.
+/// readFileBytes + decodeDepthPng (images/png.h).
 DepthImage readDepthFile(const std::string& path, double units_per_metre);
 
 }  // namespace io
