@@ -525,6 +525,35 @@ TEST(RgbdFolderSource, PoseListOfAnotherLengthIsAnError) {
   EXPECT_TRUE(contains(e, "1 poses for 2 colour images")) << e;
 }
 
+TEST(RgbdFolderSource, MissingDepthImageStopsOrIsSkipped) {
+  TempFolder tmp;
+  const std::string dir = tmp / "icl";
+  for (int n = 1; n <= 3; ++n) {
+    testing::writePatternPng(dir + "/color/" + std::to_string(n) + ".png", 4, 4, 3, n);
+    if (n != 1) testing::writeDepthPng(dir + "/depth/" + std::to_string(n) + ".png", 4, 4, 100);
+  }
+  testing::writeText(dir + "/pose.txt", "0 0 0 0 0 0 1\n1 0 0 0 0 0 1\n2 0 0 0 0 0 1\n");
+  RgbdFolderSource strict;
+  strict.path = dir;
+  strict.fx = 400;
+  strict.fy = 400;
+  // The calibration comes from the first frame that has depth; frame 0's is missing.
+  const std::string e = inputErrorOf([&] { readAll(strict); });
+  EXPECT_TRUE(contains(e, "depth/1.png")) << e;
+  EXPECT_TRUE(contains(e, "frame 0 of 3")) << e;
+
+  RgbdFolderSource skip;
+  skip.path = dir;
+  skip.fx = 400;
+  skip.fy = 400;
+  skip.on_error = std::string("skip");
+  const auto frames = readAll(skip);
+  ASSERT_EQ(frames.size(), 2u);
+  // The others keep their stamps (k / rate) and their lines of pose.txt.
+  EXPECT_NEAR(frames[0].stamp, 1 / 30.0, 1e-12);
+  EXPECT_NEAR(frames[1].raw.get<Eigen::Isometry3d>("ground_truth").translation().x(), 2.0, 1e-12);
+}
+
 // Back-projects frame a's depth through the source's pinhole and ground truth into frame b and
 // returns the median |predicted z - measured z| over the pixels that land on a reading of b.
 double depthConsistency(const Frame& a, const Frame& b, const CameraInfo& c, int* count) {

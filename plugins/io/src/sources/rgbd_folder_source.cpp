@@ -1,7 +1,5 @@
 #include "sources/rgbd_folder_source.h"
 
-#include <spdlog/spdlog.h>
-
 #include <filesystem>
 #include <map>
 
@@ -21,23 +19,22 @@ std::size_t RgbdFolderSource::index() {
   const auto colour = listNumberedFiles(cdir.string(), colour_extension());
   std::map<int64_t, std::string> depth;
   for (const auto& f : listNumberedFiles(ddir.string(), ".png")) depth[f.number] = f.name;
+  // Every colour image is a frame: one whose depth image is missing is a bad frame (an error
+  // naming the file and frame, or skipped with on_error: skip), as a missing image of the other
+  // layouts is, and the pose list stays one line per colour image.
   pairs_.clear();
-  std::size_t lonely = 0;
+  const Pair* calibrated = nullptr;
   for (const auto& f : colour) {
     auto it = depth.find(f.number);
-    if (it == depth.end()) {
-      ++lonely;
-      continue;
-    }
-    pairs_.push_back({(cdir / f.name).string(), (ddir / it->second).string()});
+    const std::string d = it != depth.end() ? it->second : std::to_string(f.number) + ".png";
+    pairs_.push_back({(cdir / f.name).string(), (ddir / d).string()});
   }
-  if (pairs_.empty())
+  for (const auto& p : pairs_)
+    if (!calibrated && fs::is_regular_file(p.depth)) calibrated = &p;
+  if (!calibrated)
     throw InputError(describe() + ": no colour image in '" + cdir.string() +
                      "' has a depth image of the same number in '" + ddir.string() + "'");
-  if (lonely > 0)
-    spdlog::warn("{}: {} colour image(s) without a depth image of the same number (not used)",
-                 describe(), lonely);
-  setCalibration(dir.string(), pairs_.front().rgb, pairs_.front().depth);
+  setCalibration(dir.string(), calibrated->rgb, calibrated->depth);
 
   poses_.clear();
   std::error_code ec;
@@ -50,11 +47,6 @@ std::size_t RgbdFolderSource::index() {
                          "has " + std::to_string(poses_.size()) + " poses for " +
                              std::to_string(colour.size()) +
                              " colour images: the list holds one line per image, in number order");
-      // Keep the poses of the frames that have depth, in the same order.
-      std::vector<Eigen::Isometry3d> kept;
-      for (std::size_t k = 0; k < colour.size(); ++k)
-        if (depth.count(colour[k].number)) kept.push_back(poses_[k]);
-      poses_ = std::move(kept);
     } else if (poses.isSet()) {
       throw InputError(describe() + ": no pose list '" + file.string() + "'");
     }
