@@ -60,17 +60,17 @@ bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
 }
 
-struct Run {
+struct CliRun {
   int code = -1;
   std::string out;   // stdout + stderr
   fs::path out_dir;  // -o
 };
 
 // `plugslam run` of a config whose source is `source` (a YAML flow map), with --set arguments.
-Run plugslam(const TempDir& tmp, const std::string& source, const std::vector<std::string>& sets) {
+CliRun plugslam(const TempDir& tmp, const std::string& source, const std::vector<std::string>& sets) {
   const fs::path config = tmp.path / "run.yaml";
   writeText(config, "plugins: [io]\nsource: " + source + "\n");
-  Run r;
+  CliRun r;
   r.out_dir = tmp.path / "out";
   std::string cmd = "'" + plugslam::testing::buildDir() + "/bin/plugslam' run '" + config.string() +
                     "' -o '" + r.out_dir.string() + "'";
@@ -144,7 +144,7 @@ const char* kKittiData = "stereo/kitti00-first5-srrg2";
 TEST(CameraDatasets, KittiOdometryReadsEveryPairWithItsTimesAndPoses) {
   SKIP_WITHOUT(kKittiData);
   TempDir tmp;
-  const Run r = plugslam(tmp, kKitti, {"source.path=" + data(kKittiData)});
+  const CliRun r = plugslam(tmp, kKitti, {"source.path=" + data(kKittiData)});
   ASSERT_EQ(r.code, 0) << r.out;
   const Trajectory ref = readTumTrajectory((r.out_dir / "reference.tum").string());
   const std::vector<double> times = firstColumn(data(kKittiData) + "/times.txt");
@@ -162,7 +162,7 @@ TEST(CameraDatasets, KittiCutIsIndexedByTheImageNumber) {
   mirror(data(kKittiData), cut);
   for (const char* cam : {"image_0", "image_1"})
     for (const char* n : {"000000.png", "000001.png"}) fs::remove(cut / cam / n);
-  const Run r = plugslam(tmp, kKitti, {"source.path=" + cut.string()});
+  const CliRun r = plugslam(tmp, kKitti, {"source.path=" + cut.string()});
   ASSERT_EQ(r.code, 0) << r.out;
   const Trajectory ref = readTumTrajectory((r.out_dir / "reference.tum").string());
   const std::vector<double> times = firstColumn(data(kKittiData) + "/times.txt");
@@ -178,13 +178,13 @@ TEST(CameraDatasets, KittiTruncatedImageNamesFileAndFrameOrIsSkipped) {
   const fs::path copy = tmp.path / "00";
   mirror(data(kKittiData), copy);
   replace(copy / "image_1/000003.png", truncated(data(kKittiData) + "/image_1/000003.png", 4000));
-  const Run strict = plugslam(tmp, kKitti, {"source.path=" + copy.string()});
+  const CliRun strict = plugslam(tmp, kKitti, {"source.path=" + copy.string()});
   EXPECT_EQ(strict.code, 2) << strict.out;
   EXPECT_TRUE(contains(strict.out, "frame 3 of 5")) << strict.out;
   EXPECT_TRUE(contains(strict.out, "image_1/000003.png")) << strict.out;
 
   TempDir tmp2;
-  const Run skip =
+  const CliRun skip =
       plugslam(tmp2, kKitti, {"source.path=" + copy.string(), "source.on_error=skip"});
   ASSERT_EQ(skip.code, 0) << skip.out;
   EXPECT_TRUE(contains(skip.out, "image_1/000003.png")) << skip.out;
@@ -200,7 +200,7 @@ TEST(CameraDatasets, KittiMissingImageNamesFileAndFrame) {
   const fs::path copy = tmp.path / "00";
   mirror(data(kKittiData), copy);
   fs::remove(copy / "image_1/000002.png");
-  const Run r = plugslam(tmp, kKitti, {"source.path=" + copy.string()});
+  const CliRun r = plugslam(tmp, kKitti, {"source.path=" + copy.string()});
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_TRUE(contains(r.out, "frame 2 of 5")) << r.out;
   EXPECT_TRUE(contains(r.out, "image_1/000002.png")) << r.out;
@@ -212,7 +212,7 @@ TEST(CameraDatasets, KittiCalibrationWithoutP1NamesFileAndKey) {
   const fs::path copy = tmp.path / "00";
   mirror(data(kKittiData), copy);
   replace(copy / "calib.txt", withoutLines(data(kKittiData) + "/calib.txt", "P1:"));
-  const Run r = plugslam(tmp, kKitti, {"source.path=" + copy.string()});
+  const CliRun r = plugslam(tmp, kKitti, {"source.path=" + copy.string()});
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_TRUE(contains(r.out, "calib.txt")) << r.out;
   EXPECT_TRUE(contains(r.out, "P1")) << r.out;
@@ -225,7 +225,7 @@ const char* kKittiRawData = "stereo/kitti-raw-0001-stereo-soft";
 TEST(CameraDatasets, KittiRawReadsEveryPair) {
   SKIP_WITHOUT(kKittiRawData);
   TempDir tmp;
-  const Run r = plugslam(tmp, "{type: io.KittiRawSource, path: unset}",
+  const CliRun r = plugslam(tmp, "{type: io.KittiRawSource, path: unset}",
                          {"source.path=" + data(kKittiRawData)});
   ASSERT_EQ(r.code, 0) << r.out;
   // KITTI raw has no camera poses: no reference, and every pair read.
@@ -241,7 +241,7 @@ TEST(CameraDatasets, KittiRawCalibrationWithoutPRect01NamesFileAndKey) {
   mirror(data(kKittiRawData), copy);
   replace(copy / "calib_cam_to_cam.txt",
           withoutLines(data(kKittiRawData) + "/calib_cam_to_cam.txt", "P_rect_01:"));
-  const Run r = plugslam(tmp, "{type: io.KittiRawSource, path: unset}",
+  const CliRun r = plugslam(tmp, "{type: io.KittiRawSource, path: unset}",
                          {"source.path=" + copy.string()});
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_TRUE(contains(r.out, "calib_cam_to_cam.txt")) << r.out;
@@ -255,7 +255,7 @@ const char* kEurocData = "stereo/euroc-v101-static-kimera";
 TEST(CameraDatasets, EurocReadsEveryPairWithTheGroundTruthRows) {
   SKIP_WITHOUT(kEurocData);
   TempDir tmp;
-  const Run r = plugslam(tmp, "{type: io.EurocSource, path: unset}",
+  const CliRun r = plugslam(tmp, "{type: io.EurocSource, path: unset}",
                          {"source.path=" + data(kEurocData),
                           "source.ground_truth_file=" + data(kEurocData) + "/V101_GT_rows.txt"});
   ASSERT_EQ(r.code, 0) << r.out;
@@ -280,7 +280,7 @@ TEST(CameraDatasets, EurocSensorYamlWithoutIntrinsicsNamesFileAndKey) {
   mirror(data(kEurocData), copy);
   replace(copy / "mav0/cam1/sensor.yaml",
           withoutLines(data(kEurocData) + "/mav0/cam1/sensor.yaml", "intrinsics:"));
-  const Run r = plugslam(tmp, "{type: io.EurocSource, path: unset}", {"source.path=" + copy.string()});
+  const CliRun r = plugslam(tmp, "{type: io.EurocSource, path: unset}", {"source.path=" + copy.string()});
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_TRUE(contains(r.out, "cam1/sensor.yaml")) << r.out;
   EXPECT_TRUE(contains(r.out, "intrinsics")) << r.out;
@@ -291,19 +291,23 @@ TEST(CameraDatasets, EurocCorruptImageNamesFileAndFrame) {
   TempDir tmp;
   const fs::path copy = tmp.path / "V101";
   mirror(data(kEurocData), copy);
-  const std::vector<double> images = firstColumn(data(kEurocData) + "/mav0/cam0/data.csv");
-  // Frame 40's left image: its bytes past the header overwritten (a flipped disk block).
-  char name[32];
-  std::snprintf(name, sizeof name, "%.0f.png", images[40]);
+  // Frame 40's left image (data.csv row 40; stamps have 19 digits: read the name as text):
+  // its bytes past the header overwritten (a flipped disk block).
+  std::istringstream csv(slurp(data(kEurocData) + "/mav0/cam0/data.csv"));
+  std::string line, name;
+  for (int row = -1; row < 40 && std::getline(csv, line);)
+    if (!line.empty() && line[0] != '#') ++row;
+  name = line.substr(line.find(',') + 1);
+  while (!name.empty() && (name.back() == '\r' || name.back() == ' ')) name.pop_back();
   const fs::path real = data(kEurocData) + "/mav0/cam0/data/" + name;
   ASSERT_TRUE(fs::exists(real)) << real;
   std::string bytes = slurp(real);
   for (size_t i = 100; i < bytes.size(); i += 7) bytes[i] = static_cast<char>(0x5a);
   replace(copy / "mav0/cam0/data" / name, bytes);
-  const Run r = plugslam(tmp, "{type: io.EurocSource, path: unset}", {"source.path=" + copy.string()});
+  const CliRun r = plugslam(tmp, "{type: io.EurocSource, path: unset}", {"source.path=" + copy.string()});
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_TRUE(contains(r.out, "frame 40 of 95")) << r.out;
-  EXPECT_TRUE(contains(r.out, std::string("cam0/data/") + name)) << r.out;
+  EXPECT_TRUE(contains(r.out, "cam0/data/" + name)) << r.out;
 }
 
 // ---- TUM RGB-D layout: 7-Scenes indexed as TUM ---------------------------------------------
@@ -316,7 +320,7 @@ const char* kSevenScenesData = "rgbd/7scenes-300frames-tsdf-fusion";
 TEST(CameraDatasets, SevenScenesReadsEveryFrameWithItsStampsAndPoses) {
   SKIP_WITHOUT(kSevenScenesData);
   TempDir tmp;
-  const Run r = plugslam(tmp, kSevenScenes, {"source.path=" + data(kSevenScenesData)});
+  const CliRun r = plugslam(tmp, kSevenScenes, {"source.path=" + data(kSevenScenesData)});
   ASSERT_EQ(r.code, 0) << r.out;
   const Trajectory ref = readTumTrajectory((r.out_dir / "reference.tum").string());
   expectStamps(ref, firstColumn(data(kSevenScenesData) + "/rgb.txt"));
@@ -335,7 +339,7 @@ TEST(CameraDatasets, SevenScenesDepthOfTheWrongSizeNamesFileAndFrame) {
   const fs::path depth = copy / "frame-000010.depth.png";
   fs::remove(depth);
   io::writePng16(depth.string(), 320, 240, std::vector<uint16_t>(320 * 240, 1500));
-  const Run r = plugslam(tmp, kSevenScenes, {"source.path=" + copy.string()});
+  const CliRun r = plugslam(tmp, kSevenScenes, {"source.path=" + copy.string()});
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_TRUE(contains(r.out, "frame 10 of 300")) << r.out;
   EXPECT_TRUE(contains(r.out, "frame-000010.depth.png")) << r.out;
@@ -349,7 +353,7 @@ TEST(CameraDatasets, SevenScenesTruncatedJpegNamesFileAndFrame) {
   mirror(data(kSevenScenesData), copy);
   replace(copy / "frame-000123.color.jpg",
           truncated(data(kSevenScenesData) + "/frame-000123.color.jpg", 20000));
-  const Run r = plugslam(tmp, kSevenScenes, {"source.path=" + copy.string()});
+  const CliRun r = plugslam(tmp, kSevenScenes, {"source.path=" + copy.string()});
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_TRUE(contains(r.out, "frame 123 of 300")) << r.out;
   EXPECT_TRUE(contains(r.out, "frame-000123.color.jpg")) << r.out;
@@ -366,7 +370,7 @@ TEST(CameraDatasets, SevenScenesIntrinsicsFileCutShortIsNamed) {
   std::getline(in, a);
   std::getline(in, b);
   replace(copy / "camera-intrinsics.txt", a + "\n" + b + "\n");
-  const Run r = plugslam(tmp, kSevenScenes, {"source.path=" + copy.string()});
+  const CliRun r = plugslam(tmp, kSevenScenes, {"source.path=" + copy.string()});
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_TRUE(contains(r.out, "camera-intrinsics.txt")) << r.out;
 }
@@ -381,7 +385,7 @@ const char* kIclData = "rgbd/icl-5frames-slambook2";
 TEST(CameraDatasets, IclFolderReadsEveryFrameWithItsPoses) {
   SKIP_WITHOUT(kIclData);
   TempDir tmp;
-  const Run r = plugslam(tmp, kIcl, {"source.path=" + data(kIclData)});
+  const CliRun r = plugslam(tmp, kIcl, {"source.path=" + data(kIclData)});
   ASSERT_EQ(r.code, 0) << r.out;
   const Trajectory ref = readTumTrajectory((r.out_dir / "reference.tum").string());
   // Frames k = 0..4 at k / 30 s (the folder has no times; ICL-NUIM renders 30 Hz).
@@ -405,14 +409,14 @@ TEST(CameraDatasets, IclMissingDepthNamesFileAndFrame) {
   const fs::path copy = tmp.path / "icl";
   mirror(data(kIclData), copy);
   fs::remove(copy / "depth/4.png");
-  const Run strict = plugslam(tmp, kIcl, {"source.path=" + copy.string()});
+  const CliRun strict = plugslam(tmp, kIcl, {"source.path=" + copy.string()});
   EXPECT_EQ(strict.code, 2) << strict.out;
   EXPECT_TRUE(contains(strict.out, "frame 3 of 5")) << strict.out;
   EXPECT_TRUE(contains(strict.out, "depth/4.png")) << strict.out;
 
   // Skipped: the other four frames keep their stamps and their lines of pose.txt.
   TempDir tmp2;
-  const Run skip = plugslam(tmp2, kIcl, {"source.path=" + copy.string(), "source.on_error=skip"});
+  const CliRun skip = plugslam(tmp2, kIcl, {"source.path=" + copy.string(), "source.on_error=skip"});
   ASSERT_EQ(skip.code, 0) << skip.out;
   const Trajectory ref = readTumTrajectory((skip.out_dir / "reference.tum").string());
   expectStamps(ref, {0.0, 1 / 30.0, 2 / 30.0, 4 / 30.0});
