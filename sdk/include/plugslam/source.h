@@ -1,8 +1,11 @@
 #pragma once
-// Source: where frames come from (dataset readers, simulators).
+// Source: where frames come from (dataset readers, simulators). A source may declare the raw
+// entries it writes (Output<T>, Container::raw); one that declares any is taken to declare all,
+// and the builder then checks every raw entry the pipeline reads against them.
 #include <cstdint>
 
 #include "plugslam/configurable.h"
+#include "plugslam/entry.h"
 #include "plugslam/frame.h"
 
 namespace plugslam {
