@@ -17,5 +17,6 @@ void addRunCommand(CLI::App& root, int& exit_code);
 void addEvalCommand(CLI::App& root, int& exit_code);
 void addOptimizeCommand(CLI::App& root, int& exit_code);
 void addShellCommand(CLI::App& root, int& exit_code);
+void addRenderCommand(CLI::App& root, int& exit_code);
 
 }  // namespace plugslam::runtime

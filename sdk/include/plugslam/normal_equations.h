@@ -3,6 +3,9 @@
 // every aligner slice adds its factors: NormalEquations::add takes a typed factor (error
 // dimension and Jacobian size fixed at compile time, see solver/registration_factors.h), applies
 // the slice's robust kernel and counts inliers. Nothing is allocated per factor.
+// A typed factor F has `using Space` (Space2D/3D), `kErrorDim`, `Error` (E x 1), `Jacobian`
+// (E x dof), `Error error(T)` and `errorAndJacobian(T, e, J)`; the latter may return bool, false
+// when the factor does not apply at T (a landmark behind the camera): add() then adds nothing.
 #include <Eigen/Core>
 #include <cmath>
 #include <cstddef>
@@ -21,8 +24,10 @@ struct Robust {
   /// Kernel on each factor's squared Mahalanobis error (nullptr: plain least squares).
   const RobustKernel* kernel = nullptr;
   /// A factor whose error has at most this Euclidean norm (in the error's own units, before the
-  /// information) is an inlier.
+  /// information) is an inlier...
   double inlier_bound = std::numeric_limits<double>::infinity();
+  /// ...and whose squared Mahalanobis error is at most this (e.g. a chi-square quantile).
+  double inlier_chi2 = std::numeric_limits<double>::infinity();
 };
 
 /// Sees every factor added to NormalEquations (tests run checkJacobian on each).
@@ -63,12 +68,13 @@ struct NormalEquations {
   }
 
   /// Adds factor F at estimate t with isotropic information (1 / sigma^2 on every component).
+  /// Returns false when the factor does not apply at t (nothing added).
   template <class F>
-  void add(const F& factor, const Pose& t, double information, const Robust& robust = {}) {
+  bool add(const F& factor, const Pose& t, double information, const Robust& robust = {}) {
     static_assert(std::is_same_v<typename F::Space, S>, "a factor of another pose space");
     typename F::Error e;
     typename F::Jacobian j;
-    factor.errorAndJacobian(t, e, j);
+    if (!evaluate(factor, t, e, j)) return false;
     double norm, w;
     if constexpr (F::kErrorDim == 1) {
       norm = std::abs(e[0]);
@@ -84,29 +90,65 @@ struct NormalEquations {
     }
     if (observer)
       observe(factor, t, Information<F::kErrorDim>::Identity() * information);
+    return true;
   }
 
-  /// Adds factor F at estimate t with a full information matrix.
+  /// Adds factor F at estimate t with a full information matrix. Returns false when the factor
+  /// does not apply at t.
   template <class F>
-  void add(const F& factor, const Pose& t, const Information<F::kErrorDim>& information,
+  bool add(const F& factor, const Pose& t, const Information<F::kErrorDim>& information,
            const Robust& robust = {}) {
     static_assert(std::is_same_v<typename F::Space, S>, "a factor of another pose space");
     typename F::Error e;
     typename F::Jacobian j;
-    factor.errorAndJacobian(t, e, j);
+    if (!evaluate(factor, t, e, j)) return false;
     const Eigen::Matrix<double, S::kDof, F::kErrorDim> jt_omega = j.transpose() * information;
     const double w = weight(e.dot(information * e), std::sqrt(e.squaredNorm()), robust);
     // Without a kernel w is exactly 1: the sums are the plain J^T Omega J and J^T Omega e.
     H += w * (jt_omega * j);
     b += w * (jt_omega * e);
     if (observer) observe(factor, t, information);
+    return true;
+  }
+
+  /// Adds factor F at estimate t with a diagonal information matrix (one 1 / sigma^2 per error
+  /// component; a zero gives that component no weight). Returns false when the factor does not
+  /// apply at t.
+  template <class F>
+  bool addDiagonal(const F& factor, const Pose& t,
+                   const Eigen::Matrix<double, F::kErrorDim, 1>& information,
+                   const Robust& robust = {}) {
+    static_assert(std::is_same_v<typename F::Space, S>, "a factor of another pose space");
+    typename F::Error e;
+    typename F::Jacobian j;
+    if (!evaluate(factor, t, e, j)) return false;
+    const double w =
+        weight(e.dot(information.cwiseProduct(e)), std::sqrt(e.squaredNorm()), robust);
+    const Eigen::Matrix<double, S::kDof, F::kErrorDim> jt_w =
+        j.transpose() * (w * information).asDiagonal();
+    H.noalias() += jt_w * j;
+    b.noalias() += jt_w * e;
+    if (observer) observe(factor, t, Information<F::kErrorDim>(information.asDiagonal()));
+    return true;
   }
 
  private:
+  // The factor's error and Jacobian at t; false when it does not apply there.
+  template <class F>
+  static bool evaluate(const F& factor, const Pose& t, typename F::Error& e,
+                       typename F::Jacobian& j) {
+    if constexpr (std::is_same_v<decltype(factor.errorAndJacobian(t, e, j)), bool>) {
+      return factor.errorAndJacobian(t, e, j);
+    } else {
+      factor.errorAndJacobian(t, e, j);
+      return true;
+    }
+  }
+
   // Counts the factor and adds its robust cost; returns the IRLS weight rho'(s).
   double weight(double s, double norm, const Robust& robust) {
     ++factors;
-    if (norm <= robust.inlier_bound) ++inliers;
+    if (norm <= robust.inlier_bound && s <= robust.inlier_chi2) ++inliers;
     if (!robust.kernel) {
       chi2 += s;
       return 1.0;

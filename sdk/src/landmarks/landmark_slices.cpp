@@ -1,0 +1,194 @@
+#include "plugslam/landmarks/landmark_slices.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+
+#include "plugslam/landmarks/observation_factor.h"
+
+namespace plugslam {
+inline namespace abi_v1 {
+
+namespace {
+// Chi-square 95 % quantiles: the inlier band of a residual with 2 (no depth) or 3 dimensions.
+constexpr double kInlierChi2[4] = {0.0, 3.841, 5.991, 7.815};
+
+// Columns of the SE3 tangent (x, y, z, rx, ry, rz) a pose space moves: all six in 3D, (x, y, rz)
+// for a planar robot (its tangent is (x, y, theta)).
+template <class S>
+typename Eigen::Matrix<double, 3, S::kDof> restrictJacobian(const Eigen::Matrix<double, 3, 6>& j) {
+  if constexpr (S::kDim == 3) {
+    return j;
+  } else {
+    Eigen::Matrix<double, 3, 3> out;
+    out.col(0) = j.col(0);
+    out.col(1) = j.col(1);
+    out.col(2) = j.col(5);
+    return out;
+  }
+}
+}  // namespace
+
+template <class S>
+typename LandmarkReprojection<S>::Error LandmarkReprojection<S>::error(
+    const typename S::Pose& t) const {
+  Error e = Error::Zero();
+  observationError(S::to3D(t), mount, camera, point, measured, e, nullptr, nullptr);
+  return e;
+}
+
+template <class S>
+bool LandmarkReprojection<S>::errorAndJacobian(const typename S::Pose& t, Error& e,
+                                               Jacobian& j) const {
+  Eigen::Matrix<double, 3, 6> jp;
+  if (!observationError(S::to3D(t), mount, camera, point, measured, e, &jp, nullptr)) return false;
+  j = restrictJacobian<S>(jp);
+  return true;
+}
+
+template <class S>
+ReprojectionSlice<S>::ReprojectionSlice() = default;
+template <class S>
+ReprojectionSlice<S>::~ReprojectionSlice() = default;
+
+template <class S>
+void ReprojectionSlice<S>::configure() {
+  if (refine_radius() > search_radius())
+    throw ParamError("refine_radius", "must not exceed search_radius (" +
+                                          std::to_string(search_radius()) + " px)");
+  kernel_.reset();
+  if (kernel() != "none") kernel_ = makeRobustKernel(kernel(), kernel_scale());
+  made_kernel_ = kernel();
+  made_scale_ = kernel_scale();
+}
+
+template <class S>
+bool ReprojectionSlice<S>::prepare(const AlignContext<S>&) {
+  if (kernel() != made_kernel_ || kernel_scale() != made_scale_) configure();
+  matches_.clear();
+  round_ = 0;
+  if (measurement->empty() || scene->empty()) return false;
+  measurement->checkConsistent();
+  scene->checkConsistent();
+  grid_.build(*measurement);
+  return true;
+}
+
+template <class S>
+void ReprojectionSlice<S>::associate(const Pose& t) {
+  matches_.clear();
+  if (!measurement.bound() || !scene.bound()) return;
+  AssociationOptions o;
+  // Each round starts nearer the solution: the radius halves down to refine_radius.
+  o.radius = std::max(refine_radius(), search_radius() / static_cast<double>(1 << std::min(round_, 20)));
+  o.max_hamming = max_hamming();
+  o.ratio = ratio();
+  ++round_;
+  grid_.associate(*scene, S::to3D(t) * measurement->mount, o, matches_);
+}
+
+template <class S>
+void ReprojectionSlice<S>::linearize(const Pose& t, NormalEquations<S>& eq) const {
+  if (!measurement.bound() || !scene.bound()) return;
+  const FeatureSet& f = *measurement;
+  eq.candidates += f.size();
+  for (const LandmarkMatch& m : matches_) {
+    const size_t i = static_cast<size_t>(m.feature);
+    const bool depth = use_depth() && f.hasDepth(i);
+    const double wp = 1.0 / (f.pixel_sigma[i] * f.pixel_sigma[i]);
+    const double wq = depth ? 1.0 / (f.inverse_depth_sigma[i] * f.inverse_depth_sigma[i]) : 0.0;
+    const LandmarkReprojection<S> factor{
+        f.mount, f.camera, scene->positions[m.landmark],
+        Eigen::Vector3d(f.pixels[i].x(), f.pixels[i].y(), depth ? f.inverse_depth[i] : 0)};
+    // Inliers: within the chi-square 95 % band of the residual's dimensions.
+    Robust robust{kernel_.get()};
+    robust.inlier_chi2 = kInlierChi2[depth ? 3 : 2];
+    eq.addDiagonal(factor, t, Eigen::Vector3d(wp, wp, wq), robust);
+  }
+}
+
+template <class S>
+void LandmarkMapSlice<S>::integrate(const MergeContext<S>& context) {
+  const Pose& t = context.pose;
+  last_matched_ = last_created_ = last_pruned_ = 0;
+  const FeatureSet* f = measurement.get();
+  if (f->empty()) return;
+  f->checkConsistent();
+  LandmarkMap* map = scene.get();
+  if (!map) {
+    map = &scene.getOrInsert();
+    map->descriptor_bytes = f->descriptor_bytes;
+  }
+  map->checkConsistent();
+  if (map->empty()) map->descriptor_bytes = f->descriptor_bytes;
+  if (map->descriptor_bytes != f->descriptor_bytes)
+    throw InputError("LandmarkMapSlice: the map's descriptors have " +
+                     std::to_string(map->descriptor_bytes) + " bytes, the frame's " +
+                     std::to_string(f->descriptor_bytes));
+  for (uint64_t id : map->ids) next_id_ = std::max(next_id_, id + 1);
+
+  const Eigen::Isometry3d camera = S::to3D(t) * f->mount;
+  const Eigen::Matrix3d r = camera.linear();
+  AssociationOptions o;
+  o.radius = match_radius();
+  o.max_hamming = max_hamming();
+  grid_.build(*f);
+  grid_.associate(*map, camera, o, matches_, &visible_);
+  const size_t old_size = map->size();
+  for (size_t j = 0; j < old_size; ++j)
+    if (visible_[j]) ++map->visible[j];
+
+  std::vector<bool> matched(f->size(), false);
+  const size_t bytes = static_cast<size_t>(f->descriptor_bytes);
+  for (const LandmarkMatch& m : matches_) {
+    const size_t i = static_cast<size_t>(m.feature), j = static_cast<size_t>(m.landmark);
+    matched[i] = true;
+    ++last_matched_;
+    ++map->observations[j];
+    if (!visible_[j]) ++map->visible[j];
+    map->last_seen[j] = context.seq;
+    map->colours[j] = f->colours[i];
+    std::copy(f->descriptor(i), f->descriptor(i) + bytes, map->descriptor(j));
+    if (!f->hasDepth(i)) continue;
+    // Information-weighted fusion of the two Gaussian estimates of the point.
+    const Eigen::Vector3d p = camera * f->points[i];
+    const Eigen::Matrix3d c = r * f->covariances[i] * r.transpose();
+    const Eigen::Matrix3d& cl = map->covariances[j];
+    const Eigen::Vector3d d = p - map->positions[j];
+    Eigen::LDLT<Eigen::Matrix3d> sum(cl + c);
+    if (sum.info() != Eigen::Success || !sum.isPositive()) continue;
+    if (d.dot(sum.solve(d)) > fusion_gate()) continue;
+    const Eigen::Matrix3d gain = cl * sum.solve(Eigen::Matrix3d::Identity());
+    map->positions[j] += gain * d;
+    map->covariances[j] = (Eigen::Matrix3d::Identity() - gain) * cl;
+    map->covariances[j] = 0.5 * (map->covariances[j] + map->covariances[j].transpose()).eval();
+  }
+  for (size_t i = 0; i < f->size(); ++i) {
+    if (matched[i] || !f->hasDepth(i)) continue;
+    if (max_depth() > 0 && f->points[i].z() > max_depth()) continue;
+    map->push(camera * f->points[i], r * f->covariances[i] * r.transpose(), next_id_++,
+              f->descriptor(i), f->colours[i], context.seq);
+    ++last_created_;
+  }
+  std::vector<bool> keep(map->size(), true);
+  for (size_t j = 0; j < old_size; ++j)
+    if (map->visible[j] >= static_cast<uint32_t>(prune_after()) &&
+        map->observations[j] < min_found_ratio() * map->visible[j]) {
+      keep[j] = false;
+      ++last_pruned_;
+    }
+  if (last_pruned_ > 0)
+    map->keepOnly(keep);
+  else
+    map->touch();
+}
+
+template struct LandmarkReprojection<Space2D>;
+template struct LandmarkReprojection<Space3D>;
+template class ReprojectionSlice<Space2D>;
+template class ReprojectionSlice<Space3D>;
+template class LandmarkMapSlice<Space2D>;
+template class LandmarkMapSlice<Space3D>;
+
+}  // namespace abi_v1
+}  // namespace plugslam
