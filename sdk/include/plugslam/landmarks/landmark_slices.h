@@ -11,6 +11,7 @@
 #include "plugslam/aligner_slice.h"
 #include "plugslam/landmarks/association.h"
 #include "plugslam/solver/robust_kernel.h"
+#include "plugslam/statistics.h"
 #include "plugslam/tracker_slice.h"
 
 namespace plugslam {
@@ -18,7 +19,7 @@ inline namespace abi_v1 {
 
 /// "sdk.ReprojectionSlice2D/3D": projective association + descriptor check, robust factors.
 template <class S>
-class ReprojectionSlice final : public AlignerSlice<S> {
+class ReprojectionSlice final : public AlignerSlice<S>, public StatisticsSource {
  public:
   using Pose = typename S::Pose;
   Param<std::string> measurement{this, "measurement", "features", "",
@@ -54,6 +55,8 @@ class ReprojectionSlice final : public AlignerSlice<S> {
 
   /// The pairs of the last association.
   const std::vector<LandmarkMatch>& matches() const { return matches_; }
+  /// frames, alignment_s (association and factors), matches_per_frame (at the solution).
+  std::vector<Statistic> statistics() const override;
 
  private:
   const FeatureSet* features_ = nullptr;
@@ -64,6 +67,8 @@ class ReprojectionSlice final : public AlignerSlice<S> {
   std::string made_kernel_;
   double made_scale_ = -1;
   int round_ = 0;
+  uint64_t frames_ = 0, matched_ = 0;
+  mutable double time_s_ = 0;
 };
 
 /// "sdk.LandmarkMapSlice2D/3D": merges a FeatureSet into the local map's LandmarkMap: matched
@@ -71,7 +76,7 @@ class ReprojectionSlice final : public AlignerSlice<S> {
 /// descriptor, unmatched keypoints with depth become landmarks with a new track id, landmarks
 /// found in too few of the frames they projected into are pruned.
 template <class S>
-class LandmarkMapSlice final : public TrackerSlice<S> {
+class LandmarkMapSlice final : public TrackerSlice<S>, public StatisticsSource {
  public:
   using Pose = typename S::Pose;
   Param<std::string> measurement{this, "measurement", "features", "",
@@ -102,6 +107,8 @@ class LandmarkMapSlice final : public TrackerSlice<S> {
   size_t lastMatched() const { return last_matched_; }
   size_t lastCreated() const { return last_created_; }
   size_t lastPruned() const { return last_pruned_; }
+  /// frames, merge_s, per frame: matched, created, pruned and the local map's landmarks.
+  std::vector<Statistic> statistics() const override;
 
  private:
   FeatureGrid grid_;
@@ -109,6 +116,8 @@ class LandmarkMapSlice final : public TrackerSlice<S> {
   std::vector<bool> visible_;
   uint64_t next_id_ = 0;
   size_t last_matched_ = 0, last_created_ = 0, last_pruned_ = 0;
+  uint64_t frames_ = 0, matched_ = 0, created_ = 0, pruned_ = 0, landmarks_ = 0;
+  double time_s_ = 0;
 };
 
 extern template class ReprojectionSlice<Space2D>;
