@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "plugslam/landmarks/observation_factor.h"
@@ -12,6 +13,23 @@ inline namespace abi_v1 {
 namespace {
 // Chi-square 95 % quantiles: the inlier band of a residual with 2 (no depth) or 3 dimensions.
 constexpr double kInlierChi2[4] = {0.0, 3.841, 5.991, 7.815};
+
+// Adds the lifetime of a scope to a seconds counter.
+class Stopwatch {
+ public:
+  explicit Stopwatch(double& total) : total_(total), start_(std::chrono::steady_clock::now()) {}
+  ~Stopwatch() {
+    total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+ private:
+  double& total_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+double perFrame(uint64_t total, uint64_t frames) {
+  return frames ? static_cast<double>(total) / static_cast<double>(frames) : 0.0;
+}
 
 // Columns of the SE3 tangent (x, y, z, rx, ry, rz) a pose space moves: all six in 3D, (x, y, rz)
 // for a planar robot (its tangent is (x, y, theta)).
@@ -65,12 +83,15 @@ void ReprojectionSlice<S>::configure() {
 template <class S>
 bool ReprojectionSlice<S>::prepare(const AlignContext<S>&) {
   if (kernel() != made_kernel_ || kernel_scale() != made_scale_) configure();
+  matched_ += matches_.size();  // the previous frame's association at its solution
   matches_.clear();
   round_ = 0;
   if (measurement->empty() || scene->empty()) return false;
+  Stopwatch watch(time_s_);
   measurement->checkConsistent();
   scene->checkConsistent();
   grid_.build(*measurement);
+  ++frames_;
   return true;
 }
 
@@ -78,6 +99,7 @@ template <class S>
 void ReprojectionSlice<S>::associate(const Pose& t) {
   matches_.clear();
   if (!measurement.bound() || !scene.bound()) return;
+  Stopwatch watch(time_s_);
   AssociationOptions o;
   // Each round starts nearer the solution: the radius halves down to refine_radius.
   o.radius = std::max(refine_radius(), search_radius() / static_cast<double>(1 << std::min(round_, 20)));
@@ -90,6 +112,7 @@ void ReprojectionSlice<S>::associate(const Pose& t) {
 template <class S>
 void ReprojectionSlice<S>::linearize(const Pose& t, NormalEquations<S>& eq) const {
   if (!measurement.bound() || !scene.bound()) return;
+  Stopwatch watch(time_s_);
   const FeatureSet& f = *measurement;
   eq.candidates += f.size();
   for (const LandmarkMatch& m : matches_) {
@@ -108,11 +131,29 @@ void ReprojectionSlice<S>::linearize(const Pose& t, NormalEquations<S>& eq) cons
 }
 
 template <class S>
+std::vector<Statistic> ReprojectionSlice<S>::statistics() const {
+  return {{"frames", static_cast<double>(frames_)},
+          {"alignment_s", time_s_},
+          {"matches_per_frame", perFrame(matched_ + matches_.size(), frames_)}};
+}
+
+template <class S>
+std::vector<Statistic> LandmarkMapSlice<S>::statistics() const {
+  return {{"frames", static_cast<double>(frames_)},
+          {"merge_s", time_s_},
+          {"matched_per_frame", perFrame(matched_, frames_)},
+          {"created_per_frame", perFrame(created_, frames_)},
+          {"pruned_per_frame", perFrame(pruned_, frames_)},
+          {"landmarks_per_frame", perFrame(landmarks_, frames_)}};
+}
+
+template <class S>
 void LandmarkMapSlice<S>::integrate(const MergeContext<S>& context) {
   const Pose& t = context.pose;
   last_matched_ = last_created_ = last_pruned_ = 0;
   const FeatureSet* f = measurement.get();
   if (f->empty()) return;
+  Stopwatch watch(time_s_);
   f->checkConsistent();
   LandmarkMap* map = scene.get();
   if (!map) {
@@ -181,6 +222,11 @@ void LandmarkMapSlice<S>::integrate(const MergeContext<S>& context) {
     map->keepOnly(keep);
   else
     map->touch();
+  ++frames_;
+  matched_ += last_matched_;
+  created_ += last_created_;
+  pruned_ += last_pruned_;
+  landmarks_ += map->size();
 }
 
 template struct LandmarkReprojection<Space2D>;

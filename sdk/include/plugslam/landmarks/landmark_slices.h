@@ -11,6 +11,7 @@
 #include "plugslam/aligner_slice.h"
 #include "plugslam/landmarks/association.h"
 #include "plugslam/solver/robust_kernel.h"
+#include "plugslam/statistics.h"
 #include "plugslam/tracker_slice.h"
 
 namespace plugslam {
@@ -37,7 +38,7 @@ struct LandmarkReprojection {
 
 /// "sdk.ReprojectionSlice2D/3D": projective association + descriptor check, robust factors.
 template <class S>
-class ReprojectionSlice final : public AlignerSlice<S> {
+class ReprojectionSlice final : public AlignerSlice<S>, public StatisticsSource {
  public:
   using Pose = typename S::Pose;
   Input<FeatureSet> measurement{this, Container::measurement, "measurement", "features",
@@ -72,6 +73,8 @@ class ReprojectionSlice final : public AlignerSlice<S> {
 
   /// The pairs of the last association.
   const std::vector<LandmarkMatch>& matches() const { return matches_; }
+  /// frames, alignment_s (association and factors), matches_per_frame (at the solution).
+  std::vector<Statistic> statistics() const override;
 
  protected:
   bool prepare(const AlignContext<S>& context) override;
@@ -83,6 +86,8 @@ class ReprojectionSlice final : public AlignerSlice<S> {
   std::string made_kernel_;
   double made_scale_ = -1;
   int round_ = 0;
+  uint64_t frames_ = 0, matched_ = 0;
+  mutable double time_s_ = 0;
 };
 
 /// "sdk.LandmarkMapSlice2D/3D": merges a FeatureSet into the local map's LandmarkMap: matched
@@ -90,7 +95,7 @@ class ReprojectionSlice final : public AlignerSlice<S> {
 /// descriptor, unmatched keypoints with depth become landmarks with a new track id, landmarks
 /// found in too few of the frames they projected into are pruned.
 template <class S>
-class LandmarkMapSlice final : public TrackerSlice<S> {
+class LandmarkMapSlice final : public TrackerSlice<S>, public StatisticsSource {
  public:
   using Pose = typename S::Pose;
   Input<FeatureSet> measurement{this, Container::measurement, "measurement", "features",
@@ -120,6 +125,8 @@ class LandmarkMapSlice final : public TrackerSlice<S> {
   size_t lastMatched() const { return last_matched_; }
   size_t lastCreated() const { return last_created_; }
   size_t lastPruned() const { return last_pruned_; }
+  /// frames, merge_s, per frame: matched, created, pruned and the local map's landmarks.
+  std::vector<Statistic> statistics() const override;
 
  protected:
   void integrate(const MergeContext<S>& context) override;
@@ -130,6 +137,8 @@ class LandmarkMapSlice final : public TrackerSlice<S> {
   std::vector<bool> visible_;
   uint64_t next_id_ = 0;
   size_t last_matched_ = 0, last_created_ = 0, last_pruned_ = 0;
+  uint64_t frames_ = 0, matched_ = 0, created_ = 0, pruned_ = 0, landmarks_ = 0;
+  double time_s_ = 0;
 };
 
 extern template struct LandmarkReprojection<Space2D>;
