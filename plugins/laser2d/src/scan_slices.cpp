@@ -186,6 +186,7 @@ void PointToLineSlice::linearize(const Pose& t, NormalEquations<Space2D>& eq) co
   const PointCloud2D& measured = *measurement;
   const PointCloud2D& map = *scene;
   const Robust r = robust();
+  eq.candidates += measured.size();  // every measured point was tried
   for (const auto& [i, k] : pairs_)
     eq.add(PointToLine2D{measured.points[i], map.points[k], map.normals[k]}, t, informationOf(i),
            r);
@@ -195,6 +196,7 @@ void PointToPointSlice::linearize(const Pose& t, NormalEquations<Space2D>& eq) c
   const PointCloud2D& measured = *measurement;
   const PointCloud2D& map = *scene;
   const Robust r = robust();
+  eq.candidates += measured.size();  // every measured point was tried
   for (const auto& [i, k] : pairs_)
     eq.add(PointToPoint2D{measured.points[i], map.points[k]}, t, informationOf(i), r);
 }

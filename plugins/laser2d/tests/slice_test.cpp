@@ -187,6 +187,10 @@ void checkEveryFactor() {
     EXPECT_GT(r.factors, 100u);
     EXPECT_EQ(r.factors, slice.pairs().size());
     EXPECT_TRUE(r.ok()) << r;
+    // Every measured point is a candidate, paired or not: the base of the cue's overlap.
+    NormalEquations<Space2D> eq;
+    slice.linearize(t, eq);
+    EXPECT_EQ(eq.candidates, frame.measurement.get<PointCloud2D>("front").size());
   }
 }
 

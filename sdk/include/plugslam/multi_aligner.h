@@ -34,15 +34,25 @@ struct AlignResult {
   double chi2 = 0;               ///< final robustified error
   size_t inliers = 0;            ///< inlier factors at the solution
   size_t factors = 0;            ///< factors at the solution
-  size_t candidates = 0;         ///< measurement elements considered (see NormalEquations)
+  size_t candidates = 0;         ///< measurement elements considered, summed over the cues
   int iterations = 0;            ///< Gauss-Newton steps taken
   bool converged = false;        ///< the step fell below the threshold
   bool valid = false;            ///< enough constraints for a well-posed solution
   std::vector<CueStats> cues;    ///< per slice that took part, in slice order
   /// inliers / factors, 0 without factors.
   double inlierRatio() const { return factors ? double(inliers) / factors : 0.0; }
-  /// inliers / candidates: how much of the measurement the scene explains (0 when unknown).
-  double overlap() const { return candidates ? double(inliers) / candidates : 0.0; }
+  /// How much of the measurement the scene explains: inliers over candidates, summed over the
+  /// cues that count their candidates (a cue that does not, such as a motion prior, has no say);
+  /// 0 when none does.
+  double overlap() const {
+    size_t in = 0, of = 0;
+    for (const CueStats& c : cues)
+      if (c.candidates) {
+        in += c.inliers;
+        of += c.candidates;
+      }
+    return of ? double(in) / of : 0.0;
+  }
 };
 
 /// Aligns a measurement to a scene with any number of slices ("sdk.MultiAligner2D/3D").
