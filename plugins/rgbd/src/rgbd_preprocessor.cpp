@@ -23,16 +23,17 @@ RgbdPreprocessor::~RgbdPreprocessor() = default;
 void RgbdPreprocessor::configure() { KeypointPreprocessor::configure(); }
 
 bool RgbdPreprocessor::process(Frame& frame) {
-  const Image* colour = frame.raw.find<Image>(rgb());
-  const DepthImage* raw_depth = frame.raw.find<DepthImage>(depth());
-  const CameraInfo* cam = frame.raw.find<CameraInfo>(camera());
+  const Image* colour = rgb.find(frame);
+  const DepthImage* raw_depth = depth.find(frame);
+  const CameraInfo* cam = camera.find(frame);
   if (!colour || !raw_depth) return false;
   if (!cam)
-    throw InputError("rgbd: raw entry '" + camera() + "' (CameraInfo) is missing: keypoints "
+    throw InputError("rgbd: raw entry '" + camera.name() + "' (CameraInfo) is missing: keypoints "
                      "cannot be back-projected without a calibration");
   if (colour->width != cam->width || colour->height != cam->height)
     throw InputError("rgbd: the colour image is " + size(colour->width, colour->height) +
-                     ", its calibration '" + camera() + "' says " + size(cam->width, cam->height));
+                     ", its calibration '" + camera.name() + "' says " +
+                     size(cam->width, cam->height));
   configure();  // cheap; picks up parameters changed at run time
   registration_.prepare(*cam);
   if (registration_.identity() &&
@@ -62,7 +63,7 @@ bool RgbdPreprocessor::process(Frame& frame) {
   }
   undistortPixels(cam->intrinsics(), xy_);
 
-  FeatureSet& f = frame.measurement.emplace<FeatureSet>(output());
+  FeatureSet& f = output.emplace(frame);
   f.camera.fx = cam->fx;
   f.camera.fy = cam->fy;
   f.camera.cx = cam->cx;

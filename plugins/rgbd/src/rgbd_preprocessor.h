@@ -17,13 +17,14 @@ namespace rgbd {
 /// Keypoints with depth from an RGB-D frame.
 class RgbdPreprocessor final : public visual::KeypointPreprocessor {
  public:
-  Param<std::string> rgb{this, "rgb", "rgb", "", "raw entry of the colour image (Image)"};
-  Param<std::string> depth{this, "depth", "depth", "",
-                           "raw entry of the depth image (DepthImage, metres, 0 = none)"};
-  Param<std::string> camera{this, "camera", "camera", "",
-                            "raw entry of the calibration (CameraInfo: colour camera; second = "
-                            "depth camera, second_pose = its pose in the colour frame)"};
-  Param<std::string> output{this, "output", "features", "", "measurement entry (FeatureSet)"};
+  Input<Image> rgb{this, Container::raw, "rgb", "rgb", "the colour image"};
+  Input<DepthImage> depth{this, Container::raw, "depth", "depth",
+                          "the depth image (metres, 0 = no reading)"};
+  Input<CameraInfo> camera{this, Container::raw, "camera", "camera",
+                           "the calibration: colour camera; second = depth camera, second_pose = "
+                           "its pose in the colour frame"};
+  Output<FeatureSet> output{this, Container::measurement, "output", "features",
+                            "keypoints with depth (colour camera's ideal pinhole)"};
   Param<double> depth_sigma_a{this, "depth_sigma_a", 0.0012, "m",
                               "depth noise sigma(z) = a + b (z - z0)^2: a (Kinect v1, Nguyen et "
                               "al. 2012)",

@@ -100,6 +100,25 @@ TEST(RgbdRealData, SevenScenes300Frames) {
   EXPECT_LE(r.rotation_deg.rmse, 0.3);
 }
 
+// The camera sources declare their raw entries, so a preprocessor that reads a name the source
+// does not write fails when the run is built, naming the name, not at every frame.
+TEST(RgbdConfigs, MisnamedRawEntryIsReportedBeforeTheRun) {
+  SKIP_WITHOUT("rgbd/7scenes-300frames-tsdf-fusion");
+  runtime::ConfigDocument doc =
+      runtime::loadConfigFile(plugslam::testing::sourceDir() + "/configs/rgbd_7scenes.yaml");
+  runtime::applyOverride(doc, "source.path=" + data("rgbd/7scenes-300frames-tsdf-fusion"));
+  runtime::applyOverride(doc, "pipeline.preprocessors[0].rgb=colour");
+  runtime::PluginManager plugins;
+  std::string message = "no error";
+  try {
+    auto built = runtime::buildRun(doc, plugins);
+    message = "built without an error";
+  } catch (const std::exception& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find("provides no raw entry 'colour'"), std::string::npos) << message;
+}
+
 TEST(RgbdSimulated, Fr1XyzPath) {
   SKIP_WITHOUT("rgbd/tum-fr1_xyz-trajectories-evo");
   const std::string path =

@@ -57,6 +57,13 @@ void CameraSequenceSource::configure() {
   if (count_ == 0) throw InputError(describe() + " has no frames");
 }
 
+std::vector<ProvidedEntry> CameraSequenceSource::provides() const {
+  std::vector<ProvidedEntry> out = imageEntries();
+  out.push_back({camera(), typeid(CameraInfo)});
+  if (!ground_truth().empty()) out.push_back({ground_truth(), typeid(Eigen::Isometry3d)});
+  return out;
+}
+
 int64_t CameraSequenceSource::sizeHint() const {
   return configured_ ? static_cast<int64_t>(count_) : -1;
 }

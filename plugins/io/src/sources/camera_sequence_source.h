@@ -46,6 +46,9 @@ class CameraSequenceSource : public Source {
   std::size_t skippedFrames() const { return skipped_; }
   /// The calibration every frame carries (after configure()).
   const CameraInfo& calibration() const { return calibration_; }
+  /// The raw entries of every frame: the images, the calibration and the ground truth (unless
+  /// turned off; frames without a ground-truth row lack it).
+  std::vector<ProvidedEntry> provides() const override;
 
  protected:
   /// Reads the dataset's index and calibration; sets calibration_ and returns the frame count.
@@ -57,6 +60,8 @@ class CameraSequenceSource : public Source {
   virtual std::optional<Eigen::Isometry3d> groundTruth(std::size_t i, double stamp) const = 0;
   /// What the messages call the dataset ("KITTI sequence '...'").
   virtual std::string describe() const = 0;
+  /// The image entries a frame carries, with their value types.
+  virtual std::vector<ProvidedEntry> imageEntries() const = 0;
 
   /// Throws ParamError unless the raw entry names `entries`, camera and ground_truth are
   /// non-empty (ground_truth may be) and distinct.

@@ -42,6 +42,9 @@ class EurocSource : public CameraSequenceSource {
   void read(std::size_t i, Frame& frame) override;
   std::optional<Eigen::Isometry3d> groundTruth(std::size_t i, double stamp) const override;
   std::string describe() const override;
+  std::vector<ProvidedEntry> imageEntries() const override {
+    return {{left(), typeid(Image)}, {right(), typeid(Image)}};
+  }
 
  private:
   struct Pair {

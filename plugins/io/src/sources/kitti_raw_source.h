@@ -30,6 +30,9 @@ class KittiRawSource : public CameraSequenceSource {
     return std::nullopt;
   }
   std::string describe() const override;
+  std::vector<ProvidedEntry> imageEntries() const override {
+    return {{left(), typeid(Image)}, {right(), typeid(Image)}};
+  }
 
  private:
   std::string left_dir_, right_dir_;

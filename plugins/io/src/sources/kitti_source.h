@@ -36,6 +36,9 @@ class KittiSource : public CameraSequenceSource {
   void read(std::size_t i, Frame& frame) override;
   std::optional<Eigen::Isometry3d> groundTruth(std::size_t i, double stamp) const override;
   std::string describe() const override;
+  std::vector<ProvidedEntry> imageEntries() const override {
+    return {{left(), typeid(Image)}, {right(), typeid(Image)}};
+  }
 
  private:
   std::string findPoses(const std::string& dir) const;

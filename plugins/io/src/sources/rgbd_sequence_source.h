@@ -56,6 +56,9 @@ class RgbdSequenceSource : public CameraSequenceSource {
       "identity"};
 
  protected:
+  std::vector<ProvidedEntry> imageEntries() const override {
+    return {{rgb(), typeid(Image)}, {depth(), typeid(DepthImage)}};
+  }
   /// Sets calibration_ from the parameters; `dir` resolves intrinsics_file; the sizes are the
   /// first colour and depth images'.
   void setCalibration(const std::string& dir, const std::string& first_rgb,
