@@ -21,6 +21,7 @@
 
 #include "images/png.h"
 #include "plugslam/trajectory.h"
+#include "temp_dir.h"
 #include "test_paths.h"
 
 namespace fs = std::filesystem;
@@ -28,13 +29,8 @@ using namespace plugslam;
 
 namespace {
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string t = (fs::temp_directory_path() / "plugslam-camdata-XXXXXX").string();
-    path = mkdtemp(t.data());
-  }
-  ~TempDir() { fs::remove_all(path); }
+struct TempDir : plugslam::testing::TempDir {
+  TempDir() : plugslam::testing::TempDir("plugslam-camdata-") {}
 };
 
 std::string data(const std::string& folder) { return plugslam::testing::dataDir() + "/" + folder; }

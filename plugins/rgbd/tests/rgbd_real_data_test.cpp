@@ -14,6 +14,7 @@
 #include "plugslam/trajectory.h"
 #include "run_config.h"
 #include "runner.h"
+#include "temp_dir.h"
 #include "test_paths.h"
 
 namespace fs = std::filesystem;
@@ -21,13 +22,8 @@ using namespace plugslam;
 
 namespace {
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string t = (fs::temp_directory_path() / "plugslam-rgbd-XXXXXX").string();
-    path = mkdtemp(t.data());
-  }
-  ~TempDir() { fs::remove_all(path); }
+struct TempDir : plugslam::testing::TempDir {
+  TempDir() : plugslam::testing::TempDir("plugslam-rgbd-") {}
 };
 
 struct Outcome {

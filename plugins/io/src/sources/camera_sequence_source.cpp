@@ -64,6 +64,22 @@ std::vector<ProvidedEntry> CameraSequenceSource::provides() const {
   return out;
 }
 
+std::vector<ProvidedEntry> StereoSequenceSource::imageEntries() const {
+  return {{left(), typeid(Image)}, {right(), typeid(Image)}};
+}
+
+void StereoSequenceSource::checkStereoEntries() const { checkEntries({&left, &right}); }
+
+void StereoSequenceSource::readStereoPair(const std::string& left_file,
+                                          const std::string& right_file, double stamp,
+                                          Frame& frame) const {
+  frame.stamp = stamp;
+  readImage(left_file, left(), stamp, calibration_.width, calibration_.height, frame);
+  const int w = calibration_.second ? calibration_.second->width : calibration_.width;
+  const int h = calibration_.second ? calibration_.second->height : calibration_.height;
+  readImage(right_file, right(), stamp, w, h, frame);
+}
+
 int64_t CameraSequenceSource::sizeHint() const {
   return configured_ ? static_cast<int64_t>(count_) : -1;
 }

@@ -83,6 +83,22 @@ class CameraSequenceSource : public Source {
   bool summarized_ = false;
 };
 
+/// Base of the stereo layouts (KITTI, KITTI raw, EuRoC): the left and right image entries.
+class StereoSequenceSource : public CameraSequenceSource {
+ public:
+  Param<std::string> left{this, "left", "left", "", "raw entry for the left image"};
+  Param<std::string> right{this, "right", "right", "", "raw entry for the right image"};
+
+ protected:
+  std::vector<ProvidedEntry> imageEntries() const override;
+  /// Throws ParamError unless the entries are named and distinct (checkEntries).
+  void checkStereoEntries() const;
+  /// Reads the pair into raw[left] and raw[right], each of its camera's size (the right one's is
+  /// calibration_.second's when it has one), stamped `stamp`; frame.stamp = stamp.
+  void readStereoPair(const std::string& left_file, const std::string& right_file, double stamp,
+                      Frame& frame) const;
+};
+
 /// A file of a numbered image sequence ("000042.png" is number 42).
 struct NumberedFile {
   int64_t number = 0;  ///< the number its name spells

@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 std::string EurocSource::describe() const { return "EuRoC sequence '" + path() + "'"; }
 
 std::size_t EurocSource::index() {
-  checkEntries({&left, &right});
+  checkStereoEntries();
   if (left_camera() == right_camera())
     throw ParamError("right_camera", "must differ from left_camera");
   std::error_code ec;
@@ -84,11 +84,7 @@ std::size_t EurocSource::index() {
 
 void EurocSource::read(std::size_t i, Frame& frame) {
   const Pair& p = pairs_[i];
-  const double stamp = static_cast<double>(p.stamp_ns) * 1e-9;
-  frame.stamp = stamp;
-  readImage(p.left, left(), stamp, calibration_.width, calibration_.height, frame);
-  readImage(p.right, right(), stamp, calibration_.second->width, calibration_.second->height,
-            frame);
+  readStereoPair(p.left, p.right, static_cast<double>(p.stamp_ns) * 1e-9, frame);
 }
 
 std::optional<Eigen::Isometry3d> EurocSource::groundTruth(std::size_t, double stamp) const {

@@ -16,14 +16,12 @@ namespace io {
 /// second = cam1's, second_pose = cam1 in cam0, mount = cam0's T_BS: the robot frame is EuRoC's
 /// body frame) and raw[ground_truth] (the body in the world, interpolated at the image time).
 /// Rectification is the stereo preprocessor's job.
-class EurocSource : public CameraSequenceSource {
+class EurocSource : public StereoSequenceSource {
  public:
   Param<std::string> left_camera{this, "left_camera", "cam0", "",
                                  "sensor folder under mav0/ of the left camera"};
   Param<std::string> right_camera{this, "right_camera", "cam1", "",
                                   "sensor folder under mav0/ of the right camera"};
-  Param<std::string> left{this, "left", "left", "", "raw entry for the left image"};
-  Param<std::string> right{this, "right", "right", "", "raw entry for the right image"};
   Param<std::string> ground_truth_file{
       this, "ground_truth_file", "", "",
       "ground truth csv (t [ns], p xyz, q wxyz, ...); empty = "
@@ -42,9 +40,6 @@ class EurocSource : public CameraSequenceSource {
   void read(std::size_t i, Frame& frame) override;
   std::optional<Eigen::Isometry3d> groundTruth(std::size_t i, double stamp) const override;
   std::string describe() const override;
-  std::vector<ProvidedEntry> imageEntries() const override {
-    return {{left(), typeid(Image)}, {right(), typeid(Image)}};
-  }
 
  private:
   struct Pair {

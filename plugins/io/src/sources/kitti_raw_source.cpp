@@ -16,7 +16,7 @@ namespace fs = std::filesystem;
 std::string KittiRawSource::describe() const { return "KITTI raw drive '" + path() + "'"; }
 
 std::size_t KittiRawSource::index() {
-  checkEntries({&left, &right});
+  checkStereoEntries();
   const std::string dir = folder();
   const bool grey = cameras() == "grey";
   const std::string l = grey ? "00" : "02", r = grey ? "01" : "03";
@@ -56,12 +56,8 @@ std::size_t KittiRawSource::index() {
 
 void KittiRawSource::read(std::size_t i, Frame& frame) {
   const NumberedFile& f = images_[i];
-  const double stamp = times_[static_cast<std::size_t>(f.number)];
-  frame.stamp = stamp;
-  readImage((fs::path(left_dir_) / f.name).string(), left(), stamp, calibration_.width,
-            calibration_.height, frame);
-  readImage((fs::path(right_dir_) / f.name).string(), right(), stamp, calibration_.width,
-            calibration_.height, frame);
+  readStereoPair((fs::path(left_dir_) / f.name).string(),
+                 (fs::path(right_dir_) / f.name).string(), times_[static_cast<std::size_t>(f.number)], frame);
 }
 
 }  // namespace io

@@ -13,15 +13,13 @@ namespace io {
 /// P_rect_00/01 or P_rect_02/03, size S_rect). The frame's time is the left camera's timestamp
 /// (seconds since the epoch, read as UTC). KITTI raw comes with OXTS (GPS/IMU) rather than
 /// camera poses, and this source emits no ground truth.
-class KittiRawSource : public CameraSequenceSource {
+class KittiRawSource : public StereoSequenceSource {
  public:
   Param<std::string> cameras{
       this,     "cameras",
       "grey",   "",
       "grey: image_00/image_01 with P_rect_00/01; colour: image_02/image_03 with P_rect_02/03",
       Choices{{"grey", "colour"}}};
-  Param<std::string> left{this, "left", "left", "", "raw entry for the left image"};
-  Param<std::string> right{this, "right", "right", "", "raw entry for the right image"};
 
  protected:
   std::size_t index() override;
@@ -30,9 +28,6 @@ class KittiRawSource : public CameraSequenceSource {
     return std::nullopt;
   }
   std::string describe() const override;
-  std::vector<ProvidedEntry> imageEntries() const override {
-    return {{left(), typeid(Image)}, {right(), typeid(Image)}};
-  }
 
  private:
   std::string left_dir_, right_dir_;

@@ -41,7 +41,7 @@ std::string KittiSource::findPoses(const std::string& dir) const {
 }
 
 std::size_t KittiSource::index() {
-  checkEntries({&left, &right});
+  checkStereoEntries();
   const std::string dir = folder();
   const bool grey = cameras() == "grey";
   left_dir_ = (fs::path(dir) / (grey ? "image_0" : "image_2")).string();
@@ -81,12 +81,8 @@ std::size_t KittiSource::index() {
 
 void KittiSource::read(std::size_t i, Frame& frame) {
   const NumberedFile& f = images_[i];
-  const double stamp = times_[static_cast<std::size_t>(f.number)];
-  frame.stamp = stamp;
-  readImage((fs::path(left_dir_) / f.name).string(), left(), stamp, calibration_.width,
-            calibration_.height, frame);
-  readImage((fs::path(right_dir_) / f.name).string(), right(), stamp, calibration_.width,
-            calibration_.height, frame);
+  readStereoPair((fs::path(left_dir_) / f.name).string(),
+                 (fs::path(right_dir_) / f.name).string(), times_[static_cast<std::size_t>(f.number)], frame);
 }
 
 std::optional<Eigen::Isometry3d> KittiSource::groundTruth(std::size_t i, double) const {

@@ -16,7 +16,7 @@ namespace io {
 /// raw[ground_truth] (camera 0 in the world, from the poses file, when there is one). A folder
 /// may hold a cut of a sequence: images are numbered from any index, and times.txt and the poses
 /// file are indexed by the image's number.
-class KittiSource : public CameraSequenceSource {
+class KittiSource : public StereoSequenceSource {
  public:
   Param<std::string> cameras{this,
                              "cameras",
@@ -24,8 +24,6 @@ class KittiSource : public CameraSequenceSource {
                              "",
                              "grey: image_0/image_1 with P0/P1; colour: image_2/image_3 with P2/P3",
                              Choices{{"grey", "colour"}}};
-  Param<std::string> left{this, "left", "left", "", "raw entry for the left image"};
-  Param<std::string> right{this, "right", "right", "", "raw entry for the right image"};
   Param<std::string> poses{this, "poses", "", "",
                            "ground-truth poses file (KITTI 3x4 rows); empty = poses/NN.txt in "
                            "the folder or in ../../poses (NN = the folder's name, or the only "
@@ -36,9 +34,6 @@ class KittiSource : public CameraSequenceSource {
   void read(std::size_t i, Frame& frame) override;
   std::optional<Eigen::Isometry3d> groundTruth(std::size_t i, double stamp) const override;
   std::string describe() const override;
-  std::vector<ProvidedEntry> imageEntries() const override {
-    return {{left(), typeid(Image)}, {right(), typeid(Image)}};
-  }
 
  private:
   std::string findPoses(const std::string& dir) const;
