@@ -12,11 +12,13 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <optional>
 
 #include "plugslam/solver/factor_graph.h"
 #include "plugslam/solver/graph_io.h"
 #include "plugslam/solver/variable.h"
 #include "test_paths.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -60,17 +62,15 @@ void expectHas(const std::string& s, const std::string& part) {
 class Optimize : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("plugslam_optimize_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
+    tmp_.emplace("plugslam_optimize");  // a fresh folder of this test's own
+    dir_ = tmp_->path();
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  void TearDown() override { tmp_.reset(); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   std::string write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return path(name);
+    return tmp_->write(name, text);  // checked
   }
+  std::optional<plugslam::testing::TempDir> tmp_;
   fs::path dir_;
 };
 
