@@ -385,7 +385,7 @@ TEST_F(Cli, ConfigsFindTheDataFolderFromAnyFolder) {
                                "source: {type: fixture.CountingSource, sensor: '${HOME}/x'}\n");
   r = run("validate " + bad);
   EXPECT_EQ(r.code, 2) << r.out;
-  expectHas(r.out, bad + ":2:50: unknown variable '${HOME}': a config knows ${PLUGSLAM_DATA}");
+  expectHas(r.out, bad + ":2:48: unknown variable '${HOME}': a config knows ${PLUGSLAM_DATA}");
   const std::string data = plugslam::testing::dataDir();
   if (!fs::exists(data + "/laser2d/intel-gfs-corrected/intel-corrected.log.gz"))
     GTEST_SKIP() << "no intel log under " << data << " (set PLUGSLAM_DATA)";

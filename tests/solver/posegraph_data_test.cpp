@@ -38,6 +38,10 @@ std::string caseName(const Case& c) {
   return stem + (c.algorithm == Algorithm::kGaussNewton ? "_gn" : "_lm");
 }
 
+// What GoogleTest prints as GetParam() (gtest_discover_tests puts it in the ctest name): the
+// case's name, not the struct's bytes (a pointer among them).
+void PrintTo(const Case& c, std::ostream* os) { *os << caseName(c); }
+
 }  // namespace
 
 TEST_P(PoseGraphData, ChordalThenSolverReachesTheBestKnownMinimum) {
