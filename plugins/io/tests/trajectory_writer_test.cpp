@@ -70,6 +70,23 @@ TEST(TrajectoryWriter, WritesKittiWithTimes) {
   fs::remove_all(dir);
 }
 
+// Item 17.18: plugins/io/README.md's `trajectory: reference` writes the pipeline's reference (and
+// `ground_truth`, which the README once named, is refused).
+TEST(TrajectoryWriter, WritesTheReferenceWhenAsked) {
+  const std::string dir = outDir("reference");
+  TrajectoryWriter w;
+  EXPECT_THROW(w.trajectory = std::string("ground_truth"), plugslam::ValueError);
+  w.trajectory = std::string("reference");
+  w.file = std::string("reference.tum");
+  w.configure();
+  w.begin(dir);
+  RunResult r;
+  r.reference = sampleResult().trajectory;  // the estimate stays empty
+  w.end(r);
+  expectSame(r.reference, plugslam::readTumTrajectory(dir + "/reference.tum"));
+  fs::remove_all(dir);
+}
+
 TEST(TrajectoryWriter, RejectsBadSettings) {
   TrajectoryWriter w;
   EXPECT_THROW(w.format = std::string("csv"), plugslam::ValueError);
