@@ -12,7 +12,7 @@ namespace plugslam::runtime {
 
 void addRenderCommand(CLI::App& root, int& exit_code) {
   auto* cmd = root.add_subcommand(
-      "render", "Draw a run's output folder: map, trajectories, loops, errors (PNG, SVG)");
+      "render", "Draw a run's output folder: map, paths, loops, errors (PNG, SVG)");
   cmd->footer(
       "Writes render_map.png/.svg (map, estimated trajectory, reference aligned onto it, loop\n"
       "closures) and, with a reference, render_errors.png/.svg (ATE per pose over time and\n"
