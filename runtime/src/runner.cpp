@@ -70,6 +70,15 @@ std::string runReportJson(const RunReport& r) {
                            modules.empty() ? "" : ",", m.module, m.total_s, m.calls,
                            m.calls ? 1e3 * m.total_s / m.calls : 0.0);
   }
+  std::string statistics;
+  for (const auto& [module, figures] : r.statistics) {
+    std::string fields;
+    for (const auto& f : figures)
+      fields += fmt::format("{}{}: {}", fields.empty() ? "" : ", ", jsonString(f.name),
+                            jsonNumber(f.value));
+    statistics += fmt::format("{}\n    {}: {{{}}}", statistics.empty() ? "" : ",",
+                              jsonString(module), fields);
+  }
   return fmt::format(
       "{{\n  \"frames\": {},\n  \"wall_time_s\": {:.6f},\n  \"hz\": {:.3f},\n  \"pipeline_time_s\": {:.6f},\n  \"pipeline_hz\": {:.3f},\n  \"stopped_by\": "
       "\"{}\",\n  \"error\": {},\n  \"tracked_frames\": {},\n  \"local_maps\": {},\n  \"tracking_failures\": {},\n"
@@ -79,13 +88,13 @@ std::string runReportJson(const RunReport& r) {
       "\"loops_rejected\": {}, \"optimizations\": {}, \"optimization_time_s\": {:.6f}, "
       "\"loop_detection_time_s\": {:.6f}, \"loop_validation_time_s\": {:.6f}, "
       "\"final_chi2\": {:.6f}}},\n"
-      "  \"modules\": {{{}\n  }}\n}}\n",
+      "  \"modules\": {{{}\n  }},\n  \"statistics\": {{{}\n  }}\n}}\n",
       r.frames, r.wall_s, r.hz, r.pipeline_s, r.pipeline_hz, r.stopped_by, r.error.empty() ? "null" : jsonString(r.error), r.tracked,
       r.local_maps, r.tracking_failures, r.module_errors,
       jsonNumber(r.ate_rmse), jsonNumber(r.ate_max), jsonNumber(r.rpe_rmse), r.graph.nodes,
       r.graph.edges, r.graph.candidates, r.graph.loops_accepted, r.graph.loops_rejected,
       r.graph.optimizations, r.graph.optimization_time, r.graph.detection_time,
-      r.graph.validation_time, r.graph.final_chi2, modules);
+      r.graph.validation_time, r.graph.final_chi2, modules, statistics);
 }
 
 std::string scoreLine(const RunReport& r, const std::string& reference) {
@@ -276,6 +285,7 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
   report.hz = report.wall_s > 0 ? report.frames / report.wall_s : 0;
   report.modules = io_timings_.entries();
   for (const auto& e : pipeline.timings().entries()) report.modules.push_back(e);
+  report.statistics = collectStatistics(pipeline);
   writeTextFileAtomic((fs::path(options_.out_dir) / "run.json").string(), runReportJson(report));
   if (sink_failure) std::rethrow_exception(sink_failure);
   return report;

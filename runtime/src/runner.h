@@ -6,6 +6,7 @@
 #include <string>
 
 #include "plugslam/errors.h"
+#include "plugslam/statistics.h"
 #include "plugslam/timings.h"
 #include "run_config.h"
 
@@ -29,6 +30,8 @@ struct RunReport {
   /// Against the source's ground truth, when it has one (SE2/SE3-aligned ATE, RPE over 1 m).
   std::optional<double> ate_rmse, ate_max, rpe_rmse;
   std::string rpe_unavailable;  ///< why rpe_rmse is empty when ate_rmse is set (a short run)
+  /// Figures the modules report themselves (StatisticsSource), by module name.
+  std::vector<std::pair<std::string, std::vector<Statistic>>> statistics;
 };
 
 class Execution;
