@@ -15,6 +15,7 @@
 #include "cli.h"
 #include "commands/commands.h"
 #include "config_builder.h"
+#include "playback_clock.h"
 #include "plugslam/errors.h"
 #include "run_config.h"
 #include "runner.h"
@@ -106,6 +107,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
   static bool localize = false;
   static std::vector<std::string> actions;
   static double checkpoint_every = 60.0;
+  static double rate = 0.0;
   static ViewerOptions viewer_options;
   cmd->add_option("CONFIG", file,
                   "pipeline YAML file (default: the session's config with --session, else the "
@@ -121,6 +123,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
                   "atomically, so even a killed run leaves a loadable session (0: never)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--rate", rate, kPlaybackRateHelp)->capture_default_str()->check(CLI::NonNegativeNumber);
   cmd->add_option("--do", actions,
                   "after the run, run a module action: MODULE.ACTION[:ARG,...] (repeatable)");
   addViewerOptions(*cmd, viewer_options);
@@ -143,6 +146,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
     }
     RunOptions options;
     options.out_dir = out_dir;
+    options.rate = rate;
     const bool tty = ::isatty(STDERR_FILENO);
     std::string config_yaml = YAML::Dump(doc.root) + "\n";  // a viewer's settings update it
     Pipeline* pipeline = run->pipeline.get();

@@ -1,5 +1,6 @@
 #pragma once
-// Minimal PNG I/O through libpng: 8-bit grey / RGB images and 16-bit grey depth images.
+// PNG files of image sequences: 8-bit grey / RGB images and 16-bit grey depth images, written
+// with the SDK's encoder (plugslam/png.h), read through libpng.
 #include <cstdint>
 #include <string>
 #include <vector>
