@@ -20,7 +20,7 @@ PlaybackClock::Clock::time_point PlaybackClock::due(double stamp, Clock::time_po
   if (rate_ <= 0 || !std::isfinite(stamp)) return now;
   if (anchored_) {
     const auto offset = std::chrono::duration<double>((stamp - anchor_stamp_) / rate_);
-    const auto due = anchor_wall_ + std::chrono::duration_cast<Clock::duration>(offset);
+    const auto due = anchor_wall_ + std::chrono::round<Clock::duration>(offset);
     const double lag = std::chrono::duration<double>(now - due).count();
     if (stamp >= anchor_stamp_ && lag <= kMaxLagSeconds) return due;
   }

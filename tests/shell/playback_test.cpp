@@ -18,11 +18,11 @@
 #include "plugslam/errors.h"
 #include "run_config.h"
 #include "runner.h"
+#include "temp_dir.h"
 #include "test_paths.h"
 
 using namespace plugslam;
 using namespace plugslam::runtime;
-namespace fs = std::filesystem;
 using Clock = PlaybackClock::Clock;
 
 namespace {
@@ -33,13 +33,14 @@ Clock::time_point at(double seconds) {
 }
 double seconds(Clock::time_point t) { return std::chrono::duration<double>(t - Clock::time_point{}).count(); }
 
+// Times compare within 1 us: the steady clock ticks in ns, and doubles of ~10 s carry ~1e-15 s.
 TEST(PlaybackClock, PacesByStampsAtTheRate) {
   PlaybackClock clock(2.0);  // twice the data's speed
   EXPECT_DOUBLE_EQ(seconds(clock.due(100.0, at(5))), 5.0);  // the first frame: at once
-  EXPECT_NEAR(seconds(clock.due(100.1, at(5.01))), 5.05, 1e-9);
-  EXPECT_NEAR(seconds(clock.due(101.0, at(5.06))), 5.5, 1e-9);
+  EXPECT_NEAR(seconds(clock.due(100.1, at(5.01))), 5.05, 1e-6);
+  EXPECT_NEAR(seconds(clock.due(101.0, at(5.06))), 5.5, 1e-6);
   // Late by 0.3 s (a loop closure's optimization): still due at its time, so it is caught up.
-  EXPECT_NEAR(seconds(clock.due(102.0, at(6.3))), 6.0, 1e-9);
+  EXPECT_NEAR(seconds(clock.due(102.0, at(6.3))), 6.0, 1e-6);
 }
 
 TEST(PlaybackClock, UnpacedAndUnstampedFramesAreDueAtOnce) {
@@ -55,30 +56,25 @@ TEST(PlaybackClock, UnpacedAndUnstampedFramesAreDueAtOnce) {
 TEST(PlaybackClock, RestartsAfterALongLagOrAStampGoingBack) {
   PlaybackClock clock(1.0);
   clock.due(0.0, at(0));
-  EXPECT_NEAR(seconds(clock.due(1.0, at(0.2))), 1.0, 1e-9);
+  EXPECT_NEAR(seconds(clock.due(1.0, at(0.2))), 1.0, 1e-6);
   // Paused for 10 s: the next frame is due now, and the ones after it at the data's pace from
   // there, not all at once to catch up.
-  EXPECT_NEAR(seconds(clock.due(2.0, at(11.0))), 11.0, 1e-9);
-  EXPECT_NEAR(seconds(clock.due(3.0, at(11.1))), 12.0, 1e-9);
+  EXPECT_NEAR(seconds(clock.due(2.0, at(11.0))), 11.0, 1e-6);
+  EXPECT_NEAR(seconds(clock.due(3.0, at(11.1))), 12.0, 1e-6);
   // A stamp going back (a log restarted): restarted there.
-  EXPECT_NEAR(seconds(clock.due(0.5, at(11.2))), 11.2, 1e-9);
-  EXPECT_NEAR(seconds(clock.due(1.5, at(11.3))), 12.2, 1e-9);
+  EXPECT_NEAR(seconds(clock.due(0.5, at(11.2))), 11.2, 1e-6);
+  EXPECT_NEAR(seconds(clock.due(1.5, at(11.3))), 12.2, 1e-6);
   // A new rate restarts the clock at the next frame.
   clock.setRate(4.0);
-  EXPECT_NEAR(seconds(clock.due(2.5, at(11.4))), 11.4, 1e-9);
-  EXPECT_NEAR(seconds(clock.due(4.5, at(11.5))), 11.9, 1e-9);
+  EXPECT_NEAR(seconds(clock.due(2.5, at(11.4))), 11.4, 1e-6);
+  EXPECT_NEAR(seconds(clock.due(4.5, at(11.5))), 11.9, 1e-6);
 }
 
 class Playback : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("plugslam_playback_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
     plugins_.addSearchDir(plugslam::testing::buildDir() + "/tests/plugins");
   }
-  void TearDown() override { fs::remove_all(dir_); }
   // The lmsim pipeline (10 Hz stamps: frame k at 0.1 k s), `frames` frames.
   std::shared_ptr<RunConfig> build(int frames) {
     std::ifstream in(plugslam::testing::sourceDir() + "/tests/shell/lmsim.yaml");
@@ -90,11 +86,11 @@ class Playback : public ::testing::Test {
   }
   RunOptions options(double rate) {
     RunOptions o;
-    o.out_dir = (dir_ / "out").string();
+    o.out_dir = dir_.file("out");
     o.rate = rate;
     return o;
   }
-  fs::path dir_;
+  plugslam::testing::TempDir dir_{"plugslam_playback"};
   PluginManager plugins_;
 };
 
@@ -117,10 +113,29 @@ TEST_F(Playback, SteppingByHandWaitsForEachFramesTime) {
   const auto first = execution.nextDue();
   EXPECT_EQ(execution.nextDue(), first) << "the frame is read once";
   ASSERT_TRUE(execution.step());
+  auto anchor = first;  // where the schedule started (it restarts after a long lag)
+  int anchor_k = 0;
+  const auto lag = [](Clock::time_point now, Clock::time_point due) {
+    return std::chrono::duration<double>(now - due).count();
+  };
   for (int k = 1; k < 6; ++k) {
+    const auto before = Clock::now();
     const auto due = execution.nextDue();
-    EXPECT_NEAR(std::chrono::duration<double>(due - first).count(), 0.01 * k, 1e-6)
-        << "frame " << k << " (this loop keeps to the schedule: a lag under 0.5 s keeps it)";
+    const auto after = Clock::now();
+    const auto scheduled = anchor + std::chrono::duration_cast<Clock::duration>(
+                                        std::chrono::duration<double>(0.01 * (k - anchor_k)));
+    // The clock read "now" between `before` and `after`: on time or a short lag keeps the
+    // schedule; a longer one (this test descheduled on a loaded machine) restarts it at once.
+    const bool on_schedule = std::abs(lag(due, scheduled)) < 1e-6;
+    if (lag(after, scheduled) <= PlaybackClock::kMaxLagSeconds) {
+      EXPECT_TRUE(on_schedule) << "frame " << k << " due " << lag(due, scheduled) << " s off";
+    } else if (lag(before, scheduled) > PlaybackClock::kMaxLagSeconds) {
+      EXPECT_TRUE(due >= before && due <= after) << "frame " << k << " not restarted at once";
+    }
+    if (!on_schedule) {
+      anchor = due;
+      anchor_k = k;
+    }
     std::this_thread::sleep_until(due);
     ASSERT_TRUE(execution.step());
   }
