@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <thread>
 
 #include "plugslam/errors.h"
 #include "plugslam/eval/ate.h"
@@ -155,7 +156,7 @@ static void scoreAgainstGroundTruth(const RunResult& result, int dimension, RunR
 }
 
 Execution::Execution(RunConfig& run, RunOptions options)
-    : run_(run), options_(std::move(options)) {
+    : run_(run), options_(std::move(options)), clock_(options_.rate) {
   boost::system::error_code ec;
   fs::create_directories(options_.out_dir, ec);
   if (ec)
@@ -172,7 +173,13 @@ double Execution::elapsed() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 
-bool Execution::step() {
+void Execution::setRate(double rate) {
+  clock_.setRate(rate);
+  if (pending_) due_ = clock_.due(pending_->stamp, PlaybackClock::Clock::now());
+}
+
+bool Execution::fetch() {
+  if (pending_) return true;
   if (exhausted_ || finished_) return false;
   const uint64_t seq = report_.frames;
   if (run_.max_frames() > 0 && seq >= static_cast<uint64_t>(run_.max_frames())) {
@@ -181,18 +188,38 @@ bool Execution::step() {
     return false;
   }
   Source& source = *run_.source;
-  Frame frame;
-  frame.seq = seq;
+  auto frame = std::make_unique<Frame>();
+  frame->seq = seq;
   bool more;
   {
     ScopedTimer t(io_timings_, source.name());
-    more = asModule(source, [&] { return source.next(frame); });
+    more = asModule(source, [&] { return source.next(*frame); });
   }
   if (!more) {
     exhausted_ = true;
     return false;
   }
-  frame.seq = seq;
+  frame->seq = seq;
+  due_ = clock_.due(frame->stamp, PlaybackClock::Clock::now());
+  if (seq == 0) first_stamp_ = frame->stamp;
+  constexpr uint64_t kStampCheck = 10;  // frames after which a paced run expects time to pass
+  if (clock_.rate() > 0 && seq == kStampCheck && frame->stamp == first_stamp_)
+    spdlog::warn("--rate {}: the source's frames carry no timestamps (frame {} is stamped like "
+                 "frame 0), so the run is not paced",
+                 clock_.rate(), seq);
+  pending_ = std::move(frame);
+  return true;
+}
+
+PlaybackClock::Clock::time_point Execution::nextDue() {
+  return fetch() ? due_ : PlaybackClock::Clock::now();
+}
+
+bool Execution::step() {
+  if (!fetch()) return false;
+  const std::unique_ptr<Frame> owned = std::move(pending_);
+  Frame& frame = *owned;
+  const uint64_t seq = frame.seq;
   const bool skip = run_.on_module_error() == "skip";
   bool processed = true;
   try {
@@ -296,19 +323,30 @@ RunReport runPipeline(RunConfig& run, const RunOptions& options) {
   std::string stopped_by;
   std::exception_ptr failure;
   std::string error;
+  const auto interrupted = [&] { return options.interrupted && options.interrupted(); };
   for (;;) {
     if (options.observer) options.observer->betweenFrames(execution);
-    if (options.interrupted && options.interrupted()) {
-      stopped_by = "interrupted";
-      if (options.on_interrupt) options.on_interrupt();
-      break;
-    }
+    bool stop = interrupted();
     try {
-      if (!execution.step()) break;
+      // Paced (--rate): wait for the next frame's time, a Ctrl-C still ending the wait.
+      if (!stop) {
+        const auto due = execution.nextDue();
+        for (auto now = PlaybackClock::Clock::now(); now < due && !stop;
+             now = PlaybackClock::Clock::now()) {
+          std::this_thread::sleep_until(std::min(due, now + std::chrono::milliseconds(50)));
+          stop = interrupted();
+        }
+      }
+      if (!stop && !execution.step()) break;
     } catch (const Error& e) {
       // Bad input or a failing module: what was built so far is still finished and written.
       failure = std::current_exception();
       error = e.what();
+      break;
+    }
+    if (stop) {
+      stopped_by = "interrupted";
+      if (options.on_interrupt) options.on_interrupt();
       break;
     }
   }

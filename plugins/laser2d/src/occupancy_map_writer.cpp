@@ -9,6 +9,7 @@
 #include "occupancy_grid.h"
 #include "plugslam/atomic_file.h"
 #include "plugslam/geometry.h"
+#include "plugslam/png.h"
 #include "plugslam/pose_space.h"
 #include "point_cloud2d.h"
 
@@ -196,7 +197,16 @@ void OccupancyMapWriter::end(const RunResult& result) {
   const std::string image_name = base.substr(base.find_last_of('/') + 1) + ".pgm";
   const std::vector<uint8_t> pixels = grid.image();
   const std::string pgm = encodePgm(pixels, grid.width(), grid.height());
-  const std::string png = encodePng(pixels, grid.width(), grid.height());
+  PngPixels image;
+  image.data = pixels.data();
+  image.width = grid.width();
+  image.height = grid.height();
+  // A map is mostly large flat areas: row filters buy little there and cost time. One IDAT
+  // chunk keeps map.png byte for byte what the writer always produced.
+  PngOptions flat;
+  flat.filters = false;
+  flat.idat_bytes = 0;
+  const std::string png = encodePng(image, flat);
   std::ostringstream yaml;
   yaml.precision(10);
   yaml << "image: " << image_name << "\n"

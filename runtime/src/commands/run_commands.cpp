@@ -21,6 +21,7 @@
 #include "commands/commands.h"
 #include "config_builder.h"
 #include "console/status_line.h"
+#include "playback_clock.h"
 #include "plugslam/errors.h"
 #include "run_config.h"
 #include "runner.h"
@@ -207,6 +208,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
   static bool localize = false;
   static std::vector<std::string> actions;
   static double checkpoint_every = 60.0;
+  static double rate = 0.0;
   static ViewerOptions viewer_options;
   cmd->add_option("CONFIG", file,
                   "pipeline YAML file (default: the session's config with --session, else the "
@@ -223,6 +225,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
                   "when the run ends and writes OUTDIR/session")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--rate", rate, kPlaybackRateHelp)->capture_default_str()->check(CLI::NonNegativeNumber);
   cmd->add_option("--do", actions,
                   "after the run, run a module action: MODULE.ACTION[:ARG,...] (repeatable; "
                   "checked before the first frame)");
@@ -257,6 +260,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
     RunOptions options;
     options.out_dir = out_dir;
     StatusLine& status = StatusLine::console();
+    options.rate = rate;
     std::string config_yaml = YAML::Dump(doc.root) + "\n";  // a viewer's settings update it
     Pipeline* pipeline = run->pipeline.get();
     const std::string checkpoint_dir = (boost::filesystem::path(out_dir) / "checkpoint").string();
