@@ -14,7 +14,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 seconds="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(fuzz_config fuzz_carmen fuzz_rosbag fuzz_graph fuzz_archive fuzz_trajectory)
+[ ${#targets[@]} -eq 0 ] && targets=(fuzz_config fuzz_carmen fuzz_rosbag fuzz_graph fuzz_archive fuzz_trajectory fuzz_foxglove)
 build="${PLUGSLAM_FUZZ_DIR:-$root/build-fuzz}"
 lock=()
 [ -n "${PLUGSLAM_LOCK:-}" ] && lock=(flock "$PLUGSLAM_LOCK")
@@ -38,6 +38,7 @@ seed_files() {  # files seeding one target
     fuzz_archive) ls "$bad"/cases/archive_* "$bad"/base/good.plsb "$bad"/base/good_archive.yaml ;;
     fuzz_trajectory) ls "$bad"/cases/tum_*.tum "$bad"/cases/kitti_*.kitti "$bad"/cases/g2o_traj_*.g2o \
                         "$bad"/base/ref.tum "$bad"/base/ref.kitti ;;
+    fuzz_foxglove) ls "$root"/tests/fuzz/seeds/foxglove/* ;;
   esac 2>/dev/null || true
 }
 

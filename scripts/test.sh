@@ -21,6 +21,8 @@ for a in "$@"; do
   esac
 done
 "$root/scripts/install-deps.sh"
+# Node and the npm packages of the viewer's tests (tests/node), from the committed lockfile.
+"$root/scripts/install-node-deps.sh"
 "$root/scripts/build.sh" "${cmake_args[@]}"
 : "${PLUGSLAM_DATA:=$root/../shared/data}"
 export PLUGSLAM_DATA
