@@ -5,15 +5,15 @@
 #   bandwidth what one client subscribed to every channel receives at default settings, per second
 #             of wall time and per second of data, on the intel log and the simulated stereo street;
 #   stalled   a client that stops reading: the run's rate, and its messages dropped and counted.
-# Needs Node and tests/node's packages (scripts/install-node-deps.sh). Run scripts/build.sh first.
+# Needs Node and tests/node's packages (scripts/install-web-deps.sh). Run scripts/build.sh first.
 #   scripts/bench/viewer.sh [REPEATS]     (default 3; the median is reported)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 bin="$root/build/bin/plugslam"
 [ -x "$bin" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
-command -v node > /dev/null || { echo "viewer.sh needs Node (scripts/install-node-deps.sh)" >&2; exit 1; }
+command -v node > /dev/null || { echo "viewer.sh needs Node (scripts/install-web-deps.sh)" >&2; exit 1; }
 [ -d "$root/tests/node/node_modules/@foxglove/ws-protocol" ] ||
-  { echo "viewer.sh needs tests/node's packages (scripts/install-node-deps.sh)" >&2; exit 1; }
+  { echo "viewer.sh needs tests/node's packages (scripts/install-web-deps.sh)" >&2; exit 1; }
 : "${PLUGSLAM_DATA:=$root/../shared/data}"
 export PLUGSLAM_DATA
 repeats="${1:-3}"

@@ -21,7 +21,7 @@ function requireClient() {
       WebSocket: require("ws"),
     };
   } catch (e) {
-    skip(`npm packages missing (${e.message.split("\n")[0]}): run npm ci in tests/node`);
+    skip(`npm packages missing (${e.message.split("\n")[0]}): run scripts/install-web-deps.sh`);
   }
 }
 

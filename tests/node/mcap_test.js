@@ -13,7 +13,7 @@ async function main() {
   try {
     mcap = require("@mcap/core");
   } catch (e) {
-    skip(`npm packages missing (${e.message.split("\n")[0]}): run npm ci in tests/node`);
+    skip(`npm packages missing (${e.message.split("\n")[0]}): run scripts/install-web-deps.sh`);
   }
   const validatorFor = validators();
   const plugslam = hostPath();

@@ -9,7 +9,7 @@ function validators() {
     Ajv = require("ajv");
     schemas = require("@foxglove/schemas/jsonschema");
   } catch (e) {
-    skip(`npm packages missing (${e.message.split("\n")[0]}): run npm ci in tests/node`);
+    skip(`npm packages missing (${e.message.split("\n")[0]}): run scripts/install-web-deps.sh`);
   }
   // The schemas use annotations (contentEncoding, $comment) that strict mode would refuse.
   const ajv = new Ajv({ strict: false, allErrors: true });

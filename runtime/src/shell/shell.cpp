@@ -155,7 +155,9 @@ bool Shell::executeLocked(const std::string& raw) {
     dispatch(cmd, args, rest);
   } catch (const std::exception& e) {
     ++errors_;
-    *out_ << "error: " << oneLine(e.what()) << "\n";
+    // A config with several errors lists them one a line; each line reads as an error.
+    std::istringstream lines(e.what());
+    for (std::string l; std::getline(lines, l);) *out_ << "error: " << l << "\n";
   }
   out_->flush();
   return true;

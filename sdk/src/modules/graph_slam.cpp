@@ -793,7 +793,8 @@ size_t GraphSlam<S>::auditOdometry() {
       for (size_t i : joining[side]) drop[i] = 1;
       Job trial;
       trial.nodes = job.nodes;
-      trial.anchors = job.anchors;
+      // Not `= job.anchors`: copy-assigning into an empty vector trips GCC 12's -Wnonnull.
+      trial.anchors = std::vector<size_t>(job.anchors);
       trial.before = job.before;
       trial.edges = edges_;
       for (size_t i = 0; i < loops_.size(); ++i)
