@@ -24,6 +24,8 @@ for a in "$@"; do
   esac
 done
 "$root/scripts/install-deps.sh"
+# The page's browser tests: Debian's chromium and the page's npm packages.
+"$root/scripts/install-web-deps.sh" --browser
 "$root/scripts/build.sh" "${cmake_args[@]}"
 : "${PLUGSLAM_DATA:=$root/../shared/data}"
 export PLUGSLAM_DATA

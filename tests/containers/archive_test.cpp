@@ -11,6 +11,8 @@
 #include <random>
 #include <sstream>
 
+#include "plugslam/landmarks/feature_set.h"
+#include "plugslam/landmarks/landmark_map.h"
 #include "plugslam/property_container.h"
 #include "plugslam/value_types.h"
 
@@ -277,6 +279,25 @@ PropertyContainer everyBuiltIn() {
   camera.baseline = 0.54;
   camera.mount = i3;
   c.set<CameraInfo>("CameraInfo", camera);
+  FeatureSet features;
+  features.camera.fx = features.camera.fy = 700;
+  features.camera.cx = 600;
+  features.camera.cy = 180;
+  features.camera.baseline = 0.54;
+  features.width = 1241;
+  features.height = 376;
+  features.mount = i3;
+  features.stamp = 4.5;
+  uint8_t descriptor[32];
+  for (int k = 0; k < 32; ++k) descriptor[k] = static_cast<uint8_t>(k * 7 + 3);
+  features.pushStereo({100.5, 50.25}, 1.0, 12.5, 0.5, descriptor, 0x102030);
+  features.pushStereo({10, 20}, 2.0, 0.0, 0.5, descriptor, 0xffffff);  // no depth
+  c.set<FeatureSet>("FeatureSet", features);
+  LandmarkMap landmarks;
+  landmarks.push({1, 2, 3}, Eigen::Matrix3d::Identity() * 0.01, 7, descriptor, 0x405060, 11);
+  landmarks.observations[0] = 3;
+  landmarks.visible[0] = 5;
+  c.set<LandmarkMap>("LandmarkMap", landmarks);
   // A raw rig (EuRoC-like): distortion on both cameras, the second one rotated and offset.
   CameraInfo rig = camera;
   rig.baseline = 0;
@@ -353,6 +374,35 @@ bool equalAs(const PropertyContainer& a, const PropertyContainer& b, const std::
       EXPECT_EQ(x.second->distortion.coefficients, y.second->distortion.coefficients);
       EXPECT_EQ(x.second_pose.matrix(), y.second_pose.matrix());
     }
+  } else if constexpr (std::is_same_v<T, FeatureSet>) {
+    const auto &x = a.get<T>(n), &y = b.get<T>(n);
+    EXPECT_EQ(x.camera.fx, y.camera.fx);
+    EXPECT_EQ(x.camera.cy, y.camera.cy);
+    EXPECT_EQ(x.camera.baseline, y.camera.baseline);
+    EXPECT_EQ(x.width, y.width);
+    EXPECT_EQ(x.height, y.height);
+    EXPECT_EQ(x.mount.matrix(), y.mount.matrix());
+    EXPECT_EQ(x.stamp, y.stamp);
+    EXPECT_EQ(x.pixels, y.pixels);
+    EXPECT_EQ(x.pixel_sigma, y.pixel_sigma);
+    EXPECT_EQ(x.inverse_depth, y.inverse_depth);
+    EXPECT_EQ(x.inverse_depth_sigma, y.inverse_depth_sigma);
+    EXPECT_EQ(x.points, y.points);
+    EXPECT_EQ(x.covariances, y.covariances);
+    EXPECT_EQ(x.descriptor_bytes, y.descriptor_bytes);
+    EXPECT_EQ(x.descriptors, y.descriptors);
+    EXPECT_EQ(x.colours, y.colours);
+  } else if constexpr (std::is_same_v<T, LandmarkMap>) {
+    const auto &x = a.get<T>(n), &y = b.get<T>(n);
+    EXPECT_EQ(x.positions, y.positions);
+    EXPECT_EQ(x.covariances, y.covariances);
+    EXPECT_EQ(x.ids, y.ids);
+    EXPECT_EQ(x.observations, y.observations);
+    EXPECT_EQ(x.visible, y.visible);
+    EXPECT_EQ(x.last_seen, y.last_seen);
+    EXPECT_EQ(x.colours, y.colours);
+    EXPECT_EQ(x.descriptor_bytes, y.descriptor_bytes);
+    EXPECT_EQ(x.descriptors, y.descriptors);
   } else if constexpr (std::is_same_v<T, Odometry2D>) {
     EXPECT_EQ(a.get<T>(n).stamp, b.get<T>(n).stamp);
     EXPECT_EQ(a.get<T>(n).pose.matrix(), b.get<T>(n).pose.matrix());
@@ -383,7 +433,8 @@ void expectEqualContainers(const PropertyContainer& a, const PropertyContainer& 
         equalAs<std::vector<Eigen::Vector3d>>(a, b, n) || equalAs<PropertyContainer>(a, b, n) ||
         equalAs<testplugin::Scan>(a, b, n) || equalAs<LaserScan>(a, b, n) ||
         equalAs<Odometry2D>(a, b, n) || equalAs<Image>(a, b, n) ||
-        equalAs<DepthImage>(a, b, n) || equalAs<CameraInfo>(a, b, n);
+        equalAs<DepthImage>(a, b, n) || equalAs<CameraInfo>(a, b, n) ||
+        equalAs<FeatureSet>(a, b, n) || equalAs<LandmarkMap>(a, b, n);
     EXPECT_TRUE(checked) << "no comparison for property '" << n << "' of type "
                          << a.at(n).typeName();
   }

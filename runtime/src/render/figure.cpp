@@ -105,6 +105,24 @@ std::vector<LegendRow> legendOf(const Panel& p) {
   return rows;
 }
 
+// The title in one line, or two (split after "name:") when it is wider than the figure.
+std::vector<std::string> titleLines(const Figure& f) {
+  const int room = f.width - 16;
+  if (f.title.empty()) return {};
+  if (Canvas::textWidth(f.title, kFont) <= room) return {f.title};
+  std::vector<std::string> lines;
+  const size_t colon = f.title.find(": ");
+  if (colon == std::string::npos) {
+    lines = {f.title};
+  } else {
+    lines = {f.title.substr(0, colon + 1), f.title.substr(colon + 2)};
+  }
+  for (auto& l : lines) {
+    while (l.size() > 4 && Canvas::textWidth(l, kFont) > room) l.pop_back();
+  }
+  return lines;
+}
+
 }  // namespace
 
 Eigen::Vector2d Panel::toPixel(const Eigen::Vector2d& p) const {
@@ -140,7 +158,11 @@ std::string tickLabel(double value, double step) {
 
 Canvas rasterize(const Figure& f) {
   Canvas c(f.width, f.height, {255, 255, 255});
-  if (!f.title.empty()) c.text(f.width / 2, 10, f.title, kInk, kFont, Align::Center);
+  int ty = 6;
+  for (const std::string& line : titleLines(f)) {
+    c.text(f.width / 2, ty, line, kInk, kFont, Align::Center);
+    ty += Canvas::textHeight(kFont) + 4;
+  }
   for (const Panel& p : f.panels) {
     const Ticks t = ticksOf(p);
     if (p.background) drawRaster(c, p, *p.background);
@@ -226,9 +248,12 @@ std::string toSvg(const Figure& f) {
       "viewBox=\"0 0 {0} {1}\" font-family=\"DejaVu Sans, Helvetica, Arial, sans-serif\" "
       "font-size=\"{2}\">\n<rect width=\"{0}\" height=\"{1}\" fill=\"#ffffff\"/>\n",
       f.width, f.height, kSvgFontPx);
-  if (!f.title.empty())
+  int ty = 6 + kSvgFontPx;
+  for (const std::string& line : titleLines(f)) {
     s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"{}\">{}</text>\n",
-                     f.width / 2, 10 + kSvgFontPx, hex(kInk), escapeXml(f.title));
+                     f.width / 2, ty, hex(kInk), escapeXml(line));
+    ty += Canvas::textHeight(kFont) + 4;
+  }
   int index = 0;
   for (const Panel& p : f.panels) {
     const Ticks t = ticksOf(p);
