@@ -3,15 +3,13 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
-#include <unistd.h>
 
 #include <boost/filesystem.hpp>
 #include <charconv>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <fstream>
 
+#include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
 #include "plugslam/eval/ate.h"
 #include "plugslam/eval/rpe.h"
@@ -22,25 +20,6 @@ namespace plugslam::runtime {
 namespace fs = boost::filesystem;
 
 RunObserver::~RunObserver() = default;
-
-void writeTextFileAtomic(const std::string& path, const std::string& content) {
-  fs::path target(path);
-  fs::path tmp = target.parent_path() / (target.filename().string() + ".tmp-" +
-                                         std::to_string(::getpid()));
-  {
-    std::ofstream out(tmp.string(), std::ios::binary | std::ios::trunc);
-    if (!out) throw Error("cannot write '" + tmp.string() + "'");
-    out << content;
-    out.flush();
-    if (!out) throw Error("write to '" + tmp.string() + "' failed (disk full?)");
-  }
-  boost::system::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw Error("cannot move '" + tmp.string() + "' to '" + path + "'");
-  }
-}
 
 namespace {
 // A figure with the decimals run.json has always printed it with (the timers resolve
@@ -254,7 +233,7 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
   report.hz = report.wall_s > 0 ? report.frames / report.wall_s : 0;
   report.modules = io_timings_.entries();
   for (const auto& e : pipeline.timings().entries()) report.modules.push_back(e);
-  writeTextFileAtomic((fs::path(options_.out_dir) / "run.json").string(), runReportJson(report));
+  writeFileAtomically((fs::path(options_.out_dir) / "run.json").string(), runReportJson(report));
   if (sink_failure) std::rethrow_exception(sink_failure);
   return report;
 }

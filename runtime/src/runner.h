@@ -110,7 +110,4 @@ RunReport runPipeline(RunConfig& run, const RunOptions& options);
 /// run.json's content.
 std::string runReportJson(const RunReport& report);
 
-/// Writes `content` to `path` atomically (temp file in the same folder, then rename).
-void writeTextFileAtomic(const std::string& path, const std::string& content);
-
 }  // namespace plugslam::runtime

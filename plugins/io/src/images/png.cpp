@@ -5,7 +5,10 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <new>
+#include <string>
 
+#include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
 
 namespace plugslam {
@@ -28,11 +31,28 @@ void onError(png_structp png, png_const_charp message) {
 }
 void onWarning(png_structp, png_const_charp) {}
 
-// rows: one pointer per row; bit_depth 8 or 16 (16-bit samples given in host order).
+// libpng writes the encoded bytes here; the file itself is written in one atomic step.
+struct PngBytes {
+  std::string bytes;
+  bool out_of_memory = false;
+};
+
+void appendBytes(png_structp png, png_bytep data, png_size_t size) {
+  auto* out = static_cast<PngBytes*>(png_get_io_ptr(png));
+  try {
+    out->bytes.append(reinterpret_cast<const char*>(data), size);
+  } catch (const std::bad_alloc&) {
+    out->out_of_memory = true;  // no exception may cross libpng's C frames
+  }
+  if (out->out_of_memory) png_error(png, "out of memory");
+}
+void flushNothing(png_structp) {}
+
+// rows: one pointer per row; bit_depth 8 or 16 (16-bit samples given in host order). Encodes
+// in memory, then writes `path` atomically: a crash mid-sequence leaves no truncated image.
 void writeRows(const std::string& path, int width, int height, int color_type, int bit_depth,
                const std::vector<const uint8_t*>& rows) {
-  FilePtr file(std::fopen(path.c_str(), "wb"));
-  if (!file) throw InputError("cannot write PNG '" + path + "'");
+  PngBytes encoded;
   std::string error;
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &error, onError, onWarning);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
@@ -44,7 +64,7 @@ void writeRows(const std::string& path, int width, int height, int color_type, i
     png_destroy_write_struct(&png, &info);
     throw InputError("cannot write PNG '" + path + "': " + error);
   }
-  png_init_io(png, file.get());
+  png_set_write_fn(png, &encoded, appendBytes, flushNothing);
   png_set_compression_level(png, 1);  // fast: sequences have thousands of frames
   png_set_IHDR(png, info, width, height, bit_depth, color_type, PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
@@ -53,8 +73,7 @@ void writeRows(const std::string& path, int width, int height, int color_type, i
   png_write_rows(png, const_cast<png_bytepp>(rows.data()), static_cast<png_uint_32>(height));
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
-  if (std::fflush(file.get()) != 0)
-    throw InputError("cannot write PNG '" + path + "' (disk full?)");
+  writeFileAtomically(path, encoded.bytes);
 }
 
 }  // namespace
