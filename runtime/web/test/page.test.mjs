@@ -85,7 +85,7 @@ test("live: the page follows a simulator run, pauses it, and edits its config", 
   const dir = mkdtempSync(join(tmpdir(), "plugslam-page-"));
   const port = await freePort();
   // The longest built-in session, so there is time to watch it.
-  const host = spawn(plugslam, ["run", join(sourceDir, "configs", "default.yaml"), "-o", join(dir, "out"),
+  const host = spawn(plugslam, ["run", join(sourceDir, "configs", "sim2d_double_laser.yaml"), "-o", join(dir, "out"),
     "--serve", `127.0.0.1:${port}`, "--set", "source.session=stage-3"], { cwd: dir, stdio: ["ignore", "pipe", "pipe"] });
   let log = "";
   host.stdout.on("data", (d) => (log += d));
