@@ -74,6 +74,11 @@ std::string runReportJson(const RunReport& r) {
                          {"calls", m.calls},
                          {"mean_ms", decimals(m.calls ? 1e3 * m.total_s / m.calls : 0.0, 4)}};
   }
+  nlohmann::ordered_json& statistics = j["statistics"] = nlohmann::ordered_json::object();
+  for (const auto& [module, figures] : r.statistics) {
+    nlohmann::ordered_json& fields = statistics[module] = nlohmann::ordered_json::object();
+    for (const auto& f : figures) fields[f.name] = optionalFigure(f.value);
+  }
   // An error message may quote a file's bytes: invalid UTF-8 is replaced, never a throw.
   return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
@@ -233,6 +238,7 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
   report.hz = report.wall_s > 0 ? report.frames / report.wall_s : 0;
   report.modules = io_timings_.entries();
   for (const auto& e : pipeline.timings().entries()) report.modules.push_back(e);
+  report.statistics = collectStatistics(pipeline);
   writeFileAtomically((fs::path(options_.out_dir) / "run.json").string(), runReportJson(report));
   if (sink_failure) std::rethrow_exception(sink_failure);
   return report;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "plugslam/errors.h"
+#include "plugslam/statistics.h"
 #include "plugslam/timings.h"
 #include "run_config.h"
 
@@ -28,6 +29,8 @@ struct RunReport {
   GraphStats graph;  ///< loops accepted/rejected, optimization time
   /// Against the source's ground truth, when it has one (SE2/SE3-aligned ATE, RPE over 1 m).
   std::optional<double> ate_rmse, ate_max, rpe_rmse;
+  /// Figures the modules report themselves (StatisticsSource), by module name.
+  std::vector<std::pair<std::string, std::vector<Statistic>>> statistics;
 };
 
 class Execution;

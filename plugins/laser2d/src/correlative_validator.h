@@ -4,7 +4,9 @@
 #include <string>
 
 #include "correlative_matcher.h"
+#include "plugslam/entry.h"
 #include "plugslam/graph_slam.h"
+#include "point_cloud2d.h"
 
 namespace plugslam {
 namespace laser2d {
@@ -13,7 +15,7 @@ namespace laser2d {
 /// first in the chain: it finds the closure under large drift, a fine aligner refines it.
 class CorrelativeValidator final : public LoopValidator {
  public:
-  Param<std::string> scene{this, "scene", "front", "", "scene entry (PointCloud2D) to match"};
+  Input<PointCloud2D> scene{this, Container::scene, "scene", "front", "local maps' cloud to match"};
   Param<double> resolution{this, "resolution", 0.05, "m", "grid cell", Range{1e-3, 10}};
   Param<double> search_window{this,
                               "search_window",
