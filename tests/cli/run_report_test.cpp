@@ -45,7 +45,8 @@ TEST(RunReportJson, KeysInOrderAndFiguresWithTheirDecimals) {
   EXPECT_EQ(keys(j), (std::vector<std::string>{"frames", "wall_time_s", "hz", "pipeline_time_s",
                                                "pipeline_hz", "stopped_by", "error",
                                                "tracked_frames", "local_maps", "tracking_failures",
-                                               "module_errors", "reference", "graph", "modules"}));
+                                               "module_errors", "reference", "graph", "modules",
+                                               "statistics"}));
   EXPECT_EQ(keys(j["reference"]),
             (std::vector<std::string>{"ate_rmse_m", "ate_max_m", "rpe_1m_rmse_m"}));
   EXPECT_EQ(
@@ -85,6 +86,25 @@ TEST(RunReportJson, MissingOrNonFiniteFiguresAreNull) {
   EXPECT_TRUE(j["reference"]["rpe_1m_rmse_m"].is_null());
   EXPECT_TRUE(j["graph"]["final_chi2"].is_null());
   EXPECT_TRUE(j["hz"].is_null());
+}
+
+TEST(RunReportJson, StatisticsByModuleWithSixDecimalsAndNullWhereNotFinite) {
+  RunReport r = sampleReport();
+  EXPECT_TRUE(ordered_json::parse(runReportJson(r))["statistics"].empty());  // none: {}
+  r.statistics = {{"pipeline.tracker.aligner.slices[0]",
+                   {{"matches_per_frame", 412.3456789},
+                    {"alignment_s", 0.0012345678},
+                    {"ratio", std::numeric_limits<double>::quiet_NaN()}}},
+                  {"pipeline.tracker", {{"landmarks", 3}}}};
+  const ordered_json j = ordered_json::parse(runReportJson(r));
+  EXPECT_EQ(keys(j["statistics"]),
+            (std::vector<std::string>{"pipeline.tracker.aligner.slices[0]", "pipeline.tracker"}));
+  const ordered_json& s = j["statistics"]["pipeline.tracker.aligner.slices[0]"];
+  EXPECT_EQ(keys(s), (std::vector<std::string>{"matches_per_frame", "alignment_s", "ratio"}));
+  EXPECT_EQ(s["matches_per_frame"].get<double>(), 412.345679);
+  EXPECT_EQ(s["alignment_s"].get<double>(), 0.001235);
+  EXPECT_TRUE(s["ratio"].is_null());
+  EXPECT_EQ(j["statistics"]["pipeline.tracker"]["landmarks"].get<double>(), 3.0);
 }
 
 TEST(RunReportJson, ErrorMessagesAreEscapedEvenWithBytesThatAreNotUtf8) {
