@@ -95,7 +95,7 @@ TEST(RunReportJson, StatisticsByModuleWithSixDecimalsAndNullWhereNotFinite) {
                    {{"matches_per_frame", 412.3456789},
                     {"alignment_s", 0.0012345678},
                     {"ratio", std::numeric_limits<double>::quiet_NaN()}}},
-                  {"pipeline.tracker", {{"landmarks", 3}}}};
+                  {"pipeline.tracker", {{"landmarks", 3.0}}}};
   const ordered_json j = ordered_json::parse(runReportJson(r));
   EXPECT_EQ(keys(j["statistics"]),
             (std::vector<std::string>{"pipeline.tracker.aligner.slices[0]", "pipeline.tracker"}));
