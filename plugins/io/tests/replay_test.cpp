@@ -4,8 +4,18 @@
 
 #include <gtest/gtest.h>
 
+#include <initializer_list>
+
 namespace plugslam::io {
 namespace {
+
+// Pass 1 of a log whose frames carry `stamps` (the first is the anchor), and the next pass begun.
+void playFirstPass(Replay& replay, std::initializer_list<double> stamps, int64_t repeat) {
+  replay.restart("test log");
+  replay.anchor(*stamps.begin());
+  for (double t : stamps) replay.frame(replay.shift(t));
+  ASSERT_TRUE(replay.next(repeat, 0.1));
+}
 
 TEST(Replay, LaterPassesFollowThePreviousOneByItsFramePeriod) {
   Replay replay;
@@ -46,10 +56,7 @@ TEST(Replay, APassOfOneFrameUsesTheFallbackPeriod) {
 
 TEST(Replay, TheOffsetIsFixedAtThePassFirstStampAfterFramesWithoutOne) {
   Replay replay;
-  replay.restart("test log");
-  replay.anchor(1.0);
-  for (double t : {1.0, 2.0}) replay.frame(replay.shift(t));
-  ASSERT_TRUE(replay.next(2, 0.1));
+  playFirstPass(replay, {1.0, 2.0}, 2);
   // The source gave a frame with a synthesised stamp before the pass's first timed one: the
   // timed one still comes one period after it, not before.
   replay.frame(3.0);
@@ -59,10 +66,7 @@ TEST(Replay, TheOffsetIsFixedAtThePassFirstStampAfterFramesWithoutOne) {
 
 TEST(Replay, RestartGoesBackToTheLogClock) {
   Replay replay;
-  replay.restart("a");
-  replay.anchor(1.0);
-  for (double t : {1.0, 2.0}) replay.frame(replay.shift(t));
-  ASSERT_TRUE(replay.next(0, 0.1));
+  playFirstPass(replay, {1.0, 2.0}, 0);
   EXPECT_NE(replay.shift(1.0), 1.0);
   replay.restart("b");
   EXPECT_EQ(replay.pass(), 1);
