@@ -83,6 +83,14 @@ std::string runReportJson(const RunReport& r) {
   return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 
+std::string scoreLine(const RunReport& r, const std::string& reference) {
+  if (!r.ate_rmse) return "";
+  std::string line = fmt::format("against '{}': ATE rmse {:.4f} m (max {:.4f} m), ", reference,
+                                 *r.ate_rmse, r.ate_max.value_or(NAN));
+  if (r.rpe_rmse) return line + fmt::format("RPE(1 m) rmse {:.4f} m\n", *r.rpe_rmse);
+  return line + "no RPE(1 m): " + r.rpe_unavailable + "\n";
+}
+
 // Runs one call into a source or sink (plugin code) so that whatever it throws names the module:
 // InputError passes (bad input, exit 2), anything else becomes a ModuleError (exit 1), including
 // exceptions not derived from std::exception.
@@ -109,12 +117,26 @@ static void scoreAgainstGroundTruth(const RunResult& result, int dimension, RunR
     AteResult a = computeAte(result.reference, result.trajectory, ate);
     report.ate_rmse = a.translation.rmse;
     report.ate_max = a.translation.max;
-    RpeOptions rpe;
-    rpe.unit = RpeUnit::Meters;
-    rpe.delta = 1.0;
-    report.rpe_rmse = computeRpe(result.reference, result.trajectory, rpe).translation.rmse;
   } catch (const InputError& e) {
     spdlog::warn("cannot score against ground truth: {}", e.what());
+    return;
+  }
+  RpeOptions rpe;
+  rpe.unit = RpeUnit::Meters;
+  rpe.delta = 1.0;
+  double path = 0;
+  for (size_t i = 1; i < result.reference.size(); ++i)
+    path += (result.reference[i].pose.translation() - result.reference[i - 1].pose.translation())
+                .norm();
+  if (path < rpe.delta) {
+    report.rpe_unavailable = fmt::format(
+        "the run is too short for it (the reference path is {:.2f} m)", path);
+    return;
+  }
+  try {
+    report.rpe_rmse = computeRpe(result.reference, result.trajectory, rpe).translation.rmse;
+  } catch (const InputError& e) {
+    report.rpe_unavailable = e.what();
   }
 }
 
@@ -128,6 +150,7 @@ Execution::Execution(RunConfig& run, RunOptions options)
   for (auto& sink : run_.outputs) asModule(*sink, [&] { sink->begin(options_.out_dir); });
   report_.stopped_by = "end of data";
   total_ = run_.source->sizeHint();
+  if (run_.max_frames() > 0 && (total_ < 0 || total_ > run_.max_frames())) total_ = run_.max_frames();
   start_ = std::chrono::steady_clock::now();
 }
 
@@ -204,6 +227,16 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
     spdlog::warn("{} frame(s) skipped because a module failed (on_module_error: skip)",
                  report.module_errors);
   Pipeline& pipeline = *run_.pipeline;
+  // options_.finishing hears when the final work ends, however it ends.
+  struct Finishing {
+    const std::function<void(bool)>& tell;
+    explicit Finishing(const std::function<void(bool)>& f) : tell(f) {
+      if (tell) tell(false);
+    }
+    ~Finishing() {
+      if (tell) tell(true);
+    }
+  } finishing(options_.finishing);
   pipeline.finish();
   RunResult result = pipeline.result();
   if (pipeline.graph) report.graph = pipeline.graph->stats();

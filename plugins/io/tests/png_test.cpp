@@ -5,13 +5,13 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
 #include "plugslam/errors.h"
+#include "temp_dir.h"
 
 namespace plugslam::io {
 namespace {
@@ -20,9 +20,8 @@ namespace fs = std::filesystem;
 
 TEST(Png, ReadAndWriteErrors) {
   EXPECT_THROW(readPng("/nonexistent/x.png"), InputError);
-  const fs::path dir = fs::temp_directory_path() / ("plugslam_png_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const plugslam::testing::TempDir tmp("plugslam_png");
+  const fs::path dir = tmp.path();
   std::ofstream(dir / "bad.png") << "not a png at all";
   EXPECT_THROW(readPng((dir / "bad.png").string()), ParseError);
   // A truncated PNG.
@@ -41,9 +40,8 @@ TEST(Png, ReadAndWriteErrors) {
 // Images go through the one atomic writer: the decoded samples are the ones written, an
 // overwrite leaves only the new file, and an unwritable target names the target, leaving nothing.
 TEST(Png, WritesAtomicallyAndReadsBackExactly) {
-  std::string tmpl = (fs::temp_directory_path() / "plugslam_png_XXXXXX").string();
-  ASSERT_NE(::mkdtemp(tmpl.data()), nullptr);
-  const fs::path dir(tmpl);
+  const plugslam::testing::TempDir tmp("plugslam_png");
+  const fs::path& dir = tmp.path();
   Image rgb;
   rgb.resize(7, 5, 3);
   for (size_t i = 0; i < rgb.data.size(); ++i) rgb.data[i] = static_cast<uint8_t>(i * 37);
@@ -76,7 +74,6 @@ TEST(Png, WritesAtomicallyAndReadsBackExactly) {
     EXPECT_NE(std::string(e.what()).find("'" + missing + "'"), std::string::npos) << e.what();
   }
   EXPECT_FALSE(fs::exists(dir / "missing"));
-  fs::remove_all(dir);
 }
 
 }  // namespace
