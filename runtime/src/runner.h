@@ -139,7 +139,4 @@ std::string scoreLine(const RunReport& report, const std::string& reference);
 /// run.json's content.
 std::string runReportJson(const RunReport& report);
 
-/// Writes `content` to `path` atomically (temp file in the same folder, then rename).
-void writeTextFileAtomic(const std::string& path, const std::string& content);
-
 }  // namespace plugslam::runtime
