@@ -5,7 +5,10 @@
 #include <random>
 
 #include "landmark_cue.h"
-#include "plugslam/loop_closure.h"
+#include "plugslam/alignment_validator.h"
+#include "plugslam/graph_slam.h"
+#include "plugslam/graph_writer.h"
+#include "plugslam/proximity_detector.h"
 #include "plugslam/registry.h"
 #include "plugslam/solver/graph_io.h"
 
@@ -792,112 +795,4 @@ TEST(GraphWriter, WritesLocalMapsAndEdgesAsG2o) {
   EXPECT_EQ(back.numFactors(), 4u);
   EXPECT_NEAR(back.chi2(), 0.0, 1e-9);  // the origins satisfy every edge
   EXPECT_NEAR(toVector(back.get<VariableSE2>(2).estimate())[1], 1.0, 1e-12);
-}
-
-namespace {
-// Joins landmark scenes: a landmark the target lacks is taken from the source, moved by `pose`.
-class LandmarkMerger : public SceneMerger {
- public:
-  int calls = 0;
-  void append(PropertyContainer& into, const PropertyContainer& from,
-              const Eigen::Isometry3d& pose) override {
-    ++calls;
-    const Eigen::Isometry2d t = Space2D::from3D(pose);
-    const Landmarks& source = from.get<Landmarks>("landmarks");
-    Landmarks& target = into.get<Landmarks>("landmarks");
-    target.resize(std::max(target.size(), source.size()), Eigen::Vector2d::Constant(NAN));
-    for (size_t i = 0; i < source.size(); ++i)
-      if (std::isnan(target[i].x()) && !std::isnan(source[i].x())) target[i] = t * source[i];
-  }
-};
-
-// A straight corridor of maps 1 m apart (chain 0..5; map 6 starts a new chain).
-GraphView corridorView() {
-  GraphView view;
-  for (int i = 0; i < 8; ++i) {
-    auto m = std::make_shared<LocalMap>();
-    m->id = i;
-    m->previous = i == 6 ? -1 : i - 1;
-    m->origin = Space2D::to3D(se2(i, 0, 0));
-    view.maps.push_back(m);
-    view.origins.push_back(m->origin);
-    view.travelled.push_back(i);
-  }
-  return view;
-}
-}  // namespace
-
-TEST(AlignmentValidator, PathNeighboursFollowTheChainNearestFirst) {
-  const GraphView view = corridorView();
-  EXPECT_EQ(pathNeighbours(view, 2, 1.5, 8, 0), (std::vector<int64_t>{1, 3}));
-  EXPECT_EQ(pathNeighbours(view, 2, 2.0, 8, 0), (std::vector<int64_t>{1, 3, 0, 4}));
-  // Not at or after `before`, nor within `min_gap` of path before it.
-  EXPECT_EQ(pathNeighbours(view, 2, 5.0, 4, 0), (std::vector<int64_t>{1, 3, 0}));
-  EXPECT_EQ(pathNeighbours(view, 2, 5.0, 5, 2.0), (std::vector<int64_t>{1, 3, 0}));
-  // A new chain (a tracker reset) is not joined by odometry: the walk stops there.
-  EXPECT_EQ(pathNeighbours(view, 5, 3.0, 8, 0), (std::vector<int64_t>{4, 3, 2}));
-  EXPECT_EQ(pathNeighbours(view, 6, 3.0, 8, 0), (std::vector<int64_t>{7}));
-  EXPECT_TRUE(pathNeighbours(view, 2, 0.0, 8, 0).empty());
-}
-
-TEST(AlignmentValidator, ANeighbourhoodWidensTheCandidatesView) {
-  // The query (map 7) sees landmarks 0-99 from its origin; the candidate, map 2, holds only 30 of
-  // them, its path neighbours 1 and 3 hold the rest (each in its own frame, placed 1 m apart).
-  GraphView view = corridorView();
-  view.maps[7] = std::make_shared<LocalMap>(*view.maps[7]);
-  const Landmarks world = scatter(100, 5, 21);
-  const Eigen::Isometry2d query_pose = se2(2.3, 0.2, 0.04);  // truth, in the world
-  auto hold = [&](int64_t id, int from, int to, const Eigen::Isometry2d& pose) {
-    Landmarks l(100, Eigen::Vector2d::Constant(NAN));
-    for (int i = from; i < to; ++i) l[i] = pose.inverse() * world[i];
-    auto m = std::make_shared<LocalMap>(*view.maps[id]);
-    m->scene.set<Landmarks>("landmarks", l);
-    view.maps[id] = m;
-  };
-  hold(1, 30, 65, se2(1, 0, 0));
-  hold(2, 0, 30, se2(2, 0, 0));
-  hold(3, 65, 100, se2(3, 0, 0));
-  hold(7, 0, 100, query_pose);
-  for (int64_t id : {0, 4, 5, 6}) hold(id, 0, 0, se2(static_cast<double>(id), 0, 0));
-  const Eigen::Isometry3d guess = Space2D::to3D(se2(0.1, 0.1, 0));
-  const Eigen::Isometry2d truth = se2(2, 0, 0).inverse() * query_pose;
-
-  auto validator = makeValidator();
-  LoopClosure closure;
-  std::string reason;
-  // The candidate alone explains 30 % of the query: below min_overlap.
-  EXPECT_FALSE(validator->validateInView(view, *view.maps[2], *view.maps[7], guess, closure,
-                                         reason));
-  EXPECT_NE(reason.find("overlap"), std::string::npos) << reason;
-  // A neighbourhood needs a merger to join the scenes.
-  validator->neighbourhood = 1.0;
-  EXPECT_THROW(validator->validateInView(view, *view.maps[2], *view.maps[7], guess, closure,
-                                         reason),
-               InputError);
-  // ...and the graph: validate() alone refuses.
-  EXPECT_FALSE(validator->validate(*view.maps[2], *view.maps[7], guess, closure, reason));
-  auto merger = std::make_shared<LandmarkMerger>();
-  validator->merger.assign(merger);
-  // With the maps 1 m either side, the whole query is explained, at the true pose.
-  ASSERT_TRUE(validator->validateInView(view, *view.maps[2], *view.maps[7], guess, closure,
-                                        reason))
-      << reason;
-  EXPECT_EQ(merger->calls, 2);
-  EXPECT_NEAR(closure.overlap, 1.0, 1e-12);
-  EXPECT_LT((Space2D::toVector(Space2D::from3D(closure.edge.relative)) -
-             Space2D::toVector(truth)).norm(),
-            1e-6);
-  // The query's own recent path never joins the candidate's neighbourhood: with the query at
-  // map 4, map 3 is within `neighbourhood` of it and is left out.
-  merger->calls = 0;
-  view.travelled[4] = 3.5;
-  view.travelled[5] = 4.5;
-  auto query4 = std::make_shared<LocalMap>(*view.maps[7]);
-  query4->id = 4;
-  query4->previous = 3;
-  view.maps[4] = query4;
-  ASSERT_TRUE(validator->validateInView(view, *view.maps[2], *query4, guess, closure, reason))
-      << reason;
-  EXPECT_EQ(merger->calls, 1);
-  EXPECT_NEAR(closure.overlap, 0.65, 1e-12);  // landmarks 0-64: maps 2 and 1
 }

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "plugslam/geometry.h"
-#include "plugslam/graph_slam.h"
+#include "plugslam/loop_closure.h"
 
 namespace plugslam {
 namespace laser2d {

@@ -1,7 +1,6 @@
 // The laser2d plugin's register function: every type of the cue, by name.
 #include "plugslam/plugin.h"
 
-#include "cloud_merger.h"
 #include "correlative_validator.h"
 #include "global_match_detector.h"
 #include "occupancy_map_writer.h"
@@ -24,9 +23,6 @@ PLUGSLAM_PLUGIN("laser2d", "1.0.0", "2D laser: scan preprocessing, ICP slices, p
   registrar.add<CorrelativeValidator>(
       "CorrelativeValidator",
       "loop validator: branch-and-bound correlative scan-to-map matching over a wide window");
-  registrar.add<CloudMerger>(
-      "CloudMerger", "joins a local map's 2D point clouds into another map's frame (a loop "
-                     "validator's view of a neighbourhood)");
   registrar.add<GlobalMatchDetector>(
       "GlobalMatchDetector",
       "loop detector for large drift: branch-and-bound scan-to-map matching of the query "

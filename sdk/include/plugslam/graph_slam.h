@@ -11,95 +11,14 @@
 
 #include "plugslam/configurable.h"
 #include "plugslam/local_map.h"
+#include "plugslam/loop_closure.h"
+#include "plugslam/graph_edge.h"
 #include "plugslam/pose_space.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
 
 class FactorGraph;
-
-/// An edge of the pose graph between two local maps.
-struct GraphEdge {
-  int64_t from = 0;  ///< older map
-  int64_t to = 0;    ///< newer map
-  Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();  ///< origin of `to` in `from`'s frame
-  Eigen::MatrixXd information;  ///< tangent-space information (x, y, theta / x, y, z, rotation vector)
-  bool loop = false;            ///< a loop closure (else: consecutive maps)
-};
-
-/// An edge's information in the error coordinates of the solver's between factors (identical in
-/// 2D; in 3D the rotation part is the quaternion's vector part, half the rotation vector).
-Eigen::MatrixXd betweenFactorInformation(const GraphEdge& edge, int dimension);
-
-/// Writes local maps (as vertices, at their origins) and edges as a g2o file, atomically.
-void writeGraphG2o(const std::string& path, const std::vector<std::shared_ptr<const LocalMap>>& maps,
-                   const std::vector<GraphEdge>& edges);
-
-/// What a loop detector sees of the graph: every node with its origin when the view was taken.
-/// Detectors may run on the back-end thread while the front-end moves the maps: they read the
-/// origins here, never maps[i]->origin.
-struct GraphView {
-  std::vector<std::shared_ptr<const LocalMap>> maps;  ///< by id (maps[i]->id == i)
-  std::vector<Eigen::Isometry3d> origins;  ///< each map's origin in the world, by id
-  std::vector<double> travelled;  ///< path length from map 0 to each map's origin [m]
-  /// Path length at the newest map that closed a loop so far (-1: none yet).
-  double last_loop_travelled = -1;
-  /// Origin of map `b` in map `a`'s frame, from the snapshot.
-  Eigen::Isometry3d relative(int64_t a, int64_t b) const {
-    return origins[static_cast<size_t>(a)].inverse() * origins[static_cast<size_t>(b)];
-  }
-};
-
-/// A loop candidate proposed by a detector.
-struct LoopCandidate {
-  int64_t id = -1;  ///< the older map
-  /// True when the detector matched the data and `relative` is its estimate; otherwise the
-  /// validators start from the current estimate.
-  bool matched = false;
-  Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();  ///< query origin in `id`'s frame
-  double score = 0;  ///< the detector's own score (for logs)
-};
-
-/// Proposes older local maps that may show the same place as `query`.
-class LoopDetector : public Configurable {
- public:
-  static constexpr const char* kKind = "LoopDetector";
-  ~LoopDetector() override;
-  /// Candidates for `query` (which is view.maps[query.id]); may run on the back-end thread.
-  virtual std::vector<LoopCandidate> detect(const GraphView& view, const LocalMap& query) = 0;
-};
-
-/// A checked loop closure.
-struct LoopClosure {
-  GraphEdge edge;        ///< from = candidate (older), to = query
-  double overlap = 0;    ///< fraction of the query explained by the candidate
-  double residual = 0;   ///< mean squared residual per inlier
-};
-
-/// Accepts or rejects a proposed closure by looking at the data.
-class LoopValidator : public Configurable {
- public:
-  static constexpr const char* kKind = "LoopValidator";
-  ~LoopValidator() override;
-  /// Checks `query` against `candidate` starting from `guess` (query origin in the candidate's
-  /// frame). On success fills `closure` (its relative pose and information) and returns true;
-  /// otherwise sets `reason`.
-  virtual bool validate(const LocalMap& candidate, const LocalMap& query,
-                        const Eigen::Isometry3d& guess, LoopClosure& closure,
-                        std::string& reason) = 0;
-};
-
-/// A loop validator that also sees the graph snapshot the candidate and query come from, so it can
-/// look at the maps around them. GraphSlam calls validateInView() on such validators (found by
-/// dynamic_cast, so LoopValidator's own interface is unchanged).
-class ViewLoopValidator : public LoopValidator {
- public:
-  ~ViewLoopValidator() override;
-  /// As validate(); `candidate` is view.maps[candidate.id], `query` view.maps[query.id].
-  virtual bool validateInView(const GraphView& view, const LocalMap& candidate,
-                              const LocalMap& query, const Eigen::Isometry3d& guess,
-                              LoopClosure& closure, std::string& reason) = 0;
-};
 
 /// Counters of the back-end.
 struct GraphStats {

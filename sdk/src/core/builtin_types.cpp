@@ -1,9 +1,11 @@
 #include "builtin_types.h"
 
+#include "plugslam/alignment_validator.h"
+#include "plugslam/graph_slam.h"
 #include "plugslam/graph_writer.h"
-#include "plugslam/loop_closure.h"
 #include "plugslam/multi_tracker.h"
 #include "plugslam/pipeline.h"
+#include "plugslam/proximity_detector.h"
 
 namespace plugslam {
 inline namespace abi_v1 {

@@ -16,9 +16,6 @@
 namespace plugslam {
 inline namespace abi_v1 {
 
-LoopDetector::~LoopDetector() = default;
-LoopValidator::~LoopValidator() = default;
-ViewLoopValidator::~ViewLoopValidator() = default;
 GraphBackend::~GraphBackend() = default;
 
 void GraphBackend::restore(const std::vector<std::shared_ptr<LocalMap>>&,
@@ -93,42 +90,6 @@ Eigen::Isometry3d edgeError(const GraphEdge& e, const Eigen::Isometry3d& from,
 constexpr int kAuditRounds = 10;
 
 }  // namespace
-
-Eigen::MatrixXd betweenFactorInformation(const GraphEdge& edge, int dimension) {
-  if (dimension == 2) return edge.information;
-  // The tracker's information is over the rotation vector; the factor's rotation error is half
-  // of it, so the rotation block scales by 2 on each side.
-  Eigen::Matrix<double, 6, 1> d;
-  d << 1, 1, 1, 2, 2, 2;
-  return d.asDiagonal() * edge.information * d.asDiagonal();
-}
-
-void writeGraphG2o(const std::string& path, const std::vector<std::shared_ptr<const LocalMap>>& maps,
-                   const std::vector<GraphEdge>& edges) {
-  FactorGraph graph;
-  const int dim = maps.empty() ? 2 : maps.front()->dimension;
-  for (const auto& m : maps) {
-    if (dim == 2)
-      graph.addVariable<VariableSE2>(m->id, Space2D::from3D(m->origin));
-    else
-      graph.addVariable<VariableSE3>(m->id, m->origin);
-  }
-  if (!maps.empty()) graph.findVariable(maps.front()->id)->setFixed(true);
-  for (const auto& e : edges) {
-    Variable* a = graph.findVariable(e.from);
-    Variable* b = graph.findVariable(e.to);
-    if (!a || !b) continue;
-    if (dim == 2)
-      graph.emplaceFactor<BetweenFactorSE2>(static_cast<VariableSE2*>(a), static_cast<VariableSE2*>(b),
-                                            Space2D::from3D(e.relative),
-                                            Eigen::Matrix3d(betweenFactorInformation(e, 2)));
-    else
-      graph.emplaceFactor<BetweenFactorSE3>(
-          static_cast<VariableSE3*>(a), static_cast<VariableSE3*>(b), e.relative,
-          Eigen::Matrix<double, 6, 6>(betweenFactorInformation(e, 3)));
-  }
-  writeGraphFile(path, graph);
-}
 
 template <class S>
 GraphSlam<S>::GraphSlam() {
@@ -375,11 +336,7 @@ void GraphSlam<S>::runLoopJob(LoopJob& job) {
         Eigen::Isometry3d current = c.matched ? c.relative : view.relative(id, query_id);
         const auto validate_start = std::chrono::steady_clock::now();
         for (auto& validator : validators) {
-          auto* in_view = dynamic_cast<ViewLoopValidator*>(&*validator);
-          const bool accepted =
-              in_view ? in_view->validateInView(view, candidate, query, current, closure, reason)
-                      : validator->validate(candidate, query, current, closure, reason);
-          if (!accepted) {
+          if (!validator->validate(candidate, query, current, closure, reason)) {
             ok = false;
             break;
           }
