@@ -3,8 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <stdexcept>
 
 #include "landmark_cue.h"
+#include "modules/graph/consistency_filter.h"
+#include "modules/graph/odometry_audit.h"
+#include "modules/graph/residual_veto.h"
 #include "plugslam/alignment_validator.h"
 #include "plugslam/graph_slam.h"
 #include "plugslam/graph_writer.h"
@@ -29,6 +33,23 @@ Landmarks scatter(int n, double extent, unsigned seed) {
 std::shared_ptr<GraphSlam<Space2D>> newGraph() {
   return std::dynamic_pointer_cast<GraphSlam<Space2D>>(
       Registry::instance().create("sdk.GraphSlam2D"));
+}
+
+// The graph's loop filter of type F (one of its default filters).
+template <class F, class G>
+F& filterOf(G& graph) {
+  for (const auto& f : graph.loop_filters.items())
+    if (auto* typed = dynamic_cast<F*>(f.get())) return *typed;
+  throw std::runtime_error("no such loop filter");
+}
+
+// Takes the loop filter of type F out of the graph's list.
+template <class F, class G>
+void removeFilter(G& graph) {
+  auto items = graph.loop_filters.items();
+  graph.loop_filters.clear();
+  for (const auto& f : items)
+    if (!dynamic_cast<F*>(f.get())) graph.loop_filters.assign(f);
 }
 
 std::shared_ptr<AlignmentValidator<Space2D>> makeValidator() {
@@ -263,7 +284,7 @@ TEST(GraphSlam, AFalseLoopIsRejectedByConsistency) {
 TEST(GraphSlam, AFalseLoopAcrossATrackingFailureIsRejectedByConsistency) {
   // The last map joins the loop through a tracking failure's weak edge, and closes a false loop:
   // every cycle it forms with the other loops runs through that edge. Counted as no evidence
-  // (consistency_break_sigmas 0), the false loop stays; with the weak edge's std. devs in the
+  // (weak_edge_sigmas 0), the false loop stays; with the weak edge's std. devs in the
   // tolerance, its 7 m error is still far outside it and the loop is rejected. The residual
   // check and the odometry audit are off so that only the consistency check decides (the audit
   // alone rejects this loop too: TheOdometryAuditRejectsLoopsThatStretchAFailureEdge).
@@ -271,11 +292,9 @@ TEST(GraphSlam, AFalseLoopAcrossATrackingFailureIsRejectedByConsistency) {
     LoopWorld lw;
     auto graph = newGraph();
     graph->deterministic = true;
-    graph->consistency_break_sigmas = sigmas;
-    graph->residual_translation = 0.0;
-    graph->residual_rotation = 0.0;
-    graph->audit_translation = 0.0;
-    graph->audit_rotation = 0.0;
+    filterOf<detail::ConsistencyFilter>(*graph).weak_edge_sigmas = sigmas;
+    removeFilter<detail::ResidualVeto>(*graph);
+    removeFilter<detail::OdometryAudit>(*graph);
     auto detector = std::make_shared<ProximityDetector>();
     detector->max_candidates = 1;  // the last map's only loop is the false one
     graph->loop_detectors.assign(detector);
@@ -291,8 +310,8 @@ TEST(GraphSlam, AFalseLoopAcrossATrackingFailureIsRejectedByConsistency) {
     bool false_loop_active = false;
     for (const auto& e : graph->edges())
       false_loop_active = false_loop_active || (e.loop && e.to == v->victim && e.from == 0);
-    EXPECT_EQ(false_loop_active, sigmas == 0.0) << "consistency_break_sigmas " << sigmas;
-    EXPECT_GE(graph->stats().loops_accepted, 2u) << "consistency_break_sigmas " << sigmas;
+    EXPECT_EQ(false_loop_active, sigmas == 0.0) << "weak_edge_sigmas " << sigmas;
+    EXPECT_GE(graph->stats().loops_accepted, 2u) << "weak_edge_sigmas " << sigmas;
   }
 }
 
@@ -308,11 +327,8 @@ TEST(GraphSlam, AFalseLoopAloneInItsWindowIsRejectedByItsResidual) {
       LoopWorld lw;
       auto graph = newGraph();
       graph->deterministic = deterministic;
-      graph->consistency_window = 0.0;
-      if (!residual_check) {
-        graph->residual_translation = 0.0;
-        graph->residual_rotation = 0.0;
-      }
+      filterOf<detail::ConsistencyFilter>(*graph).window = 0.0;
+      if (!residual_check) removeFilter<detail::ResidualVeto>(*graph);
       graph->loop_detectors.assign(Registry::instance().create("sdk.ProximityDetector"));
       auto v = std::make_shared<CorruptingValidator>();
       v->victim = static_cast<int64_t>(lw.origins.size()) - 2;
@@ -350,11 +366,8 @@ struct FalseLoopGraph {
   std::shared_ptr<CorruptingValidator> validator = std::make_shared<CorruptingValidator>();
   FalseLoopGraph(std::vector<int64_t> victims, bool audit) {
     graph->deterministic = true;
-    graph->consistency_break_sigmas = 0.0;
-    if (!audit) {
-      graph->audit_translation = 0.0;
-      graph->audit_rotation = 0.0;
-    }
+    filterOf<detail::ConsistencyFilter>(*graph).weak_edge_sigmas = 0.0;
+    if (!audit) removeFilter<detail::OdometryAudit>(*graph);
     auto detector = std::make_shared<ProximityDetector>();
     detector->radius = 6.5;
     detector->max_radius = 6.5;
@@ -434,10 +447,7 @@ TEST(GraphSlam, TheOdometryAuditKeepsRightLoopsWhoseDriftAWeakEdgeTakes) {
     LoopWorld lw;
     auto graph = newGraph();
     graph->deterministic = true;
-    if (!audit) {
-      graph->audit_translation = 0.0;
-      graph->audit_rotation = 0.0;
-    }
+    if (!audit) removeFilter<detail::OdometryAudit>(*graph);
     graph->loop_detectors.assign(Registry::instance().create("sdk.ProximityDetector"));
     graph->validators.assign(makeValidator());
     graph->configure();
@@ -542,11 +552,8 @@ TEST(GraphSlam, TheOdometryAuditWorksIn3D) {
         Registry::instance().create("sdk.GraphSlam3D"));
     ASSERT_TRUE(graph);
     graph->deterministic = true;
-    graph->consistency_break_sigmas = 0.0;
-    if (!audit) {
-      graph->audit_translation = 0.0;
-      graph->audit_rotation = 0.0;
-    }
+    filterOf<detail::ConsistencyFilter>(*graph).weak_edge_sigmas = 0.0;
+    if (!audit) removeFilter<detail::OdometryAudit>(*graph);
     auto detector = std::make_shared<TruthDetector>();
     detector->first_query = 19;
     graph->loop_detectors.assign(detector);
@@ -613,7 +620,7 @@ TEST(GraphSlam, AFinalPassTiesMapsTheOnlineSearchMissed) {
     LoopWorld lw;
     auto graph = newGraph();
     graph->deterministic = true;
-    graph->consistency_window = 0.0;
+    filterOf<detail::ConsistencyFilter>(*graph).window = 0.0;
     auto v = std::make_shared<CorruptingValidator>();
     v->victims = {29, 31};
     graph->validators.assign(v);
@@ -745,7 +752,7 @@ TEST(GraphSlam, ValidatorsStartFromADetectorsMatch) {
     auto recorder = std::make_shared<RecordingValidator>();
     recorder->inner->max_correction = 0.5;  // only a guess near the truth validates
     graph->validators.assign(recorder);
-    graph->consistency_window = 0.0;  // judge the loops one by one
+    filterOf<detail::ConsistencyFilter>(*graph).window = 0.0;  // judge the loops one by one
     graph->configure();
     // Drift of metres: the estimate's guess fails validation, the match's succeeds.
     auto maps = driveLoop(lw, *graph, 0.02, !deterministic);

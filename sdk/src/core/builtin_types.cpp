@@ -1,5 +1,8 @@
 #include "builtin_types.h"
 
+#include "modules/graph/consistency_filter.h"
+#include "modules/graph/odometry_audit.h"
+#include "modules/graph/residual_veto.h"
 #include "plugslam/alignment_validator.h"
 #include "plugslam/graph_slam.h"
 #include "plugslam/graph_writer.h"
@@ -29,6 +32,13 @@ void registerBuiltinTypes(Registrar& registrar) {
       "AlignmentValidator2D", "accepts a loop when the maps' scenes align with enough overlap");
   registrar.add<AlignmentValidator<Space3D>>(
       "AlignmentValidator3D", "accepts a loop when the maps' scenes align with enough overlap");
+  registrar.add<detail::ConsistencyFilter>(
+      "ConsistencyFilter", "keeps the largest mutually consistent set of recently closed loops");
+  registrar.add<detail::ResidualVeto>(
+      "ResidualVeto", "after each optimization, rejects the loops the graph disagrees with most");
+  registrar.add<detail::OdometryAudit>(
+      "OdometryAudit",
+      "when the run ends, rejects the loops that stretch an odometry edge beyond its bounds");
   registrar.add<GraphWriter>("GraphWriter", "writes the pose graph of local maps as g2o");
   registrar.add<DistanceSplitter>("DistanceSplitter",
                                   "closes a local map on distance, angle, time or lost overlap");
