@@ -6,6 +6,7 @@
 #include "plugslam/alignment_validator.h"
 #include "plugslam/graph_slam.h"
 #include "plugslam/graph_writer.h"
+#include "plugslam/localizer.h"
 #include "plugslam/multi_tracker.h"
 #include "plugslam/pipeline.h"
 #include "plugslam/proximity_detector.h"
@@ -22,6 +23,10 @@ void registerBuiltinTypes(Registrar& registrar) {
                                        "2D local map + slices: predict, align, merge, split");
   registrar.add<MultiTracker<Space3D>>("MultiTracker3D",
                                        "3D local map + slices: predict, align, merge, split");
+  registrar.add<Localizer<Space2D>>(
+      "Localizer2D", "tracks in the frozen 2D maps of a saved session (run --localize)");
+  registrar.add<Localizer<Space3D>>(
+      "Localizer3D", "tracks in the frozen 3D maps of a saved session (run --localize)");
   registrar.add<GraphSlam<Space2D>>("GraphSlam2D",
                                     "pose graph of 2D local maps, loop closing, global optimization");
   registrar.add<GraphSlam<Space3D>>("GraphSlam3D",
