@@ -9,6 +9,9 @@ PACKAGES=(
   libcli11-dev libnanoflann-dev libgtest-dev libgmock-dev
   zlib1g-dev liblz4-dev libbz2-dev libreadline-dev libpng-dev
   time python3
+  libopencv-core-dev libopencv-imgproc-dev libopencv-features2d-dev libopencv-calib3d-dev
+  libopencv-imgcodecs-dev
+  nlohmann-json3-dev libjpeg62-turbo-dev
 )
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -16,10 +19,12 @@ for p in "${PACKAGES[@]}"; do
 done
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install-deps: all ${#PACKAGES[@]} packages present"
-  exit 0
+  # The built-in page's Node packages (npm ci from runtime/web's lockfile).
+  exec "$(dirname "$0")/install-web-deps.sh"
 fi
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 echo "install-deps: installing ${missing[*]}"
 $SUDO apt-get update -qq
 DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+"$(dirname "$0")/install-web-deps.sh"

@@ -3,12 +3,15 @@
 #   scripts/test.sh               Release build in build/
 #   scripts/test.sh --sanitize    ASan+UBSan build in build-sanitize/
 #   scripts/test.sh -L unit       extra arguments go to ctest (here: only unit tests)
+# PLUGSLAM_WERROR=ON (CI sets it, as does CI=true) builds with warnings as errors.
 # Tests that need real data read it from $PLUGSLAM_DATA (default ../shared/data) and skip,
 # saying why, when it is absent.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cmake_args=()
 ctest_args=()
+werror="${PLUGSLAM_WERROR:-$([ "${CI:-}" = true ] && echo ON || echo OFF)}"
+cmake_args+=(-DPLUGSLAM_WERROR="$werror")
 export PLUGSLAM_BUILD_DIR="$root/build"
 for a in "$@"; do
   case "$a" in
@@ -21,6 +24,8 @@ for a in "$@"; do
   esac
 done
 "$root/scripts/install-deps.sh"
+# The page's browser tests: Debian's chromium and the page's npm packages.
+"$root/scripts/install-web-deps.sh" --browser
 "$root/scripts/build.sh" "${cmake_args[@]}"
 : "${PLUGSLAM_DATA:=$root/../shared/data}"
 export PLUGSLAM_DATA

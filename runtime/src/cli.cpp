@@ -8,6 +8,7 @@
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <boost/filesystem.hpp>
 #include <iostream>
+#include <sstream>
 
 #include "commands/commands.h"
 #include "plugslam/errors.h"
@@ -52,6 +53,8 @@ int runCli(int argc, char** argv) {
   addEvalCommand(app, exit_code);
   addOptimizeCommand(app, exit_code);
   addShellCommand(app, exit_code);
+  addRenderCommand(app, exit_code);
+  addViewCommand(app, exit_code);
 
   app.parse_complete_callback([&] {
     auto console = spdlog::stderr_color_mt("plugslam");
@@ -81,7 +84,9 @@ int runCli(int argc, char** argv) {
     int rc = app.exit(e);
     return rc == 0 ? kOk : kBadInput;
   } catch (const InputError& e) {
-    spdlog::error("{}", e.what());
+    // One log line per line: validate lists every error of a config, one a line.
+    std::istringstream lines(e.what());
+    for (std::string line; std::getline(lines, line);) spdlog::error("{}", line);
     return kBadInput;
   } catch (const Error& e) {
     spdlog::error("{}", e.what());

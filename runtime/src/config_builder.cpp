@@ -153,12 +153,22 @@ ConfigBuilder::ConfigBuilder(const ConfigDocument& doc, PluginManager& plugins, 
   }
 }
 
-void ConfigBuilder::fail(const YAML::Node& node, const std::string& path,
-                         const std::string& message) const {
+ConfigErrorList::ConfigErrorList(std::vector<ConfigError> errors)
+    : ConfigError(errors.at(0).file(), errors[0].line(), errors[0].column(), errors[0].path(),
+                  errors[0].message()),
+      errors_(std::move(errors)) {
+  for (const auto& e : errors_) text_ += std::string(e.what()) + "\n";
+  text_ += std::to_string(errors_.size()) + " errors";
+  if (!errors_[0].file().empty() && errors_[0].file().rfind("--set", 0) != 0)
+    text_ += " in " + errors_[0].file();
+}
+
+ConfigError ConfigBuilder::locate(const YAML::Node& node, const std::string& path,
+                                  const std::string& message) const {
   // Errors on values that came from --set point at the command line, not the file.
   for (const auto& [p, origin] : doc_.overrides) {
     if (path == p || path.rfind(p + ".", 0) == 0 || path.rfind(p + "[", 0) == 0)
-      throw ConfigError(origin, 0, 0, path, message);
+      return ConfigError(origin, 0, 0, path, message);
   }
   int line = 0, col = 0;
   if (node.IsDefined()) {
@@ -168,20 +178,47 @@ void ConfigBuilder::fail(const YAML::Node& node, const std::string& path,
       col = m.column + 1;
     }
   }
-  throw ConfigError(doc_.file, line, col, path, message);
+  return ConfigError(doc_.file, line, col, path, message);
+}
+
+std::string ConfigBuilder::where(const YAML::Node& node, const std::string& path) const {
+  const ConfigError e = locate(node, path, "");
+  std::string s = e.file();
+  if (e.line() > 0) s += ":" + std::to_string(e.line()) + ":" + std::to_string(e.column());
+  return s;
+}
+
+void ConfigBuilder::fail(const YAML::Node& node, const std::string& path,
+                         const std::string& message) const {
+  throw locate(node, path, message);
+}
+
+void ConfigBuilder::report(const YAML::Node& node, const std::string& path,
+                           const std::string& message) {
+  errors_.push_back(locate(node, path, message));
+}
+
+void ConfigBuilder::check() const {
+  if (errors_.empty()) return;
+  if (errors_.size() == 1) throw errors_.front();
+  throw ConfigErrorList(errors_);
 }
 
 void ConfigBuilder::loadPlugins(const std::string& key) {
   YAML::Node list = doc_.root[key];
   if (!list) return;
-  if (!list.IsSequence()) fail(list, key, "expected a list of plugin names or paths");
+  if (!list.IsSequence()) return report(list, key, "expected a list of plugin names or paths");
   for (size_t i = 0; i < list.size(); ++i) {
     std::string path = key + "[" + std::to_string(i) + "]";
-    if (!list[i].IsScalar()) fail(list[i], path, "expected a plugin name or path");
+    if (!list[i].IsScalar()) {
+      report(list[i], path, "expected a plugin name or path");
+      continue;
+    }
     try {
       plugins_.load(list[i].Scalar());
     } catch (const PluginError& e) {
-      fail(list[i], path, e.what());
+      report(list[i], path, e.what());
+      failed_plugins_[list[i].Scalar()] = where(list[i], path);
     }
   }
 }
@@ -196,10 +233,15 @@ std::string ConfigBuilder::resolveType(const SlotBase& slot, const std::string& 
   if (!registry_.find(type)) {
     std::string plugin = type.substr(0, dot);
     if (!plugins_.isLoaded(plugin) && registry_.typesOf(plugin).empty()) {
+      // One error per plugin that does not load, not one per type of it.
+      if (auto failed = failed_plugins_.find(plugin); failed != failed_plugins_.end())
+        fail(at, path, "type '" + type + "' needs plugin '" + plugin +
+                           "', which did not load (see the error at " + failed->second + ")");
       // A type names its plugin, so the plugin is loaded on first use.
       try {
         plugins_.load(plugin);
       } catch (const PluginError& e) {
+        failed_plugins_[plugin] = where(at, path);
         fail(at, path, "type '" + type + "' needs plugin '" + plugin + "': " + e.what());
       }
     }
@@ -255,7 +297,7 @@ std::shared_ptr<Configurable> ConfigBuilder::create(const SlotBase& slot, const 
              kindList(registry_, slot.kind()));
   resolveType(slot, type, type_node, has_params && node["type"] ? join(path, "type") : path);
   auto obj = registry_.create(type);
-  configure(*obj, params, path);
+  configureObject(*obj, params, path);
   return obj;
 }
 
@@ -272,11 +314,15 @@ void ConfigBuilder::fillSlot(SlotBase& slot, const YAML::Node& node, const std::
     if (!node.IsSequence()) fail(node, path, "expected a list of " + slot.kind() + " modules");
     for (size_t i = 0; i < node.size(); ++i) {
       std::string p = path + "[" + std::to_string(i) + "]";
-      auto obj = create(slot, node[i], p);
       try {
-        slot.assign(obj);
-      } catch (const ValueError& e) {
-        fail(node[i], p, e.what());
+        auto obj = create(slot, node[i], p);
+        try {
+          slot.assign(obj);
+        } catch (const ValueError& e) {
+          fail(node[i], p, e.what());
+        }
+      } catch (const ConfigError& e) {
+        errors_.push_back(e);  // the next item is checked too
       }
     }
     return;
@@ -291,12 +337,19 @@ void ConfigBuilder::fillSlot(SlotBase& slot, const YAML::Node& node, const std::
 }
 
 void ConfigBuilder::configure(Configurable& obj, const YAML::Node& node, const std::string& path) {
+  configureObject(obj, node, path);
+  check();
+}
+
+void ConfigBuilder::configureObject(Configurable& obj, const YAML::Node& node,
+                                    const std::string& path) {
   if (obj.name().empty()) obj.setName(path);
+  const size_t errors_before = errors_.size();
   std::set<SlotBase*> filled;
   if (node && !node.IsNull()) {
-    if (!node.IsMap()) fail(node, path, "expected a map of parameters");
+    if (!node.IsMap()) return report(node, path, "expected a map of parameters");
     std::map<std::string, int> seen;
-    for (auto it = node.begin(); it != node.end(); ++it) {
+    for (auto it = node.begin(); it != node.end(); ++it) try {
       // Copies: yaml-cpp's iterator proxy dies at the end of the statement.
       const YAML::Node key = it->first;
       const YAML::Node value = it->second;
@@ -331,8 +384,8 @@ void ConfigBuilder::configure(Configurable& obj, const YAML::Node& node, const s
         continue;
       }
       if (SlotBase* slot = obj.findSlot(k)) {
+        filled.insert(slot);  // a slot that fails stays empty rather than taking its default
         fillSlot(*slot, value, p);
-        filled.insert(slot);
         continue;
       }
       std::vector<std::string> keys;
@@ -346,10 +399,21 @@ void ConfigBuilder::configure(Configurable& obj, const YAML::Node& node, const s
       else
         msg += " (valid keys: " + keyList(obj) + ")";
       fail(key, p, msg);
+    } catch (const ConfigError& e) {
+      errors_.push_back(e);  // the next key is checked too
     }
   }
-  for (SlotBase* slot : obj.slots())
-    if (!filled.count(slot)) fillSlot(*slot, YAML::Node(), join(path, slot->name()));
+  for (SlotBase* slot : obj.slots()) {
+    if (filled.count(slot)) continue;
+    try {
+      fillSlot(*slot, YAML::Node(), join(path, slot->name()));
+    } catch (const ConfigError& e) {
+      errors_.push_back(e);
+    }
+  }
+  // A module with a bad key (or a bad nested module) is not asked to check itself: its
+  // cross-parameter checks would run on values the user did not write.
+  if (errors_.size() > errors_before) return;
   try {
     obj.configure();
   } catch (const ParamError& e) {
@@ -365,11 +429,11 @@ void ConfigBuilder::configure(Configurable& obj, const YAML::Node& node, const s
       }
     } catch (const std::exception&) {
     }
-    fail(at, join(path, e.path()), e.message());
-  } catch (const ConfigError&) {
-    throw;
+    report(at, join(path, e.path()), e.message());
+  } catch (const ConfigError& e) {
+    errors_.push_back(e);
   } catch (const InputError& e) {
-    fail(node, path, e.what());
+    report(node, path, e.what());
   }
 }
 
@@ -381,7 +445,8 @@ void ConfigBuilder::configureRoot(Configurable& root, const std::vector<std::str
     for (auto& k : skip_keys) skip = skip || (it->first.IsScalar() && it->first.Scalar() == k);
     if (!skip) filtered.force_insert(it->first, it->second);
   }
-  configure(root, filtered, "");
+  configureObject(root, filtered, "");
+  check();
 }
 
 YAML::Node dumpConfig(const Configurable& obj, bool with_type) {

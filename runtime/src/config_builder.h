@@ -1,7 +1,8 @@
 #pragma once
 // Builds module trees from YAML through the registry. Every error names the file, line and
 // column, the path in the pipeline ("pipeline.tracker.aligner.slices[1].max_distance") and what
-// was expected; unknown keys are errors, near misses get a "did you mean".
+// was expected; unknown keys are errors, near misses get a "did you mean". A build goes on past
+// an error to the next key or list item, so one pass reports every error in the file.
 #include <yaml-cpp/yaml.h>
 
 #include <map>
@@ -22,6 +23,21 @@ struct ConfigDocument {
   std::map<std::string, std::string> overrides;  ///< pipeline path -> "--set path=value"
 };
 
+/// Every error one build found, in file order; what() has one error per line and a count.
+/// Its own file/line/path/message are those of the first error, so a catch of ConfigError that
+/// reads them keeps working.
+class ConfigErrorList : public ConfigError {
+ public:
+  explicit ConfigErrorList(std::vector<ConfigError> errors);
+  const char* what() const noexcept override { return text_.c_str(); }
+  /// The errors, at least one.
+  const std::vector<ConfigError>& errors() const { return errors_; }
+
+ private:
+  std::vector<ConfigError> errors_;
+  std::string text_;
+};
+
 /// Reads a YAML file; syntax errors become ConfigError with line and column.
 ConfigDocument loadConfigFile(const std::string& file);
 /// Parses YAML text (tests, the shell); `name` is used as the file name in errors.
@@ -31,17 +47,24 @@ void applyOverride(ConfigDocument& doc, const std::string& assignment);
 /// Splits "a.b[2].c" into {"a", "b", "[2]", "c"}; throws InputError when malformed.
 std::vector<std::string> splitPath(const std::string& path);
 
-/// Builds and configures modules from YAML.
+/// Builds and configures modules from YAML. Errors are collected: an error in one key or list
+/// item is recorded and the build goes on with the next one (the module whose key failed skips
+/// its own configure(), so one mistake does not cascade). configure() and configureRoot() throw
+/// everything collected (a ConfigError, a ConfigErrorList when there are several) when they
+/// return; loadPlugins() and report() only record, for check() or the next configure to throw.
 class ConfigBuilder {
  public:
   ConfigBuilder(const ConfigDocument& doc, PluginManager& plugins,
                 Registry& registry = Registry::instance());
 
-  /// Loads the plugins listed under `key` (a list of names or paths) of the root map.
+  /// Loads the plugins listed under `key` (a list of names or paths) of the root map; records
+  /// each plugin that fails and goes on.
   void loadPlugins(const std::string& key = "plugins");
-  /// Configures `obj` from the map `node` located at `path` (its params, slots, then configure()).
+  /// Configures `obj` from the map `node` located at `path` (its params, slots, then configure());
+  /// throws every error collected so far.
   void configure(Configurable& obj, const YAML::Node& node, const std::string& path);
-  /// Configures the root object from the whole document, skipping the listed root keys.
+  /// Configures the root object from the whole document, skipping the listed root keys; throws
+  /// every error collected so far.
   void configureRoot(Configurable& root, const std::vector<std::string>& skip_keys = {});
   /// Creates one module for `slot` from `node` (a type name or a map with `type:`).
   std::shared_ptr<Configurable> create(const SlotBase& slot, const YAML::Node& node,
@@ -50,8 +73,18 @@ class ConfigBuilder {
   /// Throws a ConfigError located at `node` (or at the --set that produced `path`).
   [[noreturn]] void fail(const YAML::Node& node, const std::string& path,
                          const std::string& message) const;
+  /// Records the error fail() would throw, and returns: for checks that go on to the next item.
+  void report(const YAML::Node& node, const std::string& path, const std::string& message);
+  /// The errors recorded so far, in the order found.
+  const std::vector<ConfigError>& errors() const { return errors_; }
+  /// Throws the recorded errors (ConfigError for one, ConfigErrorList for several), if any.
+  void check() const;
 
  private:
+  ConfigError locate(const YAML::Node& node, const std::string& path,
+                     const std::string& message) const;
+  std::string where(const YAML::Node& node, const std::string& path) const;  // "file:line:col"
+  void configureObject(Configurable& obj, const YAML::Node& node, const std::string& path);
   std::string resolveType(const SlotBase& slot, const std::string& type, const YAML::Node& at,
                           const std::string& path);
   void fillSlot(SlotBase& slot, const YAML::Node& node, const std::string& path);
@@ -59,6 +92,8 @@ class ConfigBuilder {
   PluginManager& plugins_;
   Registry& registry_;
   std::map<std::string, std::string> names_;  // explicit instance name -> where first used
+  std::vector<ConfigError> errors_;
+  std::map<std::string, std::string> failed_plugins_;  // plugin -> where its load failed
 };
 
 /// Dumps a configurable's current values (and nested modules) as YAML.

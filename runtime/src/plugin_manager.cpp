@@ -11,6 +11,7 @@
 #include "plugslam/errors.h"
 #include "plugslam/plugin.h"
 #include "plugslam/value_types.h"
+#include "plugslam/view/drawers.h"
 
 namespace plugslam::runtime {
 
@@ -56,6 +57,7 @@ PluginManager::~PluginManager() {
   for (auto& [name, p] : plugins_) {
     registry_.removePlugin(name);
     ValueTypes::instance().removeOwner(name);
+    view::Drawers::instance().removeOwner(name);
   }
 }
 
@@ -199,6 +201,7 @@ const PluginInfo& PluginManager::load(const std::string& name_or_path) {
   if (rc != 0) {
     registry_.removePlugin(name);
     ValueTypes::instance().removeOwner(name);
+    view::Drawers::instance().removeOwner(name);
     throw PluginError(who + " failed to register its types: " +
                       (err[0] ? std::string(err) : std::string("no register function")));
   }
@@ -230,6 +233,7 @@ void PluginManager::unload(const std::string& name) {
   if (it == plugins_.end()) throw InputError("plugin '" + name + "' is not loaded");
   registry_.removePlugin(name);
   ValueTypes::instance().removeOwner(name);
+  view::Drawers::instance().removeOwner(name);
   plugins_.erase(it);
 }
 

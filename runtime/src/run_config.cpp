@@ -10,7 +10,10 @@ std::shared_ptr<RunConfig> buildRun(const ConfigDocument& doc, PluginManager& pl
   auto run = std::make_shared<RunConfig>();
   run->setTypeName("run");
   run->setName("run");
-  builder.configureRoot(*run);
+  if (!doc.root["source"] || doc.root["source"].IsNull())
+    builder.report(doc.root["source"] ? doc.root["source"] : doc.root, "source",
+                   "missing 'source:' (where frames come from)");
+  builder.configureRoot(*run);  // throws every error found, this one included
   if (!run->source)
     builder.fail(doc.root, "source", "missing 'source:' (where frames come from)");
   return run;

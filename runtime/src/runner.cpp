@@ -19,6 +19,8 @@ namespace plugslam::runtime {
 
 namespace fs = boost::filesystem;
 
+RunObserver::~RunObserver() = default;
+
 void writeTextFileAtomic(const std::string& path, const std::string& content) {
   fs::path target(path);
   fs::path tmp = target.parent_path() / (target.filename().string() + ".tmp-" +
@@ -179,6 +181,10 @@ bool Execution::step() {
     }
   }
   report_.frames = seq + 1;
+  if (options_.observer && processed) {
+    ScopedTimer t(io_timings_, "viewer");
+    options_.observer->frame(frame, *run_.pipeline, report_.frames, total_);
+  }
   if (options_.progress) {
     uint64_t loops = run_.pipeline->graph ? run_.pipeline->graph->stats().loops_accepted : 0;
     options_.progress(report_.frames, total_, elapsed(), loops);
@@ -230,6 +236,7 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
   if (!result.reference.empty())
     writeTumTrajectory(result.reference,
                        (fs::path(options_.out_dir) / "reference.tum").string());
+  if (options_.observer) options_.observer->finished(result, pipeline);
   for (const auto& e : pipeline.timings().entries()) report.pipeline_s += e.total_s;
   report.pipeline_hz = report.pipeline_s > 0 ? report.frames / report.pipeline_s : 0;
   report.wall_s = elapsed();
@@ -247,6 +254,7 @@ RunReport runPipeline(RunConfig& run, const RunOptions& options) {
   std::exception_ptr failure;
   std::string error;
   for (;;) {
+    if (options.observer) options.observer->betweenFrames(execution);
     if (options.interrupted && options.interrupted()) {
       stopped_by = "interrupted";
       if (options.on_interrupt) options.on_interrupt();

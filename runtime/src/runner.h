@@ -30,6 +30,24 @@ struct RunReport {
   std::optional<double> ate_rmse, ate_max, rpe_rmse;
 };
 
+class Execution;
+
+/// Watches a run frame by frame (the viewer stream) and may hold it between two frames (a
+/// viewer's pause and step, its parameter changes and actions, which run there).
+class RunObserver {
+ public:
+  virtual ~RunObserver();
+  /// After each processed frame, on the run's thread (timed as the module "viewer").
+  virtual void frame(const Frame& frame, Pipeline& pipeline, uint64_t frames, int64_t total) = 0;
+  /// Before each frame of runPipeline (not the shell's steps); may block while paused.
+  virtual void betweenFrames(Execution& execution) { (void)execution; }
+  /// Once the run is finished (final corrections applied), before run.json.
+  virtual void finished(const RunResult& result, Pipeline& pipeline) {
+    (void)result;
+    (void)pipeline;
+  }
+};
+
 /// Options of one run.
 struct RunOptions {
   std::string out_dir;
@@ -43,6 +61,8 @@ struct RunOptions {
   /// Called when an error stopped the run, after its outputs and run.json were written (so a
   /// front-end can save the session); may be empty. The error is rethrown afterwards.
   std::function<void()> stopped_by_error;
+  /// Watches the run (the viewer stream); may be null. Outlives the run.
+  RunObserver* observer = nullptr;
 };
 
 /// One run driven frame by frame (the shell steps it; runPipeline loops it). Not thread-safe:

@@ -2,7 +2,7 @@
 # Full 2D SLAM (front-end + loop closing) on every log in $PLUGSLAM_DATA/laser2d: relation
 # metric against the log's own (GMapping) poses, map crispness (ours and the reference's, same
 # implementation), closures accepted/rejected, Hz, wall time, peak memory. Writes the table
-# into docs/benchmarks.md (section laser2d) and our map previews into docs/img/.
+# into docs/benchmarks.md (section laser2d) and `plugslam render`'s pictures into docs/img/.
 # Run scripts/build.sh first. Needs /usr/bin/time (Debian package `time`) for peak memory.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -46,10 +46,18 @@ for dir in "$data"/laser2d/*/; do
 import json; r=json.load(open('$run/run.json')); g=r['graph']
 print(f\"{g['loops_accepted']} / {g['loops_rejected']} | {r['pipeline_hz']:.0f} | {r['wall_time_s']:.2f}\")")
   peak=$(cat "$run/peak_kib" 2>/dev/null); peak=${peak:+$((peak / 1024)) MiB}
-  [ -f "$run/map.png" ] && cp "$run/map.png" "$root/docs/img/$name-ours.png"
+  # The pictures users look at: map, trajectory, reference aligned onto it, loop closures; and
+  # the error plots where the log has reference poses (`plugslam render`).
+  "$bin" render "$run" --width 800 -q > /dev/null
+  cp "$run/render_map.png" "$root/docs/img/$name-ours.png"
+  errlink=""
+  if [ -f "$run/render_errors.png" ]; then
+    cp "$run/render_errors.png" "$root/docs/img/$name-errors.png"
+    errlink="[errors](img/$name-errors.png)"
+  fi
   refimg=$(ls "$dir"/*.png "$dir"/*.pgm 2>/dev/null | head -n1 || true)
   reflink=${refimg:+[reference](../../shared/data/laser2d/$name/$(basename "$refimg"))}
-  rows+="| $name | $rel | $crisp | $crisp_ref | $stats | ${peak:-n/a} | ![ours](img/$name-ours.png) ${reflink} |"$'\n'
+  rows+="| $name | $rel | $crisp | $crisp_ref | $stats | ${peak:-n/a} | ![ours](img/$name-ours.png) ${errlink} ${reflink} |"$'\n'
 done
 {
   echo "## 2D laser SLAM on real logs"

@@ -224,8 +224,8 @@ ATE_KITTI = "eval ate {dir}/base/ref.kitti {file}"
 GRAPH = "graph {file}"
 ARCHIVE = "archive {file}"
 
-GOOD_CONFIG = """plugins: [io, odometry]
-source: {type: io.Simulator2D, session: stage-0, lasers: [front_laser]}
+GOOD_CONFIG = """plugins: [sim, odometry]
+source: {type: sim.Simulator2D, session: stage-0, lasers: [front_laser]}
 pipeline:
   tracker:
     type: sdk.MultiTracker2D
@@ -239,12 +239,12 @@ pipeline:
 
 # Base files (valid).
 write(BASE, "good.yaml", GOOD_CONFIG)
-write(BASE, "carmen_run.yaml", GOOD_CONFIG.replace(
-    "{type: io.Simulator2D, session: stage-0, lasers: [front_laser]}",
+write(BASE, "carmen_run.yaml", GOOD_CONFIG.replace("[sim, odometry]", "[io, odometry]").replace(
+    "{type: sim.Simulator2D, session: stage-0, lasers: [front_laser]}",
     "{type: io.CarmenSource, path: set-by-the-case}") +
     "outputs:\n  - {type: io.TrajectoryWriter, file: traj.tum, format: tum}\n")
-write(BASE, "rosbag_run.yaml", GOOD_CONFIG.replace(
-    "{type: io.Simulator2D, session: stage-0, lasers: [front_laser]}",
+write(BASE, "rosbag_run.yaml", GOOD_CONFIG.replace("[sim, odometry]", "[io, odometry]").replace(
+    "{type: sim.Simulator2D, session: stage-0, lasers: [front_laser]}",
     "{type: io.RosbagSource, path: set-by-the-case}") +
     "outputs:\n  - {type: io.TrajectoryWriter, file: traj.tum, format: tum}\n")
 write(BASE, "sim_world.yaml", GOOD_CONFIG.replace(
@@ -264,7 +264,7 @@ write(BASE, "good_archive.yaml", "plugslam_archive: 1\ndata:\n  x: {type: double
 
 # -- YAML configs --
 LOC = r"yaml:\d+"
-case("yaml_syntax_unclosed", "plugins: [io, odometry\nsource: {type: io.Simulator2D\n", VALIDATE, 2,
+case("yaml_syntax_unclosed", "plugins: [sim, odometry\nsource: {type: sim.Simulator2D\n", VALIDATE, 2,
      r"yaml_syntax_unclosed\.yaml:\d+:\d+: invalid YAML", "unclosed flow sequence", ext=".yaml")
 case("yaml_truncated", GOOD_CONFIG[:GOOD_CONFIG.index("PriorSlice") + 3], VALIDATE, 2,
      r"yaml_truncated\.yaml:\d+:\d+: invalid YAML", "file cut inside a flow map", ext=".yaml")
@@ -286,12 +286,12 @@ case("yaml_list_for_scalar", GOOD_CONFIG.replace("distance: 1.0", "distance: [1,
      r"distance", "list where a scalar is expected", ext=".yaml")
 case("yaml_unknown_type", GOOD_CONFIG.replace("sdk.DistanceSplitter", "sdk.NoSuchSplitter"),
      VALIDATE, 2, r"NoSuchSplitter", "unknown module type", ext=".yaml")
-case("yaml_unknown_plugin", GOOD_CONFIG.replace("[io, odometry]", "[io, odometry, nosuchplugin]"),
+case("yaml_unknown_plugin", GOOD_CONFIG.replace("[sim, odometry]", "[sim, odometry, nosuchplugin]"),
      VALIDATE, 2, r"nosuchplugin", "plugin not found", ext=".yaml")
 case("yaml_plugin_name_too_long", GOOD_CONFIG.replace("odometry.WheelOdometry", "e" * 300 + ".WheelOdometry"),
      VALIDATE, 2, r"plugin 'e+' not found", "type of a plugin whose file name is too long for the "
      "file system (found by fuzz_config: was an uncaught filesystem_error)", ext=".yaml")
-case("yaml_plugins_wrong_type", GOOD_CONFIG.replace("[io, odometry]", "{a: 1}"), VALIDATE, 2,
+case("yaml_plugins_wrong_type", GOOD_CONFIG.replace("[sim, odometry]", "{a: 1}"), VALIDATE, 2,
      r"plugins", "plugins is a map", ext=".yaml")
 case("yaml_slot_wrong_type", GOOD_CONFIG.replace("motion: {type: odometry.WheelOdometry}",
                                                   "motion: 42"), VALIDATE, 2, r"motion",
@@ -392,7 +392,7 @@ case("bag_missing_file", None, ROSBAG, 2, r"cannot open ROS bag .*bag_missing_fi
 case("bag_binary_garbage", MAGIC + garbage(2000, 9), ROSBAG, 2, r"bag_binary_garbage\.bag: byte offset \d+: record",
      "magic then random bytes", ext=".bag")
 
-# -- PGM worlds (io.Simulator2D) --
+# -- PGM worlds (sim.Simulator2D) --
 px = bytes(255 if (x in (0, 19) or y in (0, 19)) else 0 for y in range(20) for x in range(20))
 write(BASE, "world.pgm", pgm_p5(20, 20, px))
 case("pgm_truncated", pgm_p5(20, 20, px)[:120], WORLD, 2, r"pgm_truncated\.pgm",

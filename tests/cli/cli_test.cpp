@@ -121,6 +121,25 @@ TEST_F(Cli, ValidateGoodAndBroken) {
   expectHas(r.out, "cannot open config file");
 }
 
+// Item 17.31: validate lists every error of the file, each on its own line with file:line:column
+// and the key path, then a count; the missing source is one of them, not a later surprise.
+TEST_F(Cli, ValidateReportsEveryError) {
+  auto bad = write("bad.yaml", "plugins: [" + buildDir() +
+                                   "/tests/plugins/plugslam_fixture.so]\n"
+                                   "pipeline:\n"
+                                   "  preprocessors:\n"
+                                   "    - {type: fixture.Scale, factr: 0.5}\n"
+                                   "    - {type: fixture.Scale, factor: abc}\n"
+                                   "outputs: [fixture.SumWritr]\n");
+  auto r = run("validate " + bad);
+  EXPECT_EQ(r.code, 2) << r.out;
+  expectHas(r.out, "[error] " + bad + ":1:1: source: missing 'source:'");
+  expectHas(r.out, "[error] " + bad + ":4:29: pipeline.preprocessors[0].factr: unknown key 'factr'");
+  expectHas(r.out, "[error] " + bad + ":5:37: pipeline.preprocessors[1].factor: expected a number");
+  expectHas(r.out, "[error] " + bad + ":6:11: outputs[0]: unknown type 'fixture.SumWritr'");
+  expectHas(r.out, "[error] 4 errors in " + bad);
+}
+
 TEST_F(Cli, RunWritesOutputsAndRunJson) {
   auto cfg = config();
   auto out = (dir_ / "out").string();

@@ -11,6 +11,8 @@
 #include <random>
 #include <sstream>
 
+#include "plugslam/landmarks/feature_set.h"
+#include "plugslam/landmarks/landmark_map.h"
 #include "plugslam/property_container.h"
 #include "plugslam/value_types.h"
 
@@ -277,6 +279,33 @@ PropertyContainer everyBuiltIn() {
   camera.baseline = 0.54;
   camera.mount = i3;
   c.set<CameraInfo>("CameraInfo", camera);
+  FeatureSet features;
+  features.camera.fx = features.camera.fy = 700;
+  features.camera.cx = 600;
+  features.camera.cy = 180;
+  features.camera.baseline = 0.54;
+  features.width = 1241;
+  features.height = 376;
+  features.mount = i3;
+  features.stamp = 4.5;
+  uint8_t descriptor[32];
+  for (int k = 0; k < 32; ++k) descriptor[k] = static_cast<uint8_t>(k * 7 + 3);
+  features.pushStereo({100.5, 50.25}, 1.0, 12.5, 0.5, descriptor, 0x102030);
+  features.pushStereo({10, 20}, 2.0, 0.0, 0.5, descriptor, 0xffffff);  // no depth
+  c.set<FeatureSet>("FeatureSet", features);
+  LandmarkMap landmarks;
+  landmarks.push({1, 2, 3}, Eigen::Matrix3d::Identity() * 0.01, 7, descriptor, 0x405060, 11);
+  landmarks.observations[0] = 3;
+  landmarks.visible[0] = 5;
+  c.set<LandmarkMap>("LandmarkMap", landmarks);
+  // A raw rig (EuRoC-like): distortion on both cameras, the second one rotated and offset.
+  CameraInfo rig = camera;
+  rig.baseline = 0;
+  rig.distortion = {Distortion::Model::kRadialTangential, {-0.2834, 0.0740, 1.9e-4, 1.8e-5}};
+  rig.second = CameraIntrinsics{457.587, 456.134, 379.999, 255.238, 752, 480,
+                                {Distortion::Model::kEquidistant, {0.1, -0.02, 3e-3, -4e-4}}};
+  rig.second_pose = i3.inverse();
+  c.set<CameraInfo>("CameraInfo rig", rig);
   return c;
 }
 
@@ -331,6 +360,49 @@ bool equalAs(const PropertyContainer& a, const PropertyContainer& b, const std::
     EXPECT_EQ(x.height, y.height);
     EXPECT_EQ(x.baseline, y.baseline);
     EXPECT_EQ(x.mount.matrix(), y.mount.matrix());
+    EXPECT_EQ(x.distortion.model, y.distortion.model);
+    EXPECT_EQ(x.distortion.coefficients, y.distortion.coefficients);
+    EXPECT_EQ(x.second.has_value(), y.second.has_value()) << n;
+    if (x.second && y.second) {
+      EXPECT_EQ(x.second->fx, y.second->fx);
+      EXPECT_EQ(x.second->fy, y.second->fy);
+      EXPECT_EQ(x.second->cx, y.second->cx);
+      EXPECT_EQ(x.second->cy, y.second->cy);
+      EXPECT_EQ(x.second->width, y.second->width);
+      EXPECT_EQ(x.second->height, y.second->height);
+      EXPECT_EQ(x.second->distortion.model, y.second->distortion.model);
+      EXPECT_EQ(x.second->distortion.coefficients, y.second->distortion.coefficients);
+      EXPECT_EQ(x.second_pose.matrix(), y.second_pose.matrix());
+    }
+  } else if constexpr (std::is_same_v<T, FeatureSet>) {
+    const auto &x = a.get<T>(n), &y = b.get<T>(n);
+    EXPECT_EQ(x.camera.fx, y.camera.fx);
+    EXPECT_EQ(x.camera.cy, y.camera.cy);
+    EXPECT_EQ(x.camera.baseline, y.camera.baseline);
+    EXPECT_EQ(x.width, y.width);
+    EXPECT_EQ(x.height, y.height);
+    EXPECT_EQ(x.mount.matrix(), y.mount.matrix());
+    EXPECT_EQ(x.stamp, y.stamp);
+    EXPECT_EQ(x.pixels, y.pixels);
+    EXPECT_EQ(x.pixel_sigma, y.pixel_sigma);
+    EXPECT_EQ(x.inverse_depth, y.inverse_depth);
+    EXPECT_EQ(x.inverse_depth_sigma, y.inverse_depth_sigma);
+    EXPECT_EQ(x.points, y.points);
+    EXPECT_EQ(x.covariances, y.covariances);
+    EXPECT_EQ(x.descriptor_bytes, y.descriptor_bytes);
+    EXPECT_EQ(x.descriptors, y.descriptors);
+    EXPECT_EQ(x.colours, y.colours);
+  } else if constexpr (std::is_same_v<T, LandmarkMap>) {
+    const auto &x = a.get<T>(n), &y = b.get<T>(n);
+    EXPECT_EQ(x.positions, y.positions);
+    EXPECT_EQ(x.covariances, y.covariances);
+    EXPECT_EQ(x.ids, y.ids);
+    EXPECT_EQ(x.observations, y.observations);
+    EXPECT_EQ(x.visible, y.visible);
+    EXPECT_EQ(x.last_seen, y.last_seen);
+    EXPECT_EQ(x.colours, y.colours);
+    EXPECT_EQ(x.descriptor_bytes, y.descriptor_bytes);
+    EXPECT_EQ(x.descriptors, y.descriptors);
   } else if constexpr (std::is_same_v<T, Odometry2D>) {
     EXPECT_EQ(a.get<T>(n).stamp, b.get<T>(n).stamp);
     EXPECT_EQ(a.get<T>(n).pose.matrix(), b.get<T>(n).pose.matrix());
@@ -361,7 +433,8 @@ void expectEqualContainers(const PropertyContainer& a, const PropertyContainer& 
         equalAs<std::vector<Eigen::Vector3d>>(a, b, n) || equalAs<PropertyContainer>(a, b, n) ||
         equalAs<testplugin::Scan>(a, b, n) || equalAs<LaserScan>(a, b, n) ||
         equalAs<Odometry2D>(a, b, n) || equalAs<Image>(a, b, n) ||
-        equalAs<DepthImage>(a, b, n) || equalAs<CameraInfo>(a, b, n);
+        equalAs<DepthImage>(a, b, n) || equalAs<CameraInfo>(a, b, n) ||
+        equalAs<FeatureSet>(a, b, n) || equalAs<LandmarkMap>(a, b, n);
     EXPECT_TRUE(checked) << "no comparison for property '" << n << "' of type "
                          << a.at(n).typeName();
   }
@@ -535,6 +608,97 @@ data:
   EXPECT_NE(msg.find("fields present: type"), std::string::npos) << msg;
   EXPECT_EQ(e.line(), 4);
   EXPECT_EQ(e.file(), "test-input");
+}
+
+// A CameraInfo archived before ABI 1.5 (no distortion, no second camera) still loads, as an
+// undistorted camera without a second one; both back-ends find fields by name.
+TEST_P(ArchiveRoundTrip, CameraInfoFromBeforeDistortionLoads) {
+  const std::string bytes = write(GetParam(), [](OutArchive& ar) {
+    ar.beginObject();
+    ar.field("fx", 718.856).field("fy", 718.856).field("cx", 607.19).field("cy", 185.22);
+    ar.field("width", std::int32_t{1241}).field("height", std::int32_t{376});
+    ar.field("baseline", 0.54).field("mount", Eigen::Isometry3d::Identity());
+    ar.endObject();
+  });
+  const CameraInfo c = decode<CameraInfo>(GetParam(), bytes);
+  EXPECT_EQ(c.fx, 718.856);
+  EXPECT_EQ(c.width, 1241);
+  EXPECT_EQ(c.baseline, 0.54);
+  EXPECT_EQ(c.distortion.model, Distortion::Model::kNone);
+  EXPECT_TRUE(c.distortion.coefficients.empty());
+  EXPECT_FALSE(c.second.has_value());
+}
+
+TEST_P(ArchiveRoundTrip, DistortionThatDoesNotFitItsModelIsAParseError) {
+  Distortion d{Distortion::Model::kEquidistant, {0.1, 0.2, 0.3}};
+  const std::string bad = encode(GetParam(), d);
+  const ParseError e = parseErrorOf([&] { decode<Distortion>(GetParam(), bad); });
+  EXPECT_NE(std::string(e.what()).find("3 coefficients do not fit the equidistant model"),
+            std::string::npos)
+      << e.what();
+  const std::string unknown = write(GetParam(), [](OutArchive& ar) {
+    ar.beginObject();
+    ar.field("model", std::string("kannala")).field("coefficients", std::vector<double>{});
+    ar.endObject();
+  });
+  const ParseError u = parseErrorOf([&] { decode<Distortion>(GetParam(), unknown); });
+  EXPECT_NE(std::string(u.what()).find("unknown distortion model 'kannala'"), std::string::npos)
+      << u.what();
+}
+
+TEST(Distortion, ModelNamesOfDatasetsAndRos) {
+  Distortion::Model m = Distortion::Model::kEquidistant;
+  for (const char* n : {"radial-tangential", "radtan", "plumb_bob", "rational_polynomial",
+                        "Plumb_Bob"}) {
+    ASSERT_TRUE(parseDistortionModel(n, m)) << n;
+    EXPECT_EQ(m, Distortion::Model::kRadialTangential) << n;
+  }
+  for (const char* n : {"equidistant", "fisheye"}) {
+    ASSERT_TRUE(parseDistortionModel(n, m)) << n;
+    EXPECT_EQ(m, Distortion::Model::kEquidistant) << n;
+  }
+  for (const char* n : {"", "none"}) {
+    ASSERT_TRUE(parseDistortionModel(n, m)) << n;
+    EXPECT_EQ(m, Distortion::Model::kNone) << n;
+  }
+  EXPECT_FALSE(parseDistortionModel("double_sphere", m));
+  for (auto model : {Distortion::Model::kNone, Distortion::Model::kRadialTangential,
+                     Distortion::Model::kEquidistant}) {
+    ASSERT_TRUE(parseDistortionModel(distortionModelName(model), m));
+    EXPECT_EQ(m, model);
+  }
+}
+
+TEST(Distortion, CountsAndIdentity) {
+  using M = Distortion::Model;
+  EXPECT_TRUE((Distortion{M::kNone, {}}).valid());
+  EXPECT_FALSE((Distortion{M::kNone, {0.1}}).valid());
+  for (size_t n : {4, 5, 8, 12, 14}) {
+    EXPECT_TRUE((Distortion{M::kRadialTangential, std::vector<double>(n, 0.0)}).valid()) << n;
+  }
+  for (size_t n : {0, 3, 6, 7, 9, 13, 15}) {
+    EXPECT_FALSE((Distortion{M::kRadialTangential, std::vector<double>(n, 0.0)}).valid()) << n;
+  }
+  EXPECT_TRUE((Distortion{M::kEquidistant, {0, 0, 0, 0}}).valid());
+  EXPECT_FALSE((Distortion{M::kEquidistant, {0, 0, 0, 0, 0}}).valid());
+  EXPECT_TRUE((Distortion{M::kRadialTangential, {0, 0, 0, 0}}).isIdentity());
+  EXPECT_FALSE((Distortion{M::kRadialTangential, {0, 0, 1e-9, 0}}).isIdentity());
+  EXPECT_TRUE((Distortion{}).isIdentity());
+}
+
+TEST(CameraInfo, IntrinsicsOfTheFirstCameraRoundTrip) {
+  CameraInfo c;
+  const CameraIntrinsics k{458.654, 457.296, 367.215, 248.375, 752, 480,
+                           {Distortion::Model::kRadialTangential, {-0.28, 0.07, 2e-4, 2e-5}}};
+  c.setIntrinsics(k);
+  EXPECT_EQ(c.fx, 458.654);
+  EXPECT_EQ(c.cy, 248.375);
+  EXPECT_EQ(c.height, 480);
+  const CameraIntrinsics back = c.intrinsics();
+  EXPECT_EQ(back.fy, k.fy);
+  EXPECT_EQ(back.cx, k.cx);
+  EXPECT_EQ(back.width, k.width);
+  EXPECT_EQ(back.distortion.coefficients, k.distortion.coefficients);
 }
 
 TEST(TextArchive, MalformedInputRaisesParseErrorWithLine) {

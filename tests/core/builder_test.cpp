@@ -174,3 +174,55 @@ TEST(Builder, SplitPath) {
   EXPECT_THROW(splitPath("a[x]"), InputError);
   EXPECT_THROW(splitPath("a[1"), InputError);
 }
+
+// Item 17.31: one pass reports every error of a file, each located, in file order; the module
+// whose key failed does not run its own checks on half-read values.
+TEST(Builder, ReportsEveryErrorOfTheFile) {
+  ensureRegistered();
+  const char* yaml = R"(aligner:
+  iteratons: 5
+  slices:
+    - {type: btest.Dial, max_distnce: 0.3}
+    - {type: btest.Dail}
+    - {type: btest.Lever, measurement: forbidden}
+    - {type: btest.Dial, max_distance: 12}
+extra: {type: btest.Dial, max_distance: far}
+)";
+  auto doc = loadConfigText(yaml, "cfg.yaml");
+  PluginManager plugins;
+  ConfigBuilder builder(doc, plugins);
+  Root root;
+  try {
+    builder.configureRoot(root);
+    FAIL() << "a broken config was accepted";
+  } catch (const ConfigErrorList& e) {
+    const auto& errors = e.errors();
+    ASSERT_EQ(errors.size(), 6u) << e.what();
+    EXPECT_EQ(std::string(errors[0].what()),
+              "cfg.yaml:2:3: aligner.iteratons: unknown key 'iteratons' for btest.Aligner; did you mean "
+              "'iterations'?");
+    expectContains(errors[1].what(), "cfg.yaml:4:26: aligner.slices[0].max_distnce: unknown key");
+    expectContains(errors[2].what(), "cfg.yaml:5:14: aligner.slices[1].type: unknown type 'btest.Dail'");
+    expectContains(errors[3].what(), "cfg.yaml:6:40: aligner.slices[2].measurement: may not be 'forbidden'");
+    expectContains(errors[4].what(), "cfg.yaml:7:40: aligner.slices[3].max_distance: value 12 is out of range");
+    expectContains(errors[5].what(), "cfg.yaml:8:41: extra.max_distance: expected a number, got 'far'");
+    // The first error's fields, so code that reads one ConfigError still sees a real one.
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_EQ(e.path(), "aligner.iteratons");
+    expectContains(e.what(), "6 errors in cfg.yaml");
+  }
+}
+
+TEST(Builder, ABadKeySkipsTheModulesOwnChecks) {
+  // Lever's configure() would also complain about 'forbidden'; the typo is the one error.
+  std::string e = buildError("extra:\n  type: btest.Lever\n  measurement: forbidden\n  max_distnce: 1\n");
+  expectContains(e, "extra.max_distnce: unknown key");
+  EXPECT_EQ(e.find("may not be 'forbidden'"), std::string::npos) << e;
+}
+
+TEST(Builder, OneErrorPerPluginThatDoesNotLoad) {
+  std::string e = buildError("aligner:\n  slices: [nosuchplugin.A, nosuchplugin.B]\n");
+  expectContains(e, "cfg.yaml:2:12: aligner.slices[0]: type 'nosuchplugin.A' needs plugin 'nosuchplugin'");
+  expectContains(e, "cfg.yaml:2:28: aligner.slices[1]: type 'nosuchplugin.B' needs plugin "
+                    "'nosuchplugin', which did not load (see the error at cfg.yaml:2:12)");
+}

@@ -58,6 +58,13 @@ TEST(AteTest, TranslatedCopyWithoutAlignmentHasTheOffsetAsError) {
   EXPECT_NEAR(r.translation.mean, 3.0, 1e-12);
   EXPECT_NEAR(r.translation.std, 0.0, 1e-9);
   EXPECT_NEAR(r.rotation_deg.max, 0.0, 1e-9);
+  // One associated pair per error, in time order (same timestamps: pose k with pose k).
+  ASSERT_EQ(r.pairs.size(), r.translation_errors.size());
+  ASSERT_EQ(r.pairs.size(), ref.size());
+  for (size_t k = 0; k < r.pairs.size(); ++k) {
+    EXPECT_EQ(r.pairs[k].ref, k);
+    EXPECT_EQ(r.pairs[k].est, k);
+  }
 }
 
 TEST(AteTest, RotatedCopyWithoutAlignmentHasKnownError) {

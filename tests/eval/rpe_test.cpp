@@ -45,6 +45,22 @@ TEST(RpeTest, ScaleDriftByFrames) {
   EXPECT_EQ(computeRpe(d.ref, d.est, o).pairs, 5u);
 }
 
+TEST(RpeTest, SegmentsListEveryMeasuredPairInOrder) {
+  Drift d;
+  RpeOptions o;
+  o.delta = 2;
+  const RpeResult r = computeRpe(d.ref, d.est, o);
+  ASSERT_EQ(r.segments.size(), r.pairs);
+  for (size_t k = 0; k < r.segments.size(); ++k) {
+    const RpeSegment& s = r.segments[k];
+    EXPECT_EQ(s.first.ref, k);
+    EXPECT_EQ(s.last.ref, k + 2);
+    EXPECT_NEAR(s.translation, 0.2, 1e-12);  // 10 % over-read of 2 m
+    EXPECT_NEAR(s.length_m, 2.0, 1e-12);
+    EXPECT_NEAR(s.rotation_deg, 0.0, 1e-12);
+  }
+}
+
 TEST(RpeTest, ScaleDriftByDistanceAndTime) {
   Drift d;
   RpeOptions o;

@@ -1,6 +1,6 @@
-// Loads the io and odometry plugins through the host, checks their types, and runs a pipeline
-// made of them only: the simulator, wheel-odometry prediction and the odometry prior slice, with
-// the trajectory written by io.TrajectoryWriter.
+// Loads the io, sim and odometry plugins through the host, checks their types, and runs a
+// pipeline made of them only: the simulator, wheel-odometry prediction and the odometry prior
+// slice, with the trajectory written by io.TrajectoryWriter.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -25,8 +25,8 @@ using namespace plugslam;
 
 namespace {
 
-const char* kRun = R"(plugins: [io, odometry]
-source: {type: io.Simulator2D, session: stage-0, lasers: [front_laser], odometry_noise: NOISE}
+const char* kRun = R"(plugins: [sim, io, odometry]
+source: {type: sim.Simulator2D, session: stage-0, lasers: [front_laser], odometry_noise: NOISE}
 pipeline:
   tracker:
     type: sdk.MultiTracker2D
@@ -49,11 +49,12 @@ std::string runText(const std::string& noise) {
 TEST(IoOdometryPlugins, RegisterTheirTypes) {
   runtime::PluginManager plugins;
   plugins.load("io");
+  plugins.load("sim");
   plugins.load("odometry");
   const std::pair<const char*, const char*> expected[] = {
       {"io.CarmenSource", Source::kKind},
       {"io.RosbagSource", Source::kKind},
-      {"io.Simulator2D", Source::kKind},
+      {"sim.Simulator2D", Source::kKind},
       {"io.TrajectoryWriter", Sink::kKind},
       {"odometry.WheelOdometry", MotionModel<Space2D>::kKind},
       {"odometry.PriorSlice", AlignerSlice<Space2D>::kKind}};
@@ -80,7 +81,7 @@ TEST(IoOdometryPlugins, OdometryOnlyRunFollowsGroundTruth) {
   ASSERT_EQ(traj.size(), report.frames);
 
   // The ground truth from a second simulator with the same settings.
-  auto truth = std::dynamic_pointer_cast<Source>(Registry::instance().create("io.Simulator2D"));
+  auto truth = std::dynamic_pointer_cast<Source>(Registry::instance().create("sim.Simulator2D"));
   ASSERT_TRUE(truth);
   auto* session = dynamic_cast<Param<std::string>*>(truth->findParam("session"));
   ASSERT_NE(session, nullptr);

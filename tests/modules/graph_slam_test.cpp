@@ -94,7 +94,8 @@ std::vector<std::shared_ptr<LocalMap>> driveLoop(const LoopWorld& lw, GraphSlam<
                                                  Eigen::Isometry2d* dead_reckoning = nullptr,
                                                  double odometry_information = 100.0,
                                                  const std::vector<size_t>& weak_maps = {},
-                                                 const Eigen::Vector3d& weak_sigma = {}) {
+                                                 const Eigen::Vector3d& weak_sigma =
+                                                     Eigen::Vector3d::Zero()) {
   std::vector<std::shared_ptr<LocalMap>> maps;
   Eigen::Isometry2d estimate = lw.origins[0];
   for (size_t k = 0; k < lw.origins.size(); ++k) {

@@ -161,8 +161,9 @@ TEST(MultiTracker, AFrameWithoutDataStartsANewMapAndTrackingGoesOn) {
     const Eigen::Isometry2d pose = se2(0.1 * i, 0, 0);
     if (i != 15) f.measurement.set<Landmarks>("landmarks", observe(world, pose, 6.0));
     pipeline->process(f);
-    if (i > 16)
+    if (i > 16) {
       EXPECT_LT((f.estimate.world.translation().head<2>() - pose.translation()).norm(), 1e-6) << i;
+    }
   }
   EXPECT_EQ(tracker->stats().failed, 1u);
   EXPECT_EQ(tracker->stats().local_maps, 2u);
@@ -203,10 +204,11 @@ TEST(MultiTracker, EstimatesSayWhetherTheMapIsFrozenAndWhetherTheFrameWasLost) {
     ASSERT_TRUE(f.estimate.valid);
     EXPECT_TRUE(f.estimate.frozen) << i;
     EXPECT_EQ(f.estimate.lost, i == 20) << i;
-    if (i != 20)
+    if (i != 20) {
       EXPECT_LT((f.estimate.world.translation().head<2>() - Eigen::Vector2d(0.1 * i, 0)).norm(),
                 1e-6)
           << i;
+    }
   }
   EXPECT_EQ(localizer.stats().failed, 1u);
   EXPECT_EQ(localizing->result().local_maps.size(), maps.size());  // nothing was created

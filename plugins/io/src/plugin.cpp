@@ -1,26 +1,17 @@
-// The io plugin: dataset sources (CARMEN, ROS1 bags), the 2D simulator and the writers.
+// The io plugin: dataset sources (CARMEN, ROS1 bags) and the writers.
 #include "plugslam/plugin.h"
 
 #include "sources/carmen_source.h"
 #include "sources/rosbag_source.h"
-#include "sources/simulator3d_source.h"
-#include "sources/simulator_mixed_source.h"
-#include "sources/simulator_source.h"
 #include "writers/image_sequence_writer.h"
 #include "writers/trajectory_writer.h"
 
-PLUGSLAM_PLUGIN("io", "1.0.0", "dataset sources (CARMEN, ROS1 bags), 2D and 3D simulators, writers") {
+PLUGSLAM_PLUGIN("io", "1.0.0", "dataset sources (CARMEN, ROS1 bags) and writers") {
   using namespace plugslam::io;
   registrar.add<CarmenSource>("CarmenSource",
                               "CARMEN log: one frame per front laser, ODOM odometry, logged pose");
   registrar.add<RosbagSource>("RosbagSource",
                               "ROS1 bag: LaserScan topics + interpolated nav_msgs/Odometry");
-  registrar.add<Simulator2DSource>(
-      "Simulator2D", "simulated office with lasers, wheel odometry and exact ground truth");
-  registrar.add<Simulator3DSource>(
-      "Simulator3D", "rendered stereo pairs or RGB-D frames (living room, street) with ground truth");
-  registrar.add<SimulatorMixedSource>(
-      "SimulatorMixed", "robot with a planar laser, wheel odometry and RGB-D in the 3D living room");
   registrar.add<TrajectoryWriter>("TrajectoryWriter", "final trajectory as TUM or KITTI");
   registrar.add<ImageSequenceWriter>("ImageSequenceWriter",
                                      "raw images as a KITTI odometry or TUM RGB-D sequence");

@@ -1,5 +1,6 @@
 // The laser2d plugin's register function: every type of the cue, by name.
 #include "plugslam/plugin.h"
+#include "plugslam/view/drawers.h"
 
 #include "correlative_validator.h"
 #include "global_match_detector.h"
@@ -12,6 +13,13 @@
 PLUGSLAM_PLUGIN("laser2d", "1.0.0", "2D laser: scan preprocessing, ICP slices, point map, grid") {
   using namespace plugslam::laser2d;
   registrar.addValueType<PointCloud2D>("PointCloud2D");
+  // Viewers show the cue's points: a scan in the robot's frame, a local map in its own.
+  plugslam::view::Drawers::instance().add<PointCloud2D>(
+      registrar.plugin(), [](const PointCloud2D& cloud, plugslam::view::PointCloud& out) {
+        out.points.reserve(cloud.size());
+        for (const auto& p : cloud.points)
+          out.points.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), 0.0f);
+      });
   registrar.add<ScanPreprocessor>("ScanPreprocessor",
                                   "laser scan -> 2D points with normals in the robot frame");
   registrar.add<PointToLineSlice>("PointToLineSlice", "point-to-line ICP factors (2D)");

@@ -17,5 +17,7 @@ void addRunCommand(CLI::App& root, int& exit_code);
 void addEvalCommand(CLI::App& root, int& exit_code);
 void addOptimizeCommand(CLI::App& root, int& exit_code);
 void addShellCommand(CLI::App& root, int& exit_code);
+void addRenderCommand(CLI::App& root, int& exit_code);
+void addViewCommand(CLI::App& root, int& exit_code);
 
 }  // namespace plugslam::runtime

@@ -20,6 +20,8 @@
 #include "runner.h"
 #include "session/session.h"
 #include "shell/module_paths.h"
+#include "view/run_control.h"
+#include "view/viewer.h"
 
 namespace plugslam::runtime {
 
@@ -104,6 +106,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
   static bool localize = false;
   static std::vector<std::string> actions;
   static double checkpoint_every = 60.0;
+  static ViewerOptions viewer_options;
   cmd->add_option("CONFIG", file,
                   "pipeline YAML file (default: the session's config with --session, else the "
                   "built-in demo config)");
@@ -120,6 +123,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--do", actions,
                   "after the run, run a module action: MODULE.ACTION[:ARG,...] (repeatable)");
+  addViewerOptions(*cmd, viewer_options);
   cmd->callback([&exit_code] {
     if (localize && session_dir.empty()) throw InputError("--localize needs --session DIR");
     std::optional<SessionManifest> manifest;
@@ -140,7 +144,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
     RunOptions options;
     options.out_dir = out_dir;
     const bool tty = ::isatty(STDERR_FILENO);
-    const std::string config_yaml = YAML::Dump(doc.root) + "\n";
+    std::string config_yaml = YAML::Dump(doc.root) + "\n";  // a viewer's settings update it
     Pipeline* pipeline = run->pipeline.get();
     options.progress = [tty, last = -1.0, last_checkpoint = 0.0, pipeline, &config_yaml](
                            uint64_t frame, int64_t total, double t, uint64_t loops) mutable {
@@ -180,12 +184,28 @@ void addRunCommand(CLI::App& root, int& exit_code) {
                                "{} ({} local maps); continue with: plugslam run --session {}\n",
                                out_dir, dir, s.maps, dir);
     };
+    // The viewer (--serve, --record): it watches the run and queues its requests between frames.
+    Viewer viewer(viewer_options);
+    std::unique_ptr<RunControl> control;
+    if (viewer.active()) {
+      control = std::make_unique<RunControl>(
+          *run, doc, plugins, out_dir, viewer.stream(),
+          [&](const std::string& dir) {
+            SessionSummary s = writeCheckpoint(dir, control->configYaml(), *run->pipeline);
+            return fmt::format("saved session {}: {} local maps, {} edges", dir, s.maps, s.edges);
+          },
+          [] { return g_interrupted.load(); }, &config_yaml);
+      options.observer = control.get();
+      viewer.serve(control.get());
+    }
     spdlog::info("running {} -> {}", doc.file, out_dir);
     RunReport report;
     {
       InterruptGuard guard;
       report = runPipeline(*run, options);
     }
+    if (control) control->shutdown();
+    viewer.stop();
     if (tty) std::fprintf(stderr, "\n");
     std::cout << fmt::format(
         "{} frames in {:.3f} s ({:.1f} Hz; pipeline alone {:.1f} Hz); {} loops closed; outputs in {}\n",

@@ -9,6 +9,8 @@
 #include "commands/commands.h"
 #include "plugslam/errors.h"
 #include "shell/shell.h"
+#include "view/shell_control.h"
+#include "view/viewer.h"
 
 namespace plugslam::runtime {
 
@@ -18,16 +20,28 @@ void addShellCommand(CLI::App& root, int& exit_code) {
   static std::string config;
   static std::string script;
   static std::string out_dir = "out";
+  static ViewerOptions viewer_options;
   cmd->add_option("CONFIG", config, "config to load first");
   cmd->add_option("--script", script, "read commands from this file instead of stdin");
   cmd->add_option("-o,--output", out_dir, "output folder of runs")->capture_default_str();
+  addViewerOptions(*cmd, viewer_options);
   cmd->callback([&exit_code] {
     const bool interactive = script.empty() && ::isatty(STDIN_FILENO);
     ShellOptions options;
     options.out_dir = out_dir;
     options.echo = !interactive;
+    // The viewer (--serve, --record) watches every run and drives the shell's own commands.
+    Viewer viewer(viewer_options);
+    std::unique_ptr<ShellControl> control;
+    if (viewer.active()) {
+      control = std::make_unique<ShellControl>(viewer.hub(), out_dir);
+      options.observer = control.get();
+      options.on_state = [c = control.get()](const std::string& s) { c->stateChanged(s); };
+    }
     Shell shell(std::cout, options);
+    if (control) control->attach(shell);
     if (!config.empty()) shell.execute("load " + config);
+    viewer.serve(control.get());
     if (!script.empty()) {
       std::ifstream in(script);
       if (!in) throw InputError("cannot open shell script '" + script + "'");
@@ -35,6 +49,8 @@ void addShellCommand(CLI::App& root, int& exit_code) {
     } else {
       exit_code = runShellLoop(shell, std::cin, interactive);
     }
+    if (control) control->shutdown();
+    viewer.stop();
   });
 }
 

@@ -94,7 +94,7 @@ const std::vector<std::string>& Shell::commandNames() {
   return names;
 }
 
-Shell::Shell(std::ostream& out, ShellOptions options) : out_(out), options_(std::move(options)) {}
+Shell::Shell(std::ostream& out, ShellOptions options) : out_(&out), options_(std::move(options)) {}
 
 Shell::~Shell() {
   if (worker_.joinable()) {
@@ -111,9 +111,37 @@ Shell::~Shell() {
 }
 
 bool Shell::execute(const std::string& raw) {
+  std::lock_guard<std::recursive_mutex> lock(command_mutex_);
+  return executeLocked(raw);
+}
+
+std::string Shell::capture(const std::string& line, bool& ok) {
+  std::lock_guard<std::recursive_mutex> lock(command_mutex_);
+  std::ostringstream buffer;
+  std::ostream* terminal = out_;
+  const bool echo = options_.echo;
+  const int errors = errors_;
+  out_ = &buffer;
+  options_.echo = false;
+  try {
+    executeLocked(line);
+  } catch (...) {
+    out_ = terminal;
+    options_.echo = echo;
+    throw;
+  }
+  out_ = terminal;
+  options_.echo = echo;
+  ok = errors_ == errors;
+  std::string text = buffer.str();
+  while (!text.empty() && text.back() == '\n') text.pop_back();
+  return text;
+}
+
+bool Shell::executeLocked(const std::string& raw) {
   const std::string line = trim(raw);
   if (line.empty() || line[0] == '#') return true;
-  if (options_.echo) out_ << "> " << line << "\n";
+  if (options_.echo) *out_ << "> " << line << "\n";
   const auto args_all = tokenize(line);
   const std::string cmd = args_all[0];
   const Args args(args_all.begin() + 1, args_all.end());
@@ -127,9 +155,11 @@ bool Shell::execute(const std::string& raw) {
     dispatch(cmd, args, rest);
   } catch (const std::exception& e) {
     ++errors_;
-    out_ << "error: " << oneLine(e.what()) << "\n";
+    // A config with several errors lists them one a line; each line reads as an error.
+    std::istringstream lines(e.what());
+    for (std::string l; std::getline(lines, l);) *out_ << "error: " << l << "\n";
   }
-  out_.flush();
+  out_->flush();
   return true;
 }
 
@@ -213,7 +243,7 @@ void Shell::reportWorkerError() {
   auto lk = lockBetweenFrames();
   if (!worker_error_.empty()) {
     ++errors_;
-    out_ << "error: the run failed: " << oneLine(worker_error_) << "\n";
+    *out_ << "error: the run failed: " << oneLine(worker_error_) << "\n";
     worker_error_.clear();
   }
 }
@@ -229,11 +259,13 @@ void Shell::startExecution(int64_t budget) {
   tree_used_ = true;
   RunOptions o;
   o.out_dir = options_.out_dir;
+  o.observer = options_.observer;
   auto exec = std::make_unique<Execution>(*run_, o);
   {
     auto lk = lockBetweenFrames();
     exec_ = std::move(exec);
     state_ = State::kRunning;
+    tellState("running");
     budget_ = budget;
     stop_requested_ = false;
     worker_error_.clear();
@@ -256,6 +288,7 @@ void Shell::workerLoop() {
     if (!more) break;
     if (budget_ > 0 && --budget_ == 0) {
       state_ = State::kPaused;
+      tellState("paused");
       cv_.notify_all();
     }
     // A command is waiting: let it in between two frames.
@@ -275,13 +308,13 @@ void Shell::workerLoop() {
 }
 
 void Shell::printReport(const RunReport& r) {
-  out_ << fmt::format(
+  *out_ << fmt::format(
       "run finished ({}): {} frames in {:.3f} s ({:.1f} Hz), {} local maps, {} loops closed; "
       "outputs in {}\n",
       r.stopped_by, r.frames, r.wall_s, r.hz, r.local_maps, r.graph.loops_accepted,
       options_.out_dir);
   if (r.ate_rmse)
-    out_ << fmt::format("against ground truth: ATE rmse {:.4f} m (max {:.4f} m)\n", *r.ate_rmse,
+    *out_ << fmt::format("against ground truth: ATE rmse {:.4f} m (max {:.4f} m)\n", *r.ate_rmse,
                         *r.ate_max);
 }
 
@@ -298,14 +331,14 @@ void Shell::cmdLoad(const Args& a) {
     session_ = std::move(saved);
     throw;
   }
-  out_ << fmt::format("loaded {} ({} modules, {} plugins)\n", a[0], countModules(*run_) - 1,
+  *out_ << fmt::format("loaded {} ({} modules, {} plugins)\n", a[0], countModules(*run_) - 1,
                       plugins_.loaded().size());
 }
 
 void Shell::cmdValidate() {
   if (!doc_) throw InputError("no config loaded (load CONFIG)");
   auto run = buildRun(*doc_, plugins_);
-  out_ << doc_->file << ": OK (" << countModules(*run) - 1 << " modules, "
+  *out_ << doc_->file << ": OK (" << countModules(*run) - 1 << " modules, "
        << plugins_.loaded().size() << " plugins)\n";
 }
 
@@ -317,7 +350,7 @@ void Shell::cmdRun() {
       throw InputError("a run is paused: resume, step N or stop it");
   }
   startExecution(-1);
-  out_ << "running " << doc_->file << (session_ && session_->localize ? " (localization)" : "")
+  *out_ << "running " << doc_->file << (session_ && session_->localize ? " (localization)" : "")
        << "\n";
 }
 
@@ -325,7 +358,8 @@ void Shell::cmdPause() {
   auto lk = lockBetweenFrames();
   if (!exec_ || state_ != State::kRunning) throw InputError("no run in progress");
   state_ = State::kPaused;
-  out_ << "paused at frame " << exec_->frames() << "\n";
+  tellState("paused");
+  *out_ << "paused at frame " << exec_->frames() << "\n";
 }
 
 void Shell::cmdResume() {
@@ -333,10 +367,11 @@ void Shell::cmdResume() {
     auto lk = lockBetweenFrames();
     if (!exec_ || state_ != State::kPaused) throw InputError("no paused run");
     state_ = State::kRunning;
+    tellState("running");
     budget_ = -1;
   }
   cv_.notify_all();
-  out_ << "resumed\n";
+  *out_ << "resumed\n";
 }
 
 void Shell::cmdStep(const Args& a) {
@@ -347,6 +382,7 @@ void Shell::cmdStep(const Args& a) {
     if (exec_ && state_ == State::kRunning) throw InputError("already running (pause it first)");
     if (exec_ && state_ == State::kPaused) {
       state_ = State::kRunning;
+      tellState("running");
       budget_ = n;
     } else {
       start = true;
@@ -361,7 +397,7 @@ void Shell::cmdStep(const Args& a) {
     cmdWait();
     return;
   }
-  out_ << "paused at frame " << exec_->frames() << "\n";
+  *out_ << "paused at frame " << exec_->frames() << "\n";
 }
 
 void Shell::cmdStop() {
@@ -383,7 +419,7 @@ void Shell::cmdWait() {
     if (!exec_) throw InputError("no run to wait for");
     cv_.wait(lk, [&] { return state_ != State::kRunning; });
     if (state_ == State::kPaused) {
-      out_ << "paused at frame " << exec_->frames() << "\n";
+      *out_ << "paused at frame " << exec_->frames() << "\n";
       return;
     }
   }
@@ -396,7 +432,7 @@ void Shell::cmdWait() {
 void Shell::cmdStatus() {
   auto lk = lockBetweenFrames();
   if (!run_) {
-    out_ << "state: idle, no config loaded\n";
+    *out_ << "state: idle, no config loaded\n";
     return;
   }
   const State s = exec_ ? state_ : State::kIdle;
@@ -422,7 +458,7 @@ void Shell::cmdStatus() {
   if (session_)
     line += fmt::format(", session {} ({})", session_->manifest.dir,
                         session_->localize ? "localization" : "mapping");
-  out_ << line << "\n";
+  *out_ << line << "\n";
 }
 
 void Shell::cmdSet(const std::string& rest) {
@@ -448,20 +484,20 @@ void Shell::cmdSet(const std::string& rest) {
     shown = t.param ? t.param->valueText() : t.module->typeName();
   } catch (const InputError&) {
   }
-  out_ << path << " = " << shown << "\n";
+  *out_ << path << " = " << shown << "\n";
 }
 
 void Shell::cmdGet(const Args& a) {
   auto lk = lockBetweenFrames();
   PathTarget t = resolvePath(tree(), a[0]);
   if (t.param) {
-    out_ << a[0] << " = " << t.param->valueText() << " (" << t.param->typeName()
+    *out_ << a[0] << " = " << t.param->valueText() << " (" << t.param->typeName()
          << (t.param->unit().empty() ? "" : ", " + t.param->unit()) << ")\n";
     return;
   }
   YAML::Emitter e;
   e << YAML::Flow << dumpConfig(*t.module);
-  out_ << a[0] << " = " << e.c_str() << "\n";
+  *out_ << a[0] << " = " << e.c_str() << "\n";
 }
 
 void Shell::cmdList(const Args& a) {
@@ -470,25 +506,25 @@ void Shell::cmdList(const Args& a) {
   size_t n = 0;
   walkModules(tree(), [&](Configurable& c, const std::string& path) {
     for (const auto& action : c.actions()) {
-      out_ << "  " << path << "." << action.name << "  " << action.doc << "\n";
+      *out_ << "  " << path << "." << action.name << "  " << action.doc << "\n";
       ++n;
     }
   });
-  if (n == 0) out_ << "no module of this config has actions\n";
+  if (n == 0) *out_ << "no module of this config has actions\n";
 }
 
 void Shell::cmdDo(const Args& a) {
   if (a.empty()) throw InputError("usage: do MODULE.ACTION [ARGS]");
   auto lk = lockBetweenFrames();
   std::string msg = invokeAction(tree(), a[0], Args(a.begin() + 1, a.end()));
-  out_ << (msg.empty() ? std::string("done") : msg) << "\n";
+  *out_ << (msg.empty() ? std::string("done") : msg) << "\n";
 }
 
 void Shell::cmdPlugins() {
   auto loaded = plugins_.loaded();
-  if (loaded.empty()) out_ << "no plugin loaded\n";
+  if (loaded.empty()) *out_ << "no plugin loaded\n";
   for (const auto& p : loaded)
-    out_ << fmt::format("  {} {}  {} types{}  {}\n", p.name, p.version, p.types.size(),
+    *out_ << fmt::format("  {} {}  {} types{}  {}\n", p.name, p.version, p.types.size(),
                         plugins_.inUse(p.name) ? ", in use" : "", p.path);
 }
 
@@ -513,13 +549,13 @@ void Shell::cmdReload(const Args& a) {
     throw Error("objects of plugin '" + name + "' are still alive; it cannot be unloaded");
   plugins_.unload(name);
   const PluginInfo& info = plugins_.load(path);
-  out_ << fmt::format("reloaded {} {} from {} ({} types)\n", info.name, info.version, info.path,
+  *out_ << fmt::format("reloaded {} {} from {} ({} types)\n", info.name, info.version, info.path,
                       info.types.size());
   if (session_) session_->maps = loadSessionMaps(session_->manifest);
   if (doc_) {
     run_ = build(*doc_);
     tree_used_ = false;
-    out_ << "rebuilt " << countModules(*run_) - 1 << " modules from the current config\n";
+    *out_ << "rebuilt " << countModules(*run_) - 1 << " modules from the current config\n";
   }
 }
 
@@ -589,7 +625,7 @@ void Shell::cmdSwap(const Args& a) {
   commit(std::move(doc));
   std::string d;
   for (const auto& k : dropped) d += (d.empty() ? "" : ", ") + k;
-  out_ << path << ": " << from << " -> " << type << (d.empty() ? "" : " (dropped: " + d + ")")
+  *out_ << path << ": " << from << " -> " << type << (d.empty() ? "" : " (dropped: " + d + ")")
        << "\n";
 }
 
@@ -598,7 +634,7 @@ void Shell::cmdSave(const Args& a) {
   if (!doc_ || !run_) throw InputError("no config loaded (load CONFIG)");
   if (!run_->pipeline) throw InputError("the config has no pipeline");
   SessionSummary s = saveSession(a[0], YAML::Dump(doc_->root) + "\n", *run_->pipeline);
-  out_ << fmt::format("saved session {}: {} local maps, {} edges, {} poses{}\n", a[0], s.maps,
+  *out_ << fmt::format("saved session {}: {} local maps, {} edges, {} poses{}\n", a[0], s.maps,
                       s.edges, s.poses, s.graph_file ? ", graph.g2o" : "");
 }
 
@@ -621,14 +657,14 @@ void Shell::cmdLoadSession(const Args& a) {
     session_ = std::move(saved);
     throw;
   }
-  out_ << fmt::format(
+  *out_ << fmt::format(
       "loaded session {}: {} local maps, {} edges ({})\n", a[0], session_->maps.maps.size(),
       session_->maps.edges.size(),
       session_->localize ? "localization: the maps are frozen" : "mapping: new maps are appended");
 }
 
 void Shell::cmdHelp() {
-  for (const auto& c : kCommands) out_ << fmt::format("  {:<32} {}\n", c.usage, c.doc);
+  for (const auto& c : kCommands) *out_ << fmt::format("  {:<32} {}\n", c.usage, c.doc);
 }
 
 // ---- the loop -----------------------------------------------------------------------------------

@@ -4,6 +4,7 @@
 // reload rebuilt plugins, save and load sessions. Commands never throw: an error prints one line
 // and leaves the state as it was. Reference: docs/shell.md.
 #include <atomic>
+#include <functional>
 #include <condition_variable>
 #include <iosfwd>
 #include <memory>
@@ -25,7 +26,14 @@ namespace plugslam::runtime {
 struct ShellOptions {
   std::string out_dir = "out";  ///< where runs write their outputs and run.json
   bool echo = false;            ///< print each command before its output (scripts)
+  /// Watches every run (the viewer stream); may be null.
+  RunObserver* observer = nullptr;
+  /// Told when a run starts ("running"), pauses ("paused") or resumes, between frames; may be
+  /// empty.
+  std::function<void(const std::string& state)> on_state;
 };
+
+class ShellControl;
 
 /// The shell's state and command interpreter; `execute` runs one command line.
 class Shell {
@@ -37,15 +45,24 @@ class Shell {
   Shell(const Shell&) = delete;
   Shell& operator=(const Shell&) = delete;
 
-  /// Executes one command line; false once the shell should exit (quit).
+  /// Executes one command line; false once the shell should exit (quit). Thread-safe: commands
+  /// run one at a time.
   bool execute(const std::string& line);
+  /// Executes one command line with its output returned instead of printed; `ok` is false when
+  /// it failed.
+  std::string capture(const std::string& line, bool& ok);
   /// Commands that failed so far.
   int errors() const { return errors_; }
   /// The command names, for completion.
   static const std::vector<std::string>& commandNames();
 
  private:
+  friend class ShellControl;  // the viewer's access to the tree, between frames
   enum class State { kIdle, kRunning, kPaused, kFinished };
+  bool executeLocked(const std::string& line);
+  void tellState(const char* state) const {
+    if (options_.on_state) options_.on_state(state);
+  }
   using Args = std::vector<std::string>;
 
   void dispatch(const std::string& cmd, const Args& args, const std::string& rest);
@@ -85,7 +102,8 @@ class Shell {
   std::unique_lock<std::mutex> lockBetweenFrames() const;
   void printReport(const RunReport& r);
 
-  std::ostream& out_;
+  std::ostream* out_;  // the terminal, or a capture's buffer
+  std::recursive_mutex command_mutex_;  // one command at a time (terminal, viewer)
   ShellOptions options_;
   PluginManager plugins_;
   std::optional<ConfigDocument> doc_;

@@ -51,6 +51,8 @@ class Pipeline : public Configurable {
   /// the tracker's place, and adds nothing to the graph. Throws InputError.
   void restoreSession(const std::vector<std::shared_ptr<LocalMap>>& maps,
                       const std::vector<GraphEdge>& edges, bool localize);
+  /// The local map `id` the tracker started or the session restored, nullptr if none.
+  std::shared_ptr<const LocalMap> findLocalMap(int64_t id) const;
 
  protected:
   /// Runs `step` as module `m`, timing it and wrapping its exceptions in ModuleError (also

@@ -4,6 +4,8 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdint>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace plugslam {
@@ -81,8 +83,52 @@ struct DepthImage {
   }
 };
 
-/// Pinhole intrinsics of a camera (or of the left camera of a rectified stereo pair). Pixel
-/// (u, v) integer coordinates are pixel centres: u = fx * x / z + cx (OpenCV convention).
+/// Lens distortion of one camera as its calibration states it. Coefficients are in OpenCV's
+/// order, so a preprocessor hands them unchanged to cv::initUndistortRectifyMap (radial-
+/// tangential) or cv::fisheye::initUndistortRectifyMap (equidistant).
+struct Distortion {
+  /// Distortion models (the names ROS 2's CameraInfo.distortion_model and Kalibr use in quotes).
+  enum class Model : std::int32_t {
+    kNone = 0,              ///< ideal pinhole: the images are rectified or undistorted
+    kRadialTangential = 1,  ///< k1 k2 p1 p2 [k3 [k4 k5 k6 [s1..s4 [tx ty]]]]: 4, 5, 8, 12 or 14
+                            ///< ("plumb_bob", "rational_polynomial", "radtan"; EuRoC's sensor.yaml)
+    kEquidistant = 2,       ///< Kannala-Brandt fisheye k1 k2 k3 k4 ("equidistant", "fisheye")
+  };
+  Model model = Model::kNone;        ///< how the coefficients are applied
+  std::vector<double> coefficients;  ///< OpenCV's order; empty for kNone
+
+  /// True when the coefficient count fits the model (see Model).
+  bool valid() const;
+  /// True when nothing needs undoing: model kNone or every coefficient zero.
+  bool isIdentity() const;
+};
+
+/// Reads a model name as datasets and ROS write it ("radial-tangential", "radtan", "plumb_bob",
+/// "rational_polynomial", "equidistant", "fisheye", "none", ""; any case); false when unknown.
+bool parseDistortionModel(const std::string& name, Distortion::Model& model);
+/// The name the archive and messages use: "none", "radial-tangential" or "equidistant".
+const char* distortionModelName(Distortion::Model model);
+
+/// Intrinsics of one camera: pinhole, image size and lens distortion.
+struct CameraIntrinsics {
+  double fx = 0;          ///< focal length along x [px]
+  double fy = 0;          ///< focal length along y [px]
+  double cx = 0;          ///< principal point x [px]
+  double cy = 0;          ///< principal point y [px]
+  int width = 0;          ///< image width [px]
+  int height = 0;         ///< image height [px]
+  Distortion distortion;  ///< lens distortion; kNone when the images are ideal pinhole
+};
+
+/// Calibration of a camera or a two-camera rig, as the dataset states it; a preprocessor decides
+/// what to do with it (rectify a raw stereo pair, register depth to colour). The first fields are
+/// the (left / colour) camera's pinhole; pixel (u, v) integer coordinates are pixel centres:
+/// u = fx * x / z + cx (OpenCV convention).
+/// Example, EuRoC: fx..cy and distortion from cam0/sensor.yaml, baseline 0 (not rectified),
+/// second = cam1's intrinsics and distortion, second_pose = inverse(T_BS0) * T_BS1, mount = T_BS0.
+/// KITTI (rectified): distortion kNone, baseline 0.537, second = the same pinhole, second_pose a
+/// translation (0.537, 0, 0). TUM RGB-D (depth registered by the driver): second = the colour
+/// pinhole and size, second_pose identity.
 struct CameraInfo {
   double fx = 0;      ///< focal length along x [px]
   double fy = 0;      ///< focal length along y [px]
@@ -90,9 +136,35 @@ struct CameraInfo {
   double cy = 0;      ///< principal point y [px]
   int width = 0;      ///< image width [px]
   int height = 0;     ///< image height [px]
-  double baseline = 0;  ///< stereo baseline, right camera at +baseline along x [m]; 0 = mono
+  /// Baseline of a rectified stereo pair, right camera at +baseline along x [m]; 0 = mono, or a
+  /// pair that still needs rectifying (then `second` and `second_pose` say how it sits).
+  double baseline = 0;
   /// Camera pose in the robot frame (x right, y down, z forward optical frame).
   Eigen::Isometry3d mount = Eigen::Isometry3d::Identity();
+  // Appended in plugin ABI 1.5; the fields above keep their offsets.
+  /// Lens distortion of this camera; kNone when its images are rectified or undistorted.
+  Distortion distortion;
+  /// The rig's other camera when there is one: stereo's right camera, RGB-D's depth camera.
+  std::optional<CameraIntrinsics> second;
+  /// Pose of `second` in this camera's optical frame (maps its points into this frame; OpenCV's
+  /// stereoRectify wants the inverse): (baseline, 0, 0) for a rectified pair, identity for depth
+  /// registered to colour.
+  Eigen::Isometry3d second_pose = Eigen::Isometry3d::Identity();
+
+  /// This camera's pinhole, size and distortion.
+  CameraIntrinsics intrinsics() const {
+    return CameraIntrinsics{fx, fy, cx, cy, width, height, distortion};
+  }
+  /// Sets this camera's pinhole, size and distortion.
+  void setIntrinsics(const CameraIntrinsics& k) {
+    fx = k.fx;
+    fy = k.fy;
+    cx = k.cx;
+    cy = k.cy;
+    width = k.width;
+    height = k.height;
+    distortion = k.distortion;
+  }
 };
 
 /// Serializes a laser scan.
@@ -111,9 +183,18 @@ void load(InArchive& ar, Image& image);
 void save(OutArchive& ar, const DepthImage& depth);
 /// Deserializes a depth image (ParseError when the data does not match the size).
 void load(InArchive& ar, DepthImage& depth);
-/// Serializes camera intrinsics.
+/// Serializes lens distortion.
+void save(OutArchive& ar, const Distortion& distortion);
+/// Deserializes lens distortion (ParseError for an unknown model or a count that does not fit).
+void load(InArchive& ar, Distortion& distortion);
+/// Serializes one camera's intrinsics.
+void save(OutArchive& ar, const CameraIntrinsics& camera);
+/// Deserializes one camera's intrinsics.
+void load(InArchive& ar, CameraIntrinsics& camera);
+/// Serializes a camera's or a rig's calibration.
 void save(OutArchive& ar, const CameraInfo& camera);
-/// Deserializes camera intrinsics.
+/// Deserializes a calibration; files written before ABI 1.5 (no distortion, no second camera)
+/// load as undistorted mono or rectified stereo.
 void load(InArchive& ar, CameraInfo& camera);
 
 }  // namespace abi_v1

@@ -6,7 +6,9 @@
 #include "plugslam/alignment_validator.h"
 #include "plugslam/graph_slam.h"
 #include "plugslam/graph_writer.h"
+#include "plugslam/landmarks/landmark_slices.h"
 #include "plugslam/localizer.h"
+#include "plugslam/loop_closure.h"
 #include "plugslam/multi_tracker.h"
 #include "plugslam/pipeline.h"
 #include "plugslam/proximity_detector.h"
@@ -45,6 +47,14 @@ void registerBuiltinTypes(Registrar& registrar) {
       "OdometryAudit",
       "when the run ends, rejects the loops that stretch an odometry edge beyond its bounds");
   registrar.add<GraphWriter>("GraphWriter", "writes the pose graph of local maps as g2o");
+  registrar.add<ReprojectionSlice<Space2D>>(
+      "ReprojectionSlice2D", "landmark cue: (u, v, 1/z) reprojection factors, planar robot pose");
+  registrar.add<ReprojectionSlice<Space3D>>("ReprojectionSlice3D",
+                                            "landmark cue: (u, v, 1/z) reprojection factors");
+  registrar.add<LandmarkMapSlice<Space2D>>(
+      "LandmarkMapSlice2D", "landmark cue: merges keypoints into the local map's landmarks (2D)");
+  registrar.add<LandmarkMapSlice<Space3D>>(
+      "LandmarkMapSlice3D", "landmark cue: merges keypoints into the local map's landmarks");
   registrar.add<DistanceSplitter>("DistanceSplitter",
                                   "closes a local map on distance, angle, time or lost overlap");
 }

@@ -106,6 +106,7 @@ AteResult computeAte(const Trajectory& reference, const Trajectory& estimate,
     rot_errors.push_back(rotationAngle(r_ref.transpose() * r_est) * kRadToDeg);
   }
   result.translation = computeErrorStats(result.translation_errors);
+  result.pairs = pairs;
   result.rotation_deg = computeErrorStats(rot_errors);
   return result;
 }

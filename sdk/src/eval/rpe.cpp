@@ -73,6 +73,7 @@ RpeResult computeRpe(const Trajectory& reference, const Trajectory& estimate,
     return n;
   };
   std::vector<double> trans, rot, percent, length;
+  std::vector<RpeSegment> segments;
   std::size_t i = 0;
   while (i < n) {
     const std::size_t j = endOf(i);
@@ -87,6 +88,7 @@ RpeResult computeRpe(const Trajectory& reference, const Trajectory& estimate,
     const double travelled = dist[j] - dist[i];
     length.push_back(travelled);
     if (travelled > 0) percent.push_back(100.0 * trans.back() / travelled);
+    segments.push_back({pairs[i], pairs[j], trans.back(), rot.back(), travelled});
     i = options.all_pairs ? i + 1 : j;
   }
   if (trans.empty()) {
@@ -103,6 +105,7 @@ RpeResult computeRpe(const Trajectory& reference, const Trajectory& estimate,
   result.translation = computeErrorStats(trans);
   result.rotation_deg = computeErrorStats(rot);
   result.length_m = computeErrorStats(length);
+  result.segments = std::move(segments);
   if (!percent.empty()) result.translation_percent = computeErrorStats(percent);
   return result;
 }

@@ -41,6 +41,11 @@ void Pipeline::process(Frame& frame) {
     tracked_->push_back({frame.stamp, frame.estimate.local_map, frame.estimate.in_map});
 }
 
+std::shared_ptr<const LocalMap> Pipeline::findLocalMap(int64_t id) const {
+  const auto it = local_maps_.find(id);
+  return it == local_maps_.end() ? nullptr : it->second;
+}
+
 const LocalMap& Pipeline::localMap(int64_t id) const {
   const auto it = local_maps_.find(id);
   if (it == local_maps_.end())

@@ -1,71 +1,17 @@
 #include "plugslam/sensor_data.h"
 
+#include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <cstring>
 #include <string>
 
 #include "plugslam/archive.h"
+#include "properties/base64.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
 namespace {
-
-const char kBase64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-
-// Pixels travel as base64 text: the archive has no byte blob, and a string is compact in the
-// binary back-end and valid UTF-8 in the text one.
-std::string toBase64(const uint8_t* p, size_t n) {
-  std::string out;
-  out.reserve((n + 2) / 3 * 4);
-  size_t i = 0;
-  for (; i + 2 < n; i += 3) {
-    const uint32_t v = (uint32_t(p[i]) << 16) | (uint32_t(p[i + 1]) << 8) | p[i + 2];
-    out += kBase64[v >> 18];
-    out += kBase64[(v >> 12) & 63];
-    out += kBase64[(v >> 6) & 63];
-    out += kBase64[v & 63];
-  }
-  if (i < n) {
-    uint32_t v = uint32_t(p[i]) << 16;
-    if (i + 1 < n) v |= uint32_t(p[i + 1]) << 8;
-    out += kBase64[v >> 18];
-    out += kBase64[(v >> 12) & 63];
-    out += i + 1 < n ? kBase64[(v >> 6) & 63] : '=';
-    out += '=';
-  }
-  return out;
-}
-
-// Decodes into `out`; false on a character outside the alphabet or a bad length.
-bool fromBase64(const std::string& s, std::vector<uint8_t>& out) {
-  int8_t value[256];
-  std::memset(value, -1, sizeof(value));
-  for (int i = 0; i < 64; ++i)
-    value[static_cast<unsigned char>(kBase64[i])] = static_cast<int8_t>(i);
-  if (s.size() % 4 != 0) return false;
-  out.clear();
-  out.reserve(s.size() / 4 * 3);
-  for (size_t i = 0; i < s.size(); i += 4) {
-    const bool last = i + 4 == s.size();
-    int pad = 0;
-    uint32_t v = 0;
-    for (int k = 0; k < 4; ++k) {
-      const char c = s[i + k];
-      if (c == '=' && last && k >= 2) {
-        ++pad;
-        v <<= 6;
-        continue;
-      }
-      if (pad > 0) return false;
-      const int8_t d = value[static_cast<unsigned char>(c)];
-      if (d < 0) return false;
-      v = (v << 6) | static_cast<uint32_t>(d);
-    }
-    out.push_back(static_cast<uint8_t>(v >> 16));
-    if (pad < 2) out.push_back(static_cast<uint8_t>((v >> 8) & 255));
-    if (pad < 1) out.push_back(static_cast<uint8_t>(v & 255));
-  }
-  return true;
-}
 
 constexpr int kMaxSide = 1 << 16;
 
@@ -97,18 +43,21 @@ void odometryFields(Ar& ar, O& o) {
   ar.endObject();
 }
 
+// The pinhole fields shared by CameraInfo and CameraIntrinsics.
 template <class Ar, class C>
-void cameraFields(Ar& ar, C& c) {
-  ar.beginObject();
+void pinholeFields(Ar& ar, C& c) {
   ar.field("fx", c.fx);
   ar.field("fy", c.fy);
   ar.field("cx", c.cx);
   ar.field("cy", c.cy);
   ar.field("width", c.width);
   ar.field("height", c.height);
-  ar.field("baseline", c.baseline);
-  ar.field("mount", c.mount);
-  ar.endObject();
+}
+
+void checkPinhole(InArchive& ar, double fx, double fy, int width, int height) {
+  if (!std::isfinite(fx) || !std::isfinite(fy))
+    ar.fail("camera focal lengths must be finite");
+  checkSize(ar, width, height);
 }
 
 // The fields before an image's pixels, shared by save and load.
@@ -134,13 +83,126 @@ void save(OutArchive& ar, const LaserScan& s) { scanFields(ar, s); }
 void load(InArchive& ar, LaserScan& s) { scanFields(ar, s); }
 void save(OutArchive& ar, const Odometry2D& o) { odometryFields(ar, o); }
 void load(InArchive& ar, Odometry2D& o) { odometryFields(ar, o); }
-void save(OutArchive& ar, const CameraInfo& c) { cameraFields(ar, c); }
-void load(InArchive& ar, CameraInfo& c) { cameraFields(ar, c); }
+
+bool Distortion::valid() const {
+  const size_t n = coefficients.size();
+  switch (model) {
+    case Model::kNone:
+      return n == 0;
+    case Model::kRadialTangential:
+      return n == 4 || n == 5 || n == 8 || n == 12 || n == 14;
+    case Model::kEquidistant:
+      return n == 4;
+  }
+  return false;
+}
+
+bool Distortion::isIdentity() const {
+  return model == Model::kNone ||
+         std::all_of(coefficients.begin(), coefficients.end(), [](double c) { return c == 0.0; });
+}
+
+bool parseDistortionModel(const std::string& name, Distortion::Model& model) {
+  std::string n = name;
+  for (char& ch : n) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  if (n.empty() || n == "none") {
+    model = Distortion::Model::kNone;
+  } else if (n == "radial-tangential" || n == "radtan" || n == "plumb_bob" ||
+             n == "rational_polynomial") {
+    model = Distortion::Model::kRadialTangential;
+  } else if (n == "equidistant" || n == "fisheye") {
+    model = Distortion::Model::kEquidistant;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+const char* distortionModelName(Distortion::Model model) {
+  switch (model) {
+    case Distortion::Model::kNone:
+      return "none";
+    case Distortion::Model::kRadialTangential:
+      return "radial-tangential";
+    case Distortion::Model::kEquidistant:
+      return "equidistant";
+  }
+  return "none";
+}
+
+void save(OutArchive& ar, const Distortion& d) {
+  ar.beginObject();
+  ar.field("model", std::string(distortionModelName(d.model)));
+  ar.field("coefficients", d.coefficients);
+  ar.endObject();
+}
+
+void load(InArchive& ar, Distortion& d) {
+  ar.beginObject();
+  std::string name;
+  ar.field("model", name);
+  if (!parseDistortionModel(name, d.model))
+    ar.fail("unknown distortion model '" + name +
+            "' (expected none, radial-tangential or equidistant)");
+  ar.field("coefficients", d.coefficients);
+  if (!d.valid())
+    ar.fail(std::to_string(d.coefficients.size()) + " coefficients do not fit the " +
+            distortionModelName(d.model) + " model (none: 0, radial-tangential: 4, 5, 8, 12 or " +
+            "14, equidistant: 4)");
+  ar.endObject();
+}
+
+void save(OutArchive& ar, const CameraIntrinsics& c) {
+  ar.beginObject();
+  pinholeFields(ar, c);
+  ar.field("distortion", c.distortion);
+  ar.endObject();
+}
+
+void load(InArchive& ar, CameraIntrinsics& c) {
+  ar.beginObject();
+  pinholeFields(ar, c);
+  checkPinhole(ar, c.fx, c.fy, c.width, c.height);
+  ar.field("distortion", c.distortion);
+  ar.endObject();
+}
+
+void save(OutArchive& ar, const CameraInfo& c) {
+  ar.beginObject();
+  pinholeFields(ar, c);
+  ar.field("baseline", c.baseline);
+  ar.field("mount", c.mount);
+  ar.field("distortion", c.distortion);
+  if (c.second) {
+    ar.field("second", *c.second);
+    ar.field("second_pose", c.second_pose);
+  }
+  ar.endObject();
+}
+
+void load(InArchive& ar, CameraInfo& c) {
+  ar.beginObject();
+  pinholeFields(ar, c);
+  checkPinhole(ar, c.fx, c.fy, c.width, c.height);
+  ar.field("baseline", c.baseline);
+  ar.field("mount", c.mount);
+  // Archives written before ABI 1.5 have neither: undistorted, and no second camera.
+  c.distortion = Distortion{};
+  if (ar.hasKey("distortion")) ar.field("distortion", c.distortion);
+  c.second.reset();
+  c.second_pose = Eigen::Isometry3d::Identity();
+  if (ar.hasKey("second")) {
+    c.second.emplace();
+    ar.field("second", *c.second);
+    ar.field("second_pose", c.second_pose);
+  }
+  ar.endObject();
+}
 
 void save(OutArchive& ar, const Image& im) {
   ar.beginObject();
   imageHeader(ar, im);
-  ar.field("data", toBase64(im.data.data(), im.data.size()));
+  ar.field("data", detail::toBase64(im.data.data(), im.data.size()));
   ar.endObject();
 }
 
@@ -152,7 +214,7 @@ void load(InArchive& ar, Image& im) {
   if (im.stride < im.width * im.channels) ar.fail("image stride must be >= width * channels");
   std::string text;
   ar.field("data", text);
-  if (!fromBase64(text, im.data)) ar.fail("image data is not valid base64");
+  if (!detail::fromBase64(text, im.data)) ar.fail("image data is not valid base64");
   if (im.data.size() != static_cast<size_t>(im.stride) * static_cast<size_t>(im.height))
     ar.fail("image data holds " + std::to_string(im.data.size()) +
             " bytes, expected stride * height = " +
@@ -169,7 +231,7 @@ void save(OutArchive& ar, const DepthImage& d) {
     std::memcpy(&bits, &d.data[i], 4);
     for (int k = 0; k < 4; ++k) bytes[4 * i + k] = static_cast<uint8_t>(bits >> (8 * k));
   }
-  ar.field("data", toBase64(bytes.data(), bytes.size()));
+  ar.field("data", detail::toBase64(bytes.data(), bytes.size()));
   ar.endObject();
 }
 
@@ -180,7 +242,7 @@ void load(InArchive& ar, DepthImage& d) {
   std::string text;
   ar.field("data", text);
   std::vector<uint8_t> bytes;
-  if (!fromBase64(text, bytes)) ar.fail("depth data is not valid base64");
+  if (!detail::fromBase64(text, bytes)) ar.fail("depth data is not valid base64");
   const size_t n = static_cast<size_t>(d.width) * static_cast<size_t>(d.height);
   if (bytes.size() != 4 * n)
     ar.fail("depth data holds " + std::to_string(bytes.size()) +

@@ -1,6 +1,8 @@
 #include "plugslam/value_types.h"
 
 #include "plugslam/sensor_data.h"
+#include "plugslam/landmarks/feature_set.h"
+#include "plugslam/landmarks/landmark_map.h"
 
 #include <cxxabi.h>
 
@@ -78,6 +80,8 @@ ValueTypes::ValueTypes() {
   add<Image>("Image", sdk, "plugslam::Image");
   add<DepthImage>("DepthImage", sdk, "plugslam::DepthImage");
   add<CameraInfo>("CameraInfo", sdk, "plugslam::CameraInfo");
+  add<FeatureSet>("FeatureSet", sdk, "plugslam::FeatureSet");
+  add<LandmarkMap>("LandmarkMap", sdk, "plugslam::LandmarkMap");
 }
 
 void ValueTypes::addEntry(ValueTypeInfo info) {

@@ -35,14 +35,14 @@ void ImageSequenceWriter::consume(const Frame& frame) {
     const auto* camera = frame.raw.find<CameraInfo>("camera");
     if (!left || !right || !camera)
       throw InputError("io.ImageSequenceWriter: the kitti layout needs raw left, right and camera");
-    if (!kitti_) kitti_ = std::make_unique<sim3d::KittiWriter>(dir_, *camera);
+    if (!kitti_) kitti_ = std::make_unique<KittiWriter>(dir_, *camera);
     kitti_->add(frame.stamp, *left, *right, *pose);
   } else {
     const auto* rgb = frame.raw.find<Image>("rgb");
     const auto* depth = frame.raw.find<DepthImage>("depth");
     if (!rgb || !depth)
       throw InputError("io.ImageSequenceWriter: the tum layout needs raw rgb and depth");
-    if (!tum_) tum_ = std::make_unique<sim3d::TumWriter>(dir_);
+    if (!tum_) tum_ = std::make_unique<TumWriter>(dir_);
     tum_->add(frame.stamp, *rgb, *depth, *pose);
   }
 }

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "plugslam/sink.h"
-#include "sim3d/sequence_writer.h"
+#include "writers/sequence_writers.h"
 
 namespace plugslam {
 namespace io {
@@ -36,8 +36,8 @@ class ImageSequenceWriter : public Sink {
 
  private:
   std::string dir_;
-  std::unique_ptr<sim3d::KittiWriter> kitti_;
-  std::unique_ptr<sim3d::TumWriter> tum_;
+  std::unique_ptr<KittiWriter> kitti_;
+  std::unique_ptr<TumWriter> tum_;
 };
 
 }  // namespace io

@@ -50,6 +50,7 @@ struct AteResult {
   ErrorStats translation;                  ///< |p_ref - (s R p_est + t)| in metres
   ErrorStats rotation_deg;                 ///< angle of R_ref^T R R_est in degrees
   std::vector<double> translation_errors;  ///< one per associated pair, in time order
+  std::vector<PosePair> pairs;             ///< the associated poses, same order as the errors
 };
 
 /// Associates the trajectories by time, aligns and measures; throws InputError if nothing

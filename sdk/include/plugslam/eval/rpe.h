@@ -1,6 +1,7 @@
 #pragma once
 // Relative pose error over a fixed number of frames, distance travelled or time.
 #include <string>
+#include <vector>
 
 #include "plugslam/eval/association.h"
 #include "plugslam/eval/stats.h"
@@ -29,6 +30,15 @@ struct RpeOptions {
   AssociationOptions association;
 };
 
+/// One measured segment (i, j) of an RPE: where it starts and ends, and its errors.
+struct RpeSegment {
+  PosePair first;             ///< the associated poses at i
+  PosePair last;              ///< the associated poses at j
+  double translation = 0.0;   ///< |trans(E)| in metres
+  double rotation_deg = 0.0;  ///< angle(E) in degrees
+  double length_m = 0.0;      ///< path length along the reference from i to j
+};
+
 /// RPE: errors of E = (Q_i^-1 Q_j)^-1 (P_i^-1 P_j), Q reference, P estimate.
 struct RpeResult {
   RpeUnit unit = RpeUnit::Frames;
@@ -40,6 +50,7 @@ struct RpeResult {
   /// of the distance travelled); segments with L_ij = 0 are left out (count says how many are in).
   ErrorStats translation_percent;
   ErrorStats length_m;  ///< L_ij in metres: how long the measured segments really are
+  std::vector<RpeSegment> segments;  ///< every measured segment, in time order (for plots)
 };
 
 /// Associates by time and measures every segment; throws InputError if no segment of that

@@ -1,0 +1,34 @@
+#pragma once
+// Minimal PNG I/O through libpng: 8-bit grey / RGB images and 16-bit grey depth images.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "plugslam/sensor_data.h"
+
+namespace plugslam {
+namespace io {
+
+/// A decoded PNG: 8 or 16 bits per sample, samples row-major, channels interleaved.
+struct PngImage {
+  int width = 0;                  ///< [px]
+  int height = 0;                 ///< [px]
+  int channels = 0;               ///< 1 grey, 2 grey+alpha, 3 RGB, 4 RGBA
+  int bit_depth = 0;              ///< 8 or 16
+  std::vector<uint16_t> samples;  ///< width * height * channels values
+};
+
+/// Writes an 8-bit grey (1 channel) or RGB (3 channels) PNG; throws InputError on failure.
+void writePng(const std::string& path, const Image& image);
+/// Writes a 16-bit grey PNG of width x height values; throws InputError on failure.
+void writePng16(const std::string& path, int width, int height,
+                const std::vector<uint16_t>& values);
+/// Reads a PNG (any colour type is expanded to 8 or 16 bit samples; palette to RGB); throws
+/// InputError if unreadable, ParseError if not a valid PNG.
+PngImage readPng(const std::string& path);
+
+/// Depth in metres to 16-bit TUM units (scale per metre, 0 = no reading, too far = 0).
+std::vector<uint16_t> depthToUint16(const DepthImage& depth, double scale = 5000.0);
+
+}  // namespace io
+}  // namespace plugslam

@@ -1,0 +1,80 @@
+#pragma once
+// sim.Simulator3D: rendered stereo pairs or RGB-D frames with exact ground truth (sim3d).
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "plugslam/sensor_data.h"
+#include "plugslam/source.h"
+#include "sim3d/simulator.h"
+
+namespace plugslam {
+namespace sim {
+
+/// Emits one frame per trajectory pose. Stereo: raw["left"], raw["right"] (grey Image);
+/// RGB-D: raw["rgb"] (RGB Image), raw["depth"] (DepthImage, metres); both: raw["camera"]
+/// (CameraInfo) and raw[ground_truth] (Eigen::Isometry3d, the left / RGB camera in the world).
+/// Deterministic for a given seed.
+class Simulator3DSource : public Source {
+ public:
+  Param<std::string> world{this, "world",          "livingroom",
+                           "",   "built-in world", Choices{{"livingroom", "street"}}};
+  Param<std::string> camera{this,
+                            "camera",
+                            "rgbd",
+                            "",
+                            "rgbd: VGA RGB + depth; stereo: KITTI-like 1241x376 grey pair, 0.54 m",
+                            Choices{{"rgbd", "stereo"}}};
+  Param<std::string> trajectory{this, "trajectory", "", "",
+                                "camera trajectory file (TUM, KITTI, g2o); empty = generated loop"};
+  Param<std::string> trajectory_format{this,
+                                       "trajectory_format",
+                                       "auto",
+                                       "",
+                                       "format of the trajectory file",
+                                       Choices{{"auto", "tum", "kitti", "g2o"}}};
+  Param<std::string> kitti_times{this, "kitti_times", "", "",
+                                 "timestamps of a KITTI trajectory (one per line)"};
+  Param<bool> anchor{this, "anchor", true, "",
+                     "move a loaded trajectory so it starts at the world's start pose"};
+  Param<double> rate{this,
+                     "rate",
+                     0.0,
+                     "Hz",
+                     "camera rate; 0 = 30 (rgbd) / 10 (stereo), or a file's own poses",
+                     Range{0.0, 1000.0}};
+  Param<double> duration{
+      this, "duration", 0.0, "s", "generated living-room loop length; 0 = 30 s", Range{0.0, 1e6}};
+  Param<double> speed{this, "speed", 8.0, "m/s", "generated street drive speed", Range{0.1, 100.0}};
+  Param<bool> image_noise{this, "image_noise", true, "",
+                          "gaussian image noise and exposure changes"};
+  Param<double> image_sigma{this,          "image_sigma",       2.0,
+                            "grey levels", "image noise sigma", Range{0.0, 100.0}};
+  Param<double> exposure_sigma{
+      this, "exposure_sigma", 0.15, "", "amplitude of the log exposure gain", Range{0.0, 1.5}};
+  Param<bool> depth_noise{this, "depth_noise", true, "",
+                          "Kinect-like depth noise, quantisation and missing pixels"};
+  Param<double> depth_max_range{
+      this, "depth_max_range", 6.0, "m", "farther depth readings are missing", Range{0.5, 1000.0}};
+  Param<int64_t> seed{this, "seed", 0, "", "seeds textures, buildings and noise", Range{0, 9.0e15}};
+  Param<std::string> ground_truth{this, "ground_truth", "ground_truth", "",
+                                  "raw entry for the true camera pose"};
+
+  Simulator3DSource();
+  ~Simulator3DSource() override;
+
+  void configure() override;
+  bool next(Frame& frame) override;
+  /// The number of frames.
+  int64_t sizeHint() const override;
+
+  /// The simulator (after configure()).
+  const sim3d::Simulator3D& simulator() const;
+
+ private:
+  std::unique_ptr<sim3d::Simulator3D> sim_;
+  size_t next_ = 0;
+};
+
+}  // namespace sim
+}  // namespace plugslam

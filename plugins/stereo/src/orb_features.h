@@ -1,0 +1,45 @@
+#pragma once
+// Grid-bucketed FAST corners with ORB descriptors (OpenCV features2d): the keypoints of the
+// landmark cue's camera preprocessors (stereo here, RGB-D in its plugin). Bucketing spreads the
+// keypoints over the whole image, so the pose is constrained by every part of the view, not
+// only by its most textured corner.
+#include <opencv2/core.hpp>
+#include <opencv2/features2d.hpp>
+#include <vector>
+
+namespace plugslam {
+namespace visual {
+
+/// How many keypoints, where, and how strong.
+struct OrbOptions {
+  int features = 1500;         ///< target number of keypoints over the image
+  int cell = 32;               ///< bucket side [px]; each bucket keeps its strongest corners
+  int fast_threshold = 20;     ///< FAST intensity threshold [grey levels]
+  int min_fast_threshold = 7;  ///< retried in buckets that got no corner at fast_threshold
+  /// Descriptors at angle 0 (no intensity-centroid orientation): more distinctive when the
+  /// camera does not roll much between the frames it matches, which holds at video rates.
+  bool upright = true;
+};
+
+/// Detects grid-bucketed FAST corners and computes their ORB descriptors.
+class OrbExtractor {
+ public:
+  OrbExtractor();
+  /// Sets the options (rebuilds the ORB object only when needed).
+  void setOptions(const OrbOptions& options);
+  const OrbOptions& options() const { return options_; }
+  /// Keypoints of an 8-bit grey image and their descriptors (one 32-byte row each). Keypoints
+  /// lie at least border() pixels inside the image, where the descriptor pattern fits.
+  void extract(const cv::Mat& grey, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors);
+  /// Distance of keypoints from the image border [px].
+  static constexpr int border() { return 16; }
+
+ private:
+  OrbOptions options_;
+  cv::Ptr<cv::ORB> orb_;
+  std::vector<cv::KeyPoint> strong_, weak_;
+  std::vector<std::vector<int>> cells_;
+};
+
+}  // namespace visual
+}  // namespace plugslam

@@ -1,0 +1,17 @@
+#pragma once
+// Camera images for the viewer: JPEG (libjpeg-turbo), shrunk to a viewer panel's size.
+#include <string>
+
+#include "plugslam/sensor_data.h"
+
+namespace plugslam::runtime {
+
+/// Widest image sent to viewers [px]: a viewer shows a camera in a panel of a screen, and a
+/// smaller image costs a quarter of the bytes per halving.
+constexpr int kViewImageMaxWidth = 640;
+
+/// The image as JPEG, averaged down by a whole factor until at most kViewImageMaxWidth wide;
+/// 1 channel stays grey, 3 channels are RGB. Throws plugslam::Error on an inconsistent image.
+std::string encodeJpeg(const Image& image, int quality = 80);
+
+}  // namespace plugslam::runtime

@@ -1,0 +1,257 @@
+#include "view/view_stream.h"
+
+#include "plugslam/view/drawers.h"
+
+namespace plugslam::runtime {
+
+namespace {
+
+// How often the things that change every frame are worth re-sending [s]: status text a person
+// reads, the growing current map (it changes a little per frame), the whole graph drawing, the
+// growing stretch of trajectory. Far apart enough that their cost disappears into the frames.
+constexpr double kStatusPeriod = 0.25;
+constexpr double kCurrentMapPeriod = 1.0;
+constexpr double kGraphPeriod = 1.0;
+constexpr double kSegmentPeriod = 0.2;
+
+std::string mapFrame(int64_t id) { return "map/" + std::to_string(id); }
+
+bool elapsed(std::chrono::steady_clock::time_point& last, double period) {
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last < std::chrono::duration<double>(period)) return false;
+  last = now;
+  return true;
+}
+
+template <class T>
+view::Channel<T>& channelFor(std::map<std::string, view::Channel<T>>& channels,
+                             const std::string& topic, view::Latch latch) {
+  auto it = channels.find(topic);
+  if (it == channels.end()) it = channels.emplace(topic, view::Channel<T>(topic, latch)).first;
+  return it->second;
+}
+
+view::Color rgba(float r, float g, float b, float a = 1) { return view::Color{r, g, b, a}; }
+
+}  // namespace
+
+ViewStream::ViewStream(uint64_t run) {
+  state_.state = "running";
+  state_.run = run;
+}
+
+void ViewStream::frame(const Frame& frame, const Pipeline& pipeline, uint64_t frames,
+                       int64_t total) {
+  state_.frame = frames;
+  state_.total = total;
+  state_.stamp = frame.stamp;
+  if (pipeline.tracker) {
+    state_.local_maps = pipeline.tracker->stats().local_maps;
+    state_.tracking_failures = pipeline.tracker->stats().failed;
+  }
+  if (pipeline.graph) state_.loops = pipeline.graph->stats().loops_accepted;
+
+  // The robot.
+  view::FrameTransforms tf;
+  if (frame.estimate.valid) {
+    if (pose_.wanted()) pose_.publish(view::PoseInFrame{frame.stamp, "world", frame.estimate.world});
+    tf.transforms.push_back(view::FrameTransform{frame.stamp, "world", "base_link",
+                                                 frame.estimate.world});
+  }
+  for (const auto& p : frame.raw) {
+    if (p.type() != typeid(CameraInfo)) continue;
+    const auto& info = static_cast<const Property<CameraInfo>&>(p).value();
+    const std::string cam = "camera/" + p.name();
+    tf.transforms.push_back(view::FrameTransform{frame.stamp, "base_link", cam, info.mount});
+    if (!calibrated_[p.name()]) {
+      auto& channel = channelFor(calibrations_, "/camera/" + p.name() + "/calibration",
+                                 view::Latch::kLast);
+      channel.publish(view::CameraCalibration{frame.stamp, cam, info});
+      calibrated_[p.name()] = true;
+    }
+  }
+  if (!tf.transforms.empty() && tf_.wanted()) tf_.publish(std::move(tf));
+
+  // The trajectory, one stretch per local map in that map's frame: corrections move the map's
+  // origin (on /tf/maps), never the stretch.
+  if (frame.estimate.valid) {
+    if (frame.estimate.local_map != segment_map_) {
+      publishSegment();
+      segment_.clear();
+      segment_map_ = frame.estimate.local_map;
+      ++segment_key_;
+    }
+    segment_.push_back(frame.estimate.in_map);
+    segment_stamp_ = frame.stamp;
+    if (elapsed(last_segment_, kSegmentPeriod)) publishSegment();
+  }
+
+  // The current measurement of every cue that can be drawn, in the robot's frame.
+  const auto& drawers = view::Drawers::instance();
+  for (const auto& m : frame.measurement) {
+    if (!drawers.canDraw(m.type())) continue;
+    auto& channel = channelFor(scans_, "/scan/" + m.name(), view::Latch::kNone);
+    if (!channel.wanted()) continue;
+    view::PointCloud cloud;
+    cloud.stamp = frame.stamp;
+    cloud.frame = "base_link";
+    if (drawers.draw(m, cloud)) channel.publish(std::move(cloud));
+  }
+  // Camera images as the source gave them.
+  for (const auto& p : frame.raw) {
+    if (p.type() != typeid(Image)) continue;
+    auto& channel = channelFor(images_, "/camera/" + p.name() + "/image", view::Latch::kNone);
+    if (!channel.wanted()) continue;
+    channel.publish(view::CameraImage{"camera/" + p.name(),
+                                      static_cast<const Property<Image>&>(p).value()});
+  }
+
+  // Local maps: a new current map closes the previous one, which goes out whole, once.
+  if (frame.estimate.valid) {
+    if (auto current = pipeline.findLocalMap(frame.estimate.local_map)) {
+      if (current->id != current_map_) {
+        if (current_map_ >= 0 && static_cast<size_t>(current_map_) < maps_.size() &&
+            maps_[static_cast<size_t>(current_map_)])
+          publishMap(*maps_[static_cast<size_t>(current_map_)]);
+        current_map_ = current->id;
+        if (current->id >= 0) {
+          const auto i = static_cast<size_t>(current->id);
+          if (maps_.size() <= i) {
+            maps_.resize(i + 1);
+            published_origins_.resize(i + 1, Eigen::Isometry3d::Identity());
+            origin_published_.resize(i + 1, false);
+          }
+          maps_[i] = current;
+        }
+        graph_dirty_ = true;
+        last_current_map_ = Clock::now();
+      } else if (elapsed(last_current_map_, kCurrentMapPeriod)) {
+        publishMap(*current);
+      }
+    }
+  }
+  // The graph and the origins, when the back-end changed something.
+  if (pipeline.graph) {
+    const GraphStats s = pipeline.graph->stats();
+    const uint64_t version = s.optimizations * 1000003ull + s.loops_accepted * 1009ull + s.nodes;
+    if (version != graph_version_) graph_dirty_ = true;
+    if (graph_dirty_ && elapsed(last_graph_, kGraphPeriod)) {
+      graph_version_ = version;
+      graph_dirty_ = false;
+      publishOrigins(false);
+      publishGraph(pipeline);
+    }
+  } else if (graph_dirty_) {
+    graph_dirty_ = false;
+    publishOrigins(false);
+  }
+  publishStatus(false);
+}
+
+void ViewStream::publishSegment() {
+  if (segment_.empty() || segment_key_ < 0) return;
+  trajectory_.publish(view::PosesInFrame{segment_stamp_, mapFrame(segment_map_), segment_},
+                      segment_key_);
+}
+
+void ViewStream::publishMap(const LocalMap& map) {
+  const auto& drawers = view::Drawers::instance();
+  for (const auto& entry : map.scene) {
+    if (!drawers.canDraw(entry.type())) continue;
+    auto& channel = channelFor(map_clouds_, "/map/" + entry.name(), view::Latch::kPerKey);
+    view::PointCloud cloud;
+    cloud.stamp = map.first_stamp;
+    cloud.frame = mapFrame(map.id);
+    if (drawers.draw(entry, cloud)) channel.publish(std::move(cloud), map.id);
+  }
+}
+
+void ViewStream::publishOrigins(bool force) {
+  for (size_t i = 0; i < maps_.size(); ++i) {
+    if (!maps_[i]) continue;
+    const Eigen::Isometry3d& origin = maps_[i]->origin;
+    if (!force && origin_published_[i] && origin.isApprox(published_origins_[i], 1e-9) &&
+        (origin.translation() - published_origins_[i].translation()).norm() < 1e-6)
+      continue;
+    published_origins_[i] = origin;
+    origin_published_[i] = true;
+    view::FrameTransforms t;
+    // Stamped with the map's first frame, so a viewer looking transforms up at the stamp of the
+    // map's own messages finds the corrected origin.
+    t.transforms.push_back(view::FrameTransform{maps_[i]->first_stamp, "world",
+                                                mapFrame(static_cast<int64_t>(i)), origin});
+    map_tf_.publish(std::move(t), static_cast<int64_t>(i));
+  }
+}
+
+void ViewStream::publishGraph(const Pipeline& pipeline) {
+  if (!graph_.wanted()) return;
+  view::SceneEntity odometry, loops;
+  odometry.id = "odometry";
+  loops.id = "loops";
+  odometry.stamp = loops.stamp = state_.stamp;
+  view::Lines odo_lines, loop_lines;
+  odo_lines.color = rgba(0.3f, 0.6f, 1.0f);
+  loop_lines.color = rgba(1.0f, 0.35f, 0.2f);
+  auto origin = [&](int64_t id) -> const LocalMap* {
+    return id >= 0 && static_cast<size_t>(id) < maps_.size() ? maps_[static_cast<size_t>(id)].get()
+                                                             : nullptr;
+  };
+  for (const auto& e : pipeline.graph->edges()) {
+    const LocalMap* a = origin(e.from);
+    const LocalMap* b = origin(e.to);
+    if (!a || !b) continue;
+    auto& lines = e.loop ? loop_lines : odo_lines;
+    lines.points.push_back(a->origin.translation());
+    lines.points.push_back(b->origin.translation());
+  }
+  odometry.lines.push_back(std::move(odo_lines));
+  loops.lines.push_back(std::move(loop_lines));
+  view::SceneUpdate update;
+  update.stamp = state_.stamp;
+  update.entities.push_back(std::move(odometry));
+  update.entities.push_back(std::move(loops));
+  graph_.publish(std::move(update));
+}
+
+void ViewStream::publishStatus(bool now) {
+  const auto t = Clock::now();
+  if (!now && t - last_status_ < std::chrono::duration<double>(kStatusPeriod)) return;
+  if (rate_since_ != Clock::time_point{}) {
+    const double dt = std::chrono::duration<double>(t - rate_since_).count();
+    if (dt > 0 && state_.frame >= rate_frames_)
+      state_.hz = state_.state == "running" ? (state_.frame - rate_frames_) / dt : 0.0;
+  }
+  rate_since_ = t;
+  rate_frames_ = state_.frame;
+  last_status_ = t;
+  status_.publish(state_);
+}
+
+void ViewStream::setState(const std::string& state) {
+  state_.state = state;
+  publishStatus(true);
+}
+
+void ViewStream::finished(const RunResult& result, const Pipeline& pipeline) {
+  publishSegment();
+  for (const auto& m : result.local_maps) {
+    if (m->id < 0) continue;
+    const auto i = static_cast<size_t>(m->id);
+    if (maps_.size() <= i) {
+      maps_.resize(i + 1);
+      published_origins_.resize(i + 1, Eigen::Isometry3d::Identity());
+      origin_published_.resize(i + 1, false);
+    }
+    maps_[i] = m;
+  }
+  if (current_map_ >= 0 && static_cast<size_t>(current_map_) < maps_.size() &&
+      maps_[static_cast<size_t>(current_map_)])
+    publishMap(*maps_[static_cast<size_t>(current_map_)]);
+  publishOrigins(false);
+  if (pipeline.graph) publishGraph(pipeline);
+  state_.state = "finished";
+  publishStatus(true);
+}
+
+}  // namespace plugslam::runtime

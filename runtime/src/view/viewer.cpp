@@ -1,0 +1,132 @@
+#include "view/viewer.h"
+
+#include <spdlog/sinks/base_sink.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "editor/config_editor.h"
+
+namespace plugslam::runtime {
+
+namespace {
+
+// The log, as the /log channel (foxglove.Log); lines from any thread.
+class LogChannel final : public spdlog::sinks::base_sink<std::mutex> {
+ public:
+  explicit LogChannel(ViewHub& hub)
+      : hub_(hub), channel_(hub.declare("/log", view::kindOf<view::LogLine>(), view::Latch::kNone)) {
+    set_level(spdlog::level::info);
+  }
+
+ protected:
+  void sink_it_(const spdlog::details::log_msg& msg) override {
+    if (!hub_.wants(channel_)) return;
+    view::LogLine line;
+    line.stamp = std::chrono::duration<double>(msg.time.time_since_epoch()).count();
+    switch (msg.level) {
+      case spdlog::level::trace:
+      case spdlog::level::debug: line.level = view::LogLine::Level::kDebug; break;
+      case spdlog::level::warn: line.level = view::LogLine::Level::kWarning; break;
+      case spdlog::level::err: line.level = view::LogLine::Level::kError; break;
+      case spdlog::level::critical: line.level = view::LogLine::Level::kFatal; break;
+      default: line.level = view::LogLine::Level::kInfo;
+    }
+    line.message.assign(msg.payload.data(), msg.payload.size());
+    hub_.publish(channel_, view::Drawable(std::move(line)), 0);
+  }
+  void flush_() override {}
+
+ private:
+  ViewHub& hub_;
+  int channel_;
+};
+
+}  // namespace
+
+bool ViewerOptions::enabled() const {
+  return (serve_flag && serve_flag->count() > 0) || !record.empty();
+}
+
+void addViewerOptions(CLI::App& cmd, ViewerOptions& o) {
+  o.serve_flag =
+      cmd.add_option("--serve", o.serve,
+                     "stream the run to viewers (Foxglove, Lichtblick, the built-in page) over the "
+                     "Foxglove WebSocket protocol, with the page on the same port over HTTP; "
+                     "[ADDR:PORT], default 127.0.0.1:8765, :0 for any free port")
+          ->expected(0, 1);
+  cmd.add_flag("--serve-remote", o.remote,
+               "let --serve listen on a non-loopback address (whoever reaches it can pause the "
+               "run and change its parameters)");
+  cmd.add_option("--web-root", o.web_root, "serve the page from this folder instead of the installed one");
+  cmd.add_option("--root", o.edit_root,
+                 "the folder the page's configuration editor may save in (default: the current "
+                 "folder); paths leading outside it are refused")
+      ->check(CLI::ExistingDirectory);
+  cmd.add_option("--record", o.record,
+                 "record the viewer stream (every channel, full rate) into this MCAP file");
+  cmd.add_option("--view-rate", o.rate,
+                 "at most this many messages per second per streamed channel to live viewers "
+                 "(recordings get every message)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 1000.0));
+}
+
+Viewer::Viewer(const ViewerOptions& options) : options_(options) {
+  if (!options_.enabled()) return;
+  ViewHubOptions hub_options;
+  hub_options.stream_rate = options_.rate;
+  hub_ = std::make_unique<ViewHub>(hub_options);
+  if (!options_.record.empty()) recorder_ = std::make_unique<McapRecorder>(*hub_, options_.record);
+  stream_ = std::make_unique<ViewStream>();
+  auto sink = std::make_shared<LogChannel>(*hub_);
+  spdlog::default_logger()->sinks().push_back(sink);
+  log_sink_ = sink;
+  view::installPublisher(hub_.get());
+}
+
+Viewer::~Viewer() {
+  try {
+    stop();
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+  }
+}
+
+void Viewer::serve(ViewControl* control) {
+  if (!hub_ || !options_.serve_flag || options_.serve_flag->count() == 0) return;
+  ViewServerOptions o;
+  parseServeAddress(options_.serve, o);
+  o.allow_remote = options_.remote;
+  o.web_root = findWebRoot(options_.web_root);
+  if (!options_.edit_root.empty()) editor::setEditorRoot(options_.edit_root);
+  server_ = std::make_unique<FoxgloveServer>(*hub_, control, o);
+  server_->start();
+  const std::string url = server_->url();
+  const std::string page = "http" + url.substr(2);
+  // On stdout, so a script (or a test) can read where to connect.
+  std::cout << "serving " << url << " (page: " << page << "/"
+            << (o.web_root.empty() ? ", not installed: connect Foxglove or Lichtblick" : "") << ")"
+            << std::endl;
+}
+
+void Viewer::stop() {
+  if (stopped_ || !hub_) return;
+  stopped_ = true;
+  view::installPublisher(nullptr);
+  auto& sinks = spdlog::default_logger()->sinks();
+  for (auto it = sinks.begin(); it != sinks.end(); ++it)
+    if (it->get() == log_sink_.get()) {
+      sinks.erase(it);
+      break;
+    }
+  hub_->flush();
+  server_.reset();
+  if (recorder_) {
+    auto recorder = std::move(recorder_);
+    recorder->close();
+  }
+}
+
+}  // namespace plugslam::runtime

@@ -1,0 +1,120 @@
+#pragma once
+// The slices of the generic landmark cue (stereo, RGB-D and any camera plugin that fills a
+// FeatureSet): an aligner slice adding one reprojection factor (u, v, 1/z) per associated
+// landmark, and a tracker slice keeping the local map's LandmarkMap. Both work in 2D and 3D
+// pipelines: the camera's mount takes a robot pose to the camera, so a camera can share the
+// robot's one pose with a planar laser.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "plugslam/aligner_slice.h"
+#include "plugslam/landmarks/association.h"
+#include "plugslam/solver/robust_kernel.h"
+#include "plugslam/tracker_slice.h"
+
+namespace plugslam {
+inline namespace abi_v1 {
+
+/// "sdk.ReprojectionSlice2D/3D": projective association + descriptor check, robust factors.
+template <class S>
+class ReprojectionSlice final : public AlignerSlice<S> {
+ public:
+  using Pose = typename S::Pose;
+  Param<std::string> measurement{this, "measurement", "features", "",
+                                 "measurement entry (FeatureSet) to align"};
+  Param<std::string> scene{this, "scene", "landmarks", "", "scene entry (LandmarkMap) to align to"};
+  Param<double> search_radius{this, "search_radius", 20.0, "px",
+                              "association radius of the first round, at the motion prediction",
+                              Range{0.5, 1000}};
+  Param<double> refine_radius{this, "refine_radius", 4.0, "px",
+                              "radius of the last rounds: the radius halves each round down to it",
+                              Range{0.5, 1000}};
+  Param<int> max_hamming{this, "max_hamming", 50, "bits",
+                         "descriptor check: larger Hamming distances are no match", Range{0, 4096}};
+  Param<double> ratio{this, "ratio", 1.0, "",
+                      "a match's distance must be below this times the second best within the "
+                      "radius (1: off)",
+                      Range{0.1, 1.0}};
+  Param<bool> use_depth{this, "use_depth", true, "",
+                        "add the inverse-depth residual of keypoints with depth"};
+  Param<std::string> kernel{this, "kernel", "cauchy", "", "robust kernel",
+                            Choices{{"none", "huber", "cauchy", "tukey"}}};
+  Param<double> kernel_scale{this, "kernel_scale", 2.0, "sigma",
+                             "kernel scale in units of each residual's standard deviation",
+                             Range{1e-3, 1e3}};
+
+  ReprojectionSlice();
+  ~ReprojectionSlice() override;
+  void configure() override;
+  bool bind(const Frame& frame, const PropertyContainer& scene,
+            const AlignContext<S>& context) override;
+  void associate(const Pose& t) override;
+  void linearize(const Pose& t, NormalEquations<S>& eq) const override;
+
+  /// The pairs of the last association.
+  const std::vector<LandmarkMatch>& matches() const { return matches_; }
+
+ private:
+  const FeatureSet* features_ = nullptr;
+  const LandmarkMap* landmarks_ = nullptr;
+  FeatureGrid grid_;
+  std::vector<LandmarkMatch> matches_;
+  std::unique_ptr<RobustKernel> kernel_;
+  std::string made_kernel_;
+  double made_scale_ = -1;
+  int round_ = 0;
+};
+
+/// "sdk.LandmarkMapSlice2D/3D": merges a FeatureSet into the local map's LandmarkMap: matched
+/// landmarks are refined (information-weighted fusion of the positions) and take the newest
+/// descriptor, unmatched keypoints with depth become landmarks with a new track id, landmarks
+/// found in too few of the frames they projected into are pruned.
+template <class S>
+class LandmarkMapSlice final : public TrackerSlice<S> {
+ public:
+  using Pose = typename S::Pose;
+  Param<std::string> measurement{this, "measurement", "features", "",
+                                 "measurement entry (FeatureSet) to merge"};
+  Param<std::string> scene{this, "scene", "landmarks", "", "scene entry (LandmarkMap) to merge into"};
+  Param<double> match_radius{this, "match_radius", 3.0, "px",
+                             "association radius at the aligned pose", Range{0.5, 1000}};
+  Param<int> max_hamming{this, "max_hamming", 50, "bits",
+                         "descriptor check: larger Hamming distances are no match", Range{0, 4096}};
+  Param<double> fusion_gate{this, "fusion_gate", 11.34, "chi2",
+                            "a matched point farther than this squared Mahalanobis distance from "
+                            "its landmark is not fused (default: chi-square 99 % for 3 dof)",
+                            Range{0, 1e9}};
+  Param<double> max_depth{this, "max_depth", 0.0, "m",
+                          "keypoints farther than this make no new landmark (0: any depth)",
+                          Range{0, 1e6}};
+  Param<int> prune_after{this, "prune_after", 4, "frames",
+                         "a landmark is judged once it projected into this many frames",
+                         Range{1, 1000000}};
+  Param<double> min_found_ratio{this, "min_found_ratio", 0.3, "",
+                                "judged landmarks matched in fewer of the frames they projected "
+                                "into are pruned",
+                                Range{0, 1}};
+
+  void merge(const Frame& frame, PropertyContainer& scene, const Pose& t) override;
+
+  /// Counters of the last merge: matched landmarks, new landmarks, pruned landmarks.
+  size_t lastMatched() const { return last_matched_; }
+  size_t lastCreated() const { return last_created_; }
+  size_t lastPruned() const { return last_pruned_; }
+
+ private:
+  FeatureGrid grid_;
+  std::vector<LandmarkMatch> matches_;
+  std::vector<bool> visible_;
+  uint64_t next_id_ = 0;
+  size_t last_matched_ = 0, last_created_ = 0, last_pruned_ = 0;
+};
+
+extern template class ReprojectionSlice<Space2D>;
+extern template class ReprojectionSlice<Space3D>;
+extern template class LandmarkMapSlice<Space2D>;
+extern template class LandmarkMapSlice<Space3D>;
+
+}  // namespace abi_v1
+}  // namespace plugslam

@@ -1,0 +1,338 @@
+// `plugslam render`: the pictures of a run folder, read back. A synthetic run with a known map,
+// trajectory, reference and loop closure is drawn; the test then reads the PNG's pixels and the
+// SVG's coordinates and checks that each thing is drawn where it belongs (not that a file exists).
+#include <gtest/gtest.h>
+#include <stdlib.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "plugslam/errors.h"
+#include "plugslam/trajectory.h"
+#include "render/canvas.h"
+#include "render/figure.h"
+#include "render/run_pictures.h"
+#include "test_paths.h"
+
+namespace fs = std::filesystem;
+using namespace plugslam;
+using namespace plugslam::runtime::render;
+
+namespace {
+
+// The map: 10 m x 5 m at 5 cm, origin (-1, -2), free everywhere but a 10 cm wall at x = 3.
+constexpr double kRes = 0.05, kOx = -1, kOy = -2, kWallX = 3.0;
+constexpr int kW = 200, kH = 100;
+const Rgb kEstimateColour{31, 119, 180};
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    std::string t = (fs::temp_directory_path() / "plugslam-render-XXXXXX").string();
+    path = mkdtemp(t.data());
+  }
+  ~TempDir() { fs::remove_all(path); }
+};
+
+// Around a 2 m x 1.5 m rectangle, 5 cm per pose, 0.1 s apart.
+std::vector<Eigen::Vector2d> rectangle() {
+  std::vector<Eigen::Vector2d> corners{{0, 0}, {2, 0}, {2, 1.5}, {0, 1.5}, {0, 0}}, out;
+  for (size_t c = 0; c + 1 < corners.size(); ++c) {
+    const Eigen::Vector2d d = corners[c + 1] - corners[c];
+    const int n = static_cast<int>(std::lround(d.norm() / 0.05));
+    for (int i = 0; i < n; ++i) out.push_back(corners[c] + d * (double(i) / n));
+  }
+  out.push_back(corners.back());
+  return out;
+}
+
+Trajectory toTrajectory(const std::vector<Eigen::Vector2d>& pts, const Eigen::Isometry3d& world) {
+  Trajectory t;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.translation() << pts[i].x(), pts[i].y(), 0;
+    t.push_back(0.1 * i, world * p);
+  }
+  return t;
+}
+
+void writeRun(const fs::path& dir, const Trajectory& est, const Trajectory& ref) {
+  writeTumTrajectory(est, (dir / "trajectory.tum").string());
+  writeTumTrajectory(ref, (dir / "reference.tum").string());
+  std::ofstream pgm(dir / "map.pgm", std::ios::binary);
+  pgm << "P5\n# render test\n" << kW << " " << kH << "\n255\n";
+  for (int row = 0; row < kH; ++row)
+    for (int col = 0; col < kW; ++col) {
+      const double x = kOx + (col + 0.5) * kRes;
+      pgm.put(static_cast<char>(x > kWallX && x < kWallX + 0.1 ? 0 : 254));
+    }
+  pgm.close();
+  std::ofstream(dir / "map.yaml") << "image: map.pgm\nresolution: " << kRes << "\norigin: [" << kOx
+                                  << ", " << kOy << ", 0.0]\nnegate: 0\n";
+  // Four local maps at the corners; odometry 0-1-2-3, and one loop closure 2-0 (the diagonal).
+  std::ofstream(dir / "graph.g2o")
+      << "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 2 0 1.57\nVERTEX_SE2 2 2 1.5 3.14\n"
+         "VERTEX_SE2 3 0 1.5 -1.57\nFIX 0\n"
+         "EDGE_SE2 0 1 2 0 1.57 1 0 0 1 0 1\nEDGE_SE2 1 2 1.5 0 1.57 1 0 0 1 0 1\n"
+         "EDGE_SE2 2 3 2 0 1.57 1 0 0 1 0 1\nEDGE_SE2 2 0 -2 -1.5 -3.14 1 0 0 1 0 1\n";
+}
+
+bool near(Rgb a, Rgb b, int tol) {
+  return std::abs(a.r - b.r) <= tol && std::abs(a.g - b.g) <= tol && std::abs(a.b - b.b) <= tol;
+}
+
+// Which of estimate, reference, free map and loop colour c is nearest to (0, 1, 2, 3).
+int closest(Rgb c) {
+  const Rgb palette[] = {kEstimateColour, {255, 127, 14}, {254, 254, 254}, {214, 39, 40}};
+  int best = 0;
+  double best_d = 1e9;
+  for (int i = 0; i < 4; ++i) {
+    const double d = std::hypot(c.r - palette[i].r, c.g - palette[i].g, c.b - palette[i].b);
+    if (d < best_d) best_d = d, best = i;
+  }
+  return best;
+}
+
+Rgb pixelAt(const Canvas& c, const Eigen::Vector2d& px) {
+  return c.at(static_cast<int>(std::floor(px.x())), static_cast<int>(std::floor(px.y())));
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// The points of every <polyline class="cls" ...> of an SVG, in order.
+std::vector<Eigen::Vector2d> svgPolyline(const std::string& svg, const std::string& cls) {
+  std::vector<Eigen::Vector2d> out;
+  const std::regex line("<polyline class=\"" + cls + "\"[^>]* points=\"([^\"]*)\"");
+  for (auto it = std::sregex_iterator(svg.begin(), svg.end(), line); it != std::sregex_iterator();
+       ++it) {
+    std::istringstream pts((*it)[1].str());
+    double x, y;
+    char comma;
+    while (pts >> x >> comma >> y) out.emplace_back(x, y);
+  }
+  return out;
+}
+
+class Render : public ::testing::Test {
+ protected:
+  TempDir tmp;
+  std::vector<Eigen::Vector2d> path = rectangle();
+  Eigen::Isometry3d ref_world = [] {
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.rotate(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()));
+    t.translation() << 5, -3, 0;
+    return t;
+  }();
+  void SetUp() override {
+    writeRun(tmp.path, toTrajectory(path, Eigen::Isometry3d::Identity()),
+             toTrajectory(path, ref_world));
+  }
+};
+
+TEST_F(Render, MapPictureDrawsTrajectoryLoopsAndMapWhereTheyAre) {
+  const auto written = renderRun(tmp.path.string(), tmp.path.string());
+  ASSERT_EQ(written.size(), 4u);
+  const RunData run = loadRun(tmp.path.string());
+  EXPECT_EQ(run.dimension, 2);
+  EXPECT_EQ(run.nodes.size(), 4u);
+  ASSERT_EQ(run.loop_ends.size(), 2u) << "one loop closure (2-0); odometry edges are not loops";
+  const Figure fig = mapFigure(run);
+  ASSERT_EQ(fig.panels.size(), 1u);
+  const Panel& p = fig.panels[0];
+  // Equal axes: one metre is as many pixels across as up.
+  EXPECT_NEAR(p.width / (p.x_max - p.x_min), p.height / (p.y_max - p.y_min), 1e-6);
+
+  const Canvas png = readPng((tmp.path / "render_map.png").string());
+  ASSERT_EQ(png.width(), fig.width);
+  ASSERT_EQ(png.height(), fig.height);
+  // The wall of the map is black at its place in metres.
+  EXPECT_TRUE(near(pixelAt(png, p.toPixel({kWallX + 0.05, 0.5})), {0, 0, 0}, 10));
+  // Free map cells stay the map's grey away from everything drawn.
+  EXPECT_TRUE(near(pixelAt(png, p.toPixel({1.5, 0.3})), {254, 254, 254}, 2));
+  EXPECT_TRUE(near(pixelAt(png, p.toPixel({6.0, -1.0})), {254, 254, 254}, 2));
+  // The estimate: its colour under every pose away from the node and start markers.
+  int checked = 0;
+  for (const auto& q : path) {
+    bool by_marker = false;
+    for (const auto& n : run.nodes) by_marker |= (q - n).norm() < 0.25;
+    if (by_marker) continue;
+    const Rgb c = pixelAt(png, p.toPixel(q));
+    EXPECT_EQ(closest(c), 0) << "pose (" << q.transpose() << ") -> " << int(c.r) << "," << int(c.g)
+                             << "," << int(c.b);
+    ++checked;
+  }
+  EXPECT_GT(checked, 80);
+  // The loop closure from (2, 1.5) to (0, 0): reddish at its middle, over the free grey.
+  const Rgb mid = pixelAt(png, p.toPixel({1.0, 0.75}));
+  EXPECT_GT(mid.r, mid.g + 40) << int(mid.r) << "," << int(mid.g) << "," << int(mid.b);
+
+  // The SVG draws the same: the estimate polyline at the PNG's pixel positions, and the
+  // reference (given in another frame, rotated by 0.5 rad and moved by (5, -3)) aligned onto it.
+  const std::string svg = slurp(tmp.path / "render_map.svg");
+  const auto est = svgPolyline(svg, "estimate"), ref = svgPolyline(svg, "reference");
+  ASSERT_EQ(est.size(), path.size());
+  ASSERT_EQ(ref.size(), path.size());
+  for (size_t i = 0; i < path.size(); ++i) {
+    const Eigen::Vector2d want = p.toPixel(path[i]);
+    EXPECT_NEAR((est[i] - want).norm(), 0, 0.01) << i;  // SVG writes 2 decimals
+    EXPECT_NEAR((ref[i] - want).norm(), 0, 0.02) << i;  // plus the alignment's round-off
+  }
+  EXPECT_NE(svg.find("<image class=\"map\""), std::string::npos);
+  EXPECT_NE(svg.find("ATE RMSE 0.000 m (se2 alignment)"), std::string::npos);
+}
+
+TEST_F(Render, ErrorPlotsShowTheErrorOfEachPose) {
+  // Without alignment, a reference 0.1 m off in y for the first half and 0.3 m for the second
+  // half gives ATE 0.1 then 0.3 at every pose: the curve must sit at those heights.
+  Trajectory ref;
+  const Trajectory est = toTrajectory(path, Eigen::Isometry3d::Identity());
+  const double half = est[est.size() / 2].t;
+  for (const auto& p : est) {
+    Eigen::Isometry3d q = p.pose;
+    q.translation().y() += p.t < half ? 0.1 : 0.3;
+    ref.push_back(p.t, q);
+  }
+  writeTumTrajectory(ref, (tmp.path / "reference.tum").string());
+  RenderOptions o;
+  o.alignment = Alignment::None;
+  const auto written = renderRun(tmp.path.string(), tmp.path.string(), o);
+  ASSERT_EQ(written.size(), 4u);
+  const Figure fig = errorFigure(loadRun(tmp.path.string(), o), o);
+  ASSERT_EQ(fig.panels.size(), 4u) << "ATE/time, ATE/distance, RPE translation, RPE rotation";
+  const Canvas png = readPng((tmp.path / "render_errors.png").string());
+  ASSERT_EQ(png.width(), fig.width);
+  ASSERT_EQ(png.height(), fig.height);
+  const Panel& p = fig.panels[0];
+  const double per_px = (p.y_max - p.y_min) / p.height;
+  for (double t : {0.1 * half, 0.4 * half, 1.3 * half, 1.8 * half}) {
+    const int col = static_cast<int>(p.toPixel({t, 0}).x());
+    double sum = 0;
+    int n = 0;
+    for (int row = p.y; row < p.y + p.height; ++row)
+      if (near(png.at(col, row), kEstimateColour, 60)) sum += row + 0.5, ++n;
+    ASSERT_GT(n, 0) << "no curve in column " << col;
+    const double value = p.toData({col + 0.5, sum / n}).y();
+    // The 1.5 px line is centred on the value: its colour's middle row is within 2 px of it.
+    EXPECT_NEAR(value, t < half ? 0.1 : 0.3, 2 * per_px) << "t = " << t;
+  }
+  // The SVG curve has one point per associated pose.
+  const std::string svg = slurp(tmp.path / "render_errors.svg");
+  EXPECT_EQ(svgPolyline(svg, "ate-time").size(), est.size());
+  EXPECT_EQ(svgPolyline(svg, "ate-distance").size(), est.size());
+  EXPECT_FALSE(svgPolyline(svg, "rpe-translation").empty());
+}
+
+TEST_F(Render, WithoutReferenceOnlyTheMapIsDrawn) {
+  fs::remove(tmp.path / "reference.tum");
+  const auto written = renderRun(tmp.path.string(), (tmp.path / "pictures").string());
+  ASSERT_EQ(written.size(), 2u);
+  EXPECT_TRUE(fs::exists(tmp.path / "pictures" / "render_map.png"));
+  EXPECT_FALSE(fs::exists(tmp.path / "pictures" / "render_errors.png"));
+  EXPECT_THROW(errorFigure(loadRun(tmp.path.string())), InputError);
+}
+
+TEST_F(Render, BadInputNamesTheFile) {
+  fs::remove(tmp.path / "trajectory.tum");
+  try {
+    loadRun(tmp.path.string());
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("trajectory.tum"), std::string::npos) << e.what();
+  }
+  writeTumTrajectory(toTrajectory(path, Eigen::Isometry3d::Identity()),
+                     (tmp.path / "trajectory.tum").string());
+  std::ofstream(tmp.path / "map.pgm") << "P6\n1 1\n255\n";
+  try {
+    loadRun(tmp.path.string());
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("map.pgm"), std::string::npos) << e.what();
+  }
+}
+
+TEST(RenderFigure, TicksAreRoundAndCoverTheRange) {
+  // The step is the first of 1, 2, 5 x 10^k at least (range / target): at most `target` ticks.
+  const auto t = niceTicks(-0.3, 2.7, 5);
+  ASSERT_EQ(t.size(), 3u);
+  EXPECT_DOUBLE_EQ(t.front(), 0.0);
+  EXPECT_DOUBLE_EQ(t[1] - t[0], 1.0);
+  const auto u = niceTicks(0.0, 1.0, 5);
+  ASSERT_EQ(u.size(), 6u);
+  EXPECT_NEAR(u[1] - u[0], 0.2, 1e-12);
+  EXPECT_NEAR(u.back(), 1.0, 1e-12);
+  EXPECT_EQ(tickLabel(0.5, 0.5), "0.5");
+  EXPECT_EQ(tickLabel(20, 10), "20");
+}
+
+TEST(RenderCanvas, PngRoundTripsAndTextIsDrawn) {
+  TempDir tmp;
+  Canvas c(60, 20, {255, 255, 255});
+  c.text(2, 2, "0.5 m", {0, 0, 0});
+  c.line(0, 18.5, 60, 18.5, {200, 0, 0}, 1);
+  int dark = 0;
+  for (int y = 0; y < 16; ++y)
+    for (int x = 0; x < 60; ++x) dark += c.at(x, y).r == 0;
+  EXPECT_GT(dark, 20) << "the glyphs put dots on the canvas";
+  writePng((tmp.path / "c.png").string(), c);
+  const Canvas back = readPng((tmp.path / "c.png").string());
+  ASSERT_EQ(back.width(), 60);
+  ASSERT_EQ(back.height(), 20);
+  EXPECT_EQ(back.samples(), c.samples());
+  EXPECT_THROW(readPng((tmp.path / "missing.png").string()), InputError);
+}
+
+// `plugslam ARGS` as a user runs it: its exit code, and stdout and stderr in `out`.
+int plugslamCli(const std::string& args, std::string& out) {
+  const std::string cmd = plugslam::testing::buildDir() + "/bin/plugslam " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  char buf[4096];
+  size_t n;
+  out.clear();
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  const int status = pclose(p);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// The CLI as a user runs it: exit codes and the files it says it wrote.
+TEST_F(Render, CommandLine) {
+  auto run = [](const std::string& args, std::string& out) {
+    return plugslamCli("render " + args, out);
+  };
+  std::string out;
+  ASSERT_EQ(run(tmp.path.string() + " --width 640", out), 0) << out;
+  EXPECT_NE(out.find("render_map.png"), std::string::npos) << out;
+  EXPECT_NE(out.find("render_errors.svg"), std::string::npos) << out;
+  EXPECT_LE(readPng((tmp.path / "render_map.png").string()).width(), 640);
+  EXPECT_EQ(run((tmp.path / "nowhere").string(), out), 2) << out;
+  EXPECT_NE(out.find("is not a folder"), std::string::npos) << out;
+}
+
+// `plugslam view HOST:PORT` prints the page of a remote host; bad addresses exit 2.
+TEST(ViewCommand, PrintsThePageAddress) {
+  auto view = [](const std::string& args, std::string& out) {
+    return plugslamCli("view " + args, out);
+  };
+  std::string out;
+  EXPECT_EQ(view("robot.local:9000", out), 0);
+  EXPECT_EQ(out, "http://robot.local:9000/\n");
+  EXPECT_EQ(view(":8800", out), 0);
+  EXPECT_EQ(out, "http://127.0.0.1:8800/\n");
+  EXPECT_EQ(view("", out), 0);
+  EXPECT_EQ(out, "http://127.0.0.1:8765/\n");
+  EXPECT_EQ(view("[::1]:8765", out), 0);
+  EXPECT_EQ(out, "http://[::1]:8765/\n");
+  EXPECT_EQ(view("host:99999", out), 2) << out;
+  EXPECT_EQ(view("host:abc", out), 2) << out;
+}
+
+}  // namespace
