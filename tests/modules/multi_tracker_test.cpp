@@ -214,6 +214,38 @@ TEST(MultiTracker, EstimatesSayWhetherTheMapIsFrozenAndWhetherTheFrameWasLost) {
   EXPECT_EQ(localizing->result().local_maps.size(), maps.size());  // nothing was created
 }
 
+namespace {
+
+// The path of the ParamError that configure() throws ("" if it throws none).
+std::string configureError(Configurable& tracker) {
+  try {
+    tracker.configure();
+  } catch (const ParamError& e) {
+    return e.path();
+  }
+  return "";
+}
+
+template <class S>
+void expectSlicesRequired() {
+  MultiTracker<S> tracker;
+  EXPECT_EQ(configureError(tracker), "aligner") << S::kSuffix;
+  tracker.aligner.assign(std::make_shared<MultiAligner<S>>());
+  EXPECT_EQ(configureError(tracker), "aligner.slices") << S::kSuffix;
+}
+
+}  // namespace
+
+// Item 17.7: without aligner slices no frame can be aligned, without tracker slices the map stays
+// empty; either used to "track" every frame at the prediction. Both are configuration errors.
+TEST(MultiTracker, ATrackerWithoutSlicesIsAConfigurationError) {
+  expectSlicesRequired<Space2D>();
+  expectSlicesRequired<Space3D>();
+  auto tracker = makeTracker(1.0);
+  tracker->slices.clear();
+  EXPECT_EQ(configureError(*tracker), "slices");
+}
+
 TEST(MultiTracker, FallbackSigmaIsValidated) {
   auto tracker = makeTracker(1.0);
   tracker->fallback_sigma = std::vector<double>{0.1, 0.1};
