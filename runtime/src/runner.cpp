@@ -76,7 +76,7 @@ std::string runReportJson(const RunReport& r) {
       "  \"module_errors\": {},\n"
       "  \"reference\": {{\"ate_rmse_m\": {}, \"ate_max_m\": {}, \"rpe_1m_rmse_m\": {}}},\n"
       "  \"graph\": {{\"nodes\": {}, \"edges\": {}, \"loop_candidates\": {}, \"loops_accepted\": {}, "
-      "\"loops_rejected\": {}, \"optimizations\": {}, \"optimization_time_s\": {:.6f}, "
+      "\"loops_rejected\": {}, \"loops_restored\": {}, \"optimizations\": {}, \"optimization_time_s\": {:.6f}, "
       "\"loop_detection_time_s\": {:.6f}, \"loop_validation_time_s\": {:.6f}, "
       "\"final_chi2\": {:.6f}}},\n"
       "  \"modules\": {{{}\n  }}\n}}\n",
@@ -84,8 +84,15 @@ std::string runReportJson(const RunReport& r) {
       r.local_maps, r.tracking_failures, r.module_errors,
       jsonNumber(r.ate_rmse), jsonNumber(r.ate_max), jsonNumber(r.rpe_rmse), r.graph.nodes,
       r.graph.edges, r.graph.candidates, r.graph.loops_accepted, r.graph.loops_rejected,
-      r.graph.optimizations, r.graph.optimization_time, r.graph.detection_time,
+      r.graph.loops_restored, r.graph.optimizations, r.graph.optimization_time, r.graph.detection_time,
       r.graph.validation_time, r.graph.final_chi2, modules);
+}
+
+std::string loopsClosedText(const GraphStats& g) {
+  std::string text = fmt::format("{} loops closed", g.loops_accepted);
+  if (g.loops_restored > 0)
+    text += fmt::format(" ({} more restored with the session)", g.loops_restored);
+  return text;
 }
 
 // Runs one call into a source or sink (plugin code) so that whatever it throws names the module:
@@ -170,6 +177,7 @@ bool Execution::step() {
     skipped(seq, e);
     processed = false;  // the sinks never see a frame the pipeline did not finish
   }
+  if (processed && frame.estimate.valid && frame.estimate.frozen) ++frozen_frames_;
   for (auto& sink : run_.outputs) {
     if (!processed) break;
     ScopedTimer t(io_timings_, sink->name());
@@ -232,6 +240,12 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
     report.local_maps = pipeline.tracker->stats().local_maps;
     report.tracking_failures = pipeline.tracker->stats().failed;
   }
+  // In localization a failed frame is one no saved map explains: when that is most of them the
+  // poses are mostly predictions, and the session is probably of another place (or sensor).
+  if (frozen_frames_ > 0 && 2 * report.tracking_failures > frozen_frames_)
+    spdlog::warn("localization: {} of {} frames did not align with any saved map; the session "
+                 "is probably of another place, or the sensors or config differ from its run",
+                 report.tracking_failures, frozen_frames_);
   scoreAgainstGroundTruth(result, pipeline.tracker ? pipeline.tracker->dimension() : 3, report);
   if (!result.reference.empty())
     writeTumTrajectory(result.reference,

@@ -208,9 +208,9 @@ void addRunCommand(CLI::App& root, int& exit_code) {
     viewer.stop();
     if (tty) std::fprintf(stderr, "\n");
     std::cout << fmt::format(
-        "{} frames in {:.3f} s ({:.1f} Hz; pipeline alone {:.1f} Hz); {} loops closed; outputs in {}\n",
-        report.frames, report.wall_s, report.hz, report.pipeline_hz, report.graph.loops_accepted,
-        out_dir);
+        "{} frames in {:.3f} s ({:.1f} Hz; pipeline alone {:.1f} Hz); {}; outputs in {}\n",
+        report.frames, report.wall_s, report.hz, report.pipeline_hz,
+        loopsClosedText(report.graph), out_dir);
     if (report.ate_rmse)
       std::cout << fmt::format("against '{}': ATE rmse {:.4f} m (max {:.4f} m), RPE(1 m) rmse {:.4f} m\n",
                                run->pipeline->reference(), *report.ate_rmse, *report.ate_max,

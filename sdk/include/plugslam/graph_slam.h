@@ -24,13 +24,14 @@ inline namespace abi_v1 {
 struct GraphStats {
   uint64_t nodes = 0, edges = 0;
   uint64_t candidates = 0;         ///< proposals by the detectors
-  uint64_t loops_accepted = 0;     ///< validated and kept by the optimizer
-  uint64_t loops_rejected = 0;     ///< refused by a validator or by the consistency check
+  uint64_t loops_accepted = 0;     ///< this run's loops, validated and kept
+  uint64_t loops_rejected = 0;     ///< refused this run by a validator or a loop filter
   uint64_t optimizations = 0;
   double optimization_time = 0;    ///< seconds, summed
   double detection_time = 0;       ///< seconds in the loop detectors, summed
   double validation_time = 0;      ///< seconds in the loop validators, summed
   double final_chi2 = 0;
+  uint64_t loops_restored = 0;     ///< a restored session's loops still kept (not this run's)
 };
 
 /// The dimension-agnostic face of the back-end that the pipeline drives.

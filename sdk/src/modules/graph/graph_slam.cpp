@@ -183,10 +183,15 @@ GraphStats GraphSlam<S>::stats() const {
   GraphStats s = state_->stats;
   s.nodes = state_->graph.size();
   s.edges = state_->graph.odometry().size();
-  s.loops_accepted = 0;
+  s.loops_accepted = s.loops_restored = 0;
   s.loops_rejected = state_->validator_rejections;
-  for (const auto& l : state_->graph.loops()) (l.active ? s.loops_accepted : s.loops_rejected) += 1;
-  s.edges += s.loops_accepted;
+  // A restored session's loops are not this run's closures; one this run rejects is its verdict.
+  const auto& loops = state_->graph.loops();
+  for (size_t i = 0; i < loops.size(); ++i) {
+    const bool restored = i < state_->graph.restoredLoops();
+    (loops[i].active ? (restored ? s.loops_restored : s.loops_accepted) : s.loops_rejected) += 1;
+  }
+  s.edges += s.loops_accepted + s.loops_restored;
   return s;
 }
 
