@@ -16,8 +16,13 @@ class AlignmentValidator : public LoopValidator {
   ~AlignmentValidator() override;
   Slot<MultiAligner<S>> aligner{this, "aligner", std::string("sdk.MultiAligner") + S::kSuffix,
                                 "aligns the query's scene (as measurement) to the candidate's"};
-  Param<double> min_overlap{this, "min_overlap", 0.5, "",
-                            "fraction of the query's elements that must be inliers", Range{0, 1}};
+  Param<double> min_inlier_ratio{this, "min_inlier_ratio", 0.5, "",
+                                 "fraction of the associated pairs (factors) that must be inliers",
+                                 Range{0, 1}};
+  Param<double> min_overlap{this, "min_overlap", 0.0, "",
+                            "fraction of the query's elements that must be inliers, over the "
+                            "cues that count them (0: off)",
+                            Range{0, 1}};
   Param<double> max_residual{this, "max_residual", 1.0, "",
                              "max robust chi2 per inlier at the solution", Range{0, 1e12}};
   Param<double> max_correction{this, "max_correction", 5.0, "m",

@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "plugslam/configurable.h"
+#include "plugslam/entry.h"
 #include "plugslam/frame.h"
 #include "plugslam/pose_space.h"
 
@@ -30,21 +31,23 @@ template <class S>
 struct MotionPrediction {
   using Pose = typename S::Pose;
   Pose last_motion = Pose::Identity();  ///< the motion of the last frame (constant velocity)
-  bool by_model = false;                ///< the last prediction came from the motion model
+  /// The motion model's measured motion for the last frame (empty: the prediction did not come
+  /// from it); the aligner's slices get it in their AlignContext.
+  std::optional<Pose> model_motion;
 
   /// The pose predicted for `frame` from the robot's pose `from`.
   Pose predict(MotionModel<S>* model, bool constant_velocity, const Frame& frame,
                const Pose& from) {
-    std::optional<Pose> delta;
-    if (model) delta = model->predict(frame);
-    by_model = delta.has_value();
-    if (!delta) delta = constant_velocity ? last_motion : Pose::Identity();
-    return S::normalized(from * *delta);
+    model_motion.reset();
+    if (model) model_motion = model->predict(frame);
+    const Pose delta =
+        model_motion ? *model_motion : constant_velocity ? last_motion : Pose::Identity();
+    return S::normalized(from * delta);
   }
   /// Forgets the motion history.
   void reset() {
     last_motion = Pose::Identity();
-    by_model = false;
+    model_motion.reset();
   }
 };
 

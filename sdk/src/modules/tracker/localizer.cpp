@@ -98,7 +98,8 @@ TrackEvents Localizer<S>::track(Frame& frame) {
     const Pose previous = S::normalized(S::from3D(to_map * previous_world));
     const Pose guess = S::normalized(S::from3D(to_map * guess_world));
     if (m == fallback) fallback_guess = guess;
-    AlignResult<S> r = aligner->align(frame, m->scene, AlignContext<S>{previous, guess});
+    AlignResult<S> r = aligner->align(
+        frame, m->scene, AlignContext<S>{previous, guess, st.prediction.model_motion});
     if (!r.valid) continue;
     const Pose correction = S::normalized(guess.inverse() * r.pose);
     best_ratio = std::max(best_ratio, r.inlierRatio());

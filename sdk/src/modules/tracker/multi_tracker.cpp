@@ -92,8 +92,9 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
 template <class S>
 AlignResult<S> MultiTracker<S>::align(const Frame& frame, const Pose& previous,
                                       const Pose& guess) {
-  AlignResult<S> aligned = aligner->align(frame, map_->scene, AlignContext<S>{previous, guess});
-  if (aligned.valid && prediction_.by_model && !max_correction().empty()) {
+  AlignResult<S> aligned = aligner->align(
+      frame, map_->scene, AlignContext<S>{previous, guess, prediction_.model_motion});
+  if (aligned.valid && prediction_.model_motion && !max_correction().empty()) {
     const Pose correction = S::normalized(guess.inverse() * aligned.pose);
     if (S::distance(correction) > max_correction()[0] ||
         S::angle(correction) > max_correction()[1]) {
@@ -112,8 +113,8 @@ void MultiTracker<S>::count(const Frame& frame, const AlignResult<S>& aligned) {
     stats_.inlier_ratio_sum += aligned.inlierRatio();
   } else {
     ++stats_.failed;
-    spdlog::debug("frame {}: alignment failed ({} inliers of {} factors); new local map",
-                  frame.seq, aligned.inliers, aligned.factors);
+    spdlog::debug("frame {}: alignment failed ({} inliers of {} factors: {}); new local map",
+                  frame.seq, aligned.inliers, aligned.factors, describeCues(aligned.cues));
   }
 }
 

@@ -20,6 +20,25 @@ std::shared_ptr<Tracker> Tracker::localizer(std::vector<std::shared_ptr<const Lo
 
 template <class S>
 TrackerSlice<S>::~TrackerSlice() = default;
+
+template <class S>
+void TrackerSlice<S>::merge(const Frame& frame, PropertyContainer& scene, const Pose& t) {
+  bool present = true;
+  for (EntryBase* entry : entries()) {
+    if (entry->writes()) {
+      if (entry->container() != Container::scene)
+        throw InputError("tracker slice '" + name() + "': '" + entry->key() + "' " +
+                         entry->describe() + "; a tracker slice writes scene entries only");
+      entry->bind(&scene);
+      continue;
+    }
+    const Container c = entry->container();
+    entry->bind(static_cast<const PropertyContainer*>(
+        c == Container::scene ? &scene : c == Container::raw ? &frame.raw : &frame.measurement));
+    present = present && entry->bound();
+  }
+  if (present) integrate(MergeContext<S>{t, frame.seq, frame.stamp});
+}
 template <class S>
 MotionModel<S>::~MotionModel() = default;
 
