@@ -12,7 +12,8 @@
 #include <vector>
 
 #include "correlative_matcher.h"
-#include "plugslam/graph_slam.h"
+#include "plugslam/drift_gate.h"
+#include "plugslam/loop_closure.h"
 
 namespace plugslam {
 namespace laser2d {

@@ -120,7 +120,7 @@ void ViewStream::frame(const Frame& frame, const Pipeline& pipeline, uint64_t fr
         published_origins_.resize(i + 1, Eigen::Isometry3d::Identity());
         origin_published_.resize(i + 1, false);
       }
-      if (!maps_[i]) maps_[i] = pipeline.localMap(id);
+      if (!maps_[i]) maps_[i] = pipeline.findLocalMap(id);
       graph_dirty_ = true;
       last_current_map_ = Clock::now();
     } else if (elapsed(last_current_map_, kCurrentMapPeriod)) {
