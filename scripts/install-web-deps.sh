@@ -10,13 +10,7 @@ need=()
 command -v node > /dev/null || need+=(nodejs)
 command -v npm > /dev/null || need+=(npm)
 if [ "${1:-}" = "--browser" ] && [ ! -x /usr/bin/chromium ]; then need+=(chromium); fi
-if [ ${#need[@]} -gt 0 ]; then
-  SUDO=""
-  if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-  echo "install-web-deps: installing ${need[*]}"
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${need[@]}"
-fi
+if [ ${#need[@]} -gt 0 ]; then "$root/scripts/apt-install.sh" install-web-deps "${need[@]}"; fi
 # The page (runtime/web) and the viewer's Node tests (tests/node: protocol, schemas, MCAP).
 for dir in runtime/web tests/node; do
   stamp="$root/$dir/node_modules/.package-lock.json"
