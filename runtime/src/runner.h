@@ -2,9 +2,11 @@
 // Runs a built pipeline over its source and writes run.json.
 #include <chrono>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 
+#include "playback_clock.h"
 #include "plugslam/errors.h"
 #include "plugslam/statistics.h"
 #include "plugslam/timings.h"
@@ -71,6 +73,9 @@ struct RunOptions {
   std::function<void()> stopped_by_error;
   /// Watches the run (the viewer stream); may be null. Outlives the run.
   RunObserver* observer = nullptr;
+  /// Playback rate (--rate): 0 = as fast as possible; R > 0 = frames paced by their stamps at R
+  /// times the data's own speed (1 = as recorded), e.g. to watch a log in the viewer.
+  double rate = 0;
 };
 
 /// One run driven frame by frame (the shell steps it; runPipeline loops it). Not thread-safe:
@@ -81,8 +86,14 @@ class Execution {
   Execution(RunConfig& run, RunOptions options);
   /// Processes one frame; false (and nothing done) at the end of the data or max_frames. A
   /// module's ModuleError is thrown, or under `on_module_error: skip` (pipeline modules and
-  /// sinks, not the source) warned about and the frame skipped.
+  /// sinks, not the source) warned about and the frame skipped. Never waits: callers that pace
+  /// the run wait for nextDue() first.
   bool step();
+  /// When the next frame is due at the playback rate (reads it from the source if not yet read;
+  /// now when unpaced or at the end of the data). step() then processes that frame.
+  PlaybackClock::Clock::time_point nextDue();
+  /// Changes the playback rate (RunOptions::rate) from the next frame on.
+  void setRate(double rate);
   /// Ends the run: pipeline finish, sinks end, scoring, run.json. Only once. `error`: what
   /// stopped the run, recorded in run.json.
   RunReport finish(const std::string& stopped_by = "", const std::string& error = "");
@@ -101,6 +112,12 @@ class Execution {
   RunConfig& run_;
   RunOptions options_;
   RunReport report_;
+  // Reads the next frame into pending_ (unless one waits there); false at the end.
+  bool fetch();
+  PlaybackClock clock_;
+  std::unique_ptr<Frame> pending_;  // read from the source, not processed yet
+  PlaybackClock::Clock::time_point due_{};
+  double first_stamp_ = 0;
   // Under on_module_error: skip, one frame's module error (warned; counted).
   void skipped(uint64_t seq, const ModuleError& e);
   Timings io_timings_;
@@ -110,7 +127,7 @@ class Execution {
 };
 
 /// Runs source -> pipeline -> sinks to the end of the data (or max_frames, or until
-/// options.interrupted says so); writes run.json. An error during the run (bad input, a failing
+/// options.interrupted says so), paced at options.rate; writes run.json. An error during the run (bad input, a failing
 /// module) stops it cleanly: the run is finished (outputs, run.json with the error), then
 /// options.stopped_by_error is called and the error rethrown.
 RunReport runPipeline(RunConfig& run, const RunOptions& options);
@@ -121,8 +138,5 @@ std::string scoreLine(const RunReport& report, const std::string& reference);
 
 /// run.json's content.
 std::string runReportJson(const RunReport& report);
-
-/// Writes `content` to `path` atomically (temp file in the same folder, then rename).
-void writeTextFileAtomic(const std::string& path, const std::string& content);
 
 }  // namespace plugslam::runtime

@@ -196,6 +196,23 @@ TEST_F(ShellTest, EveryCommandThroughStdin) {
   EXPECT_EQ(r.out.find("> status", r.out.find("> quit")), std::string::npos);
 }
 
+// `rate R` paces the shell's runs by the frames' stamps (lmsim: 10 Hz): 11 frames are 1.0 s of
+// data, so at rate 2 `step 11` takes at least 0.5 s (a lower bound: the pacing only waits).
+TEST_F(ShellTest, RatePacesTheRunByItsStamps) {
+  const std::string cfg = lmsimConfig(0.3);
+  const auto start = std::chrono::steady_clock::now();
+  Result r = shell("load " + cfg + "\nrate\nrate 2\nrate\nstep 11\nrate -1\nrate fast\nrate 0\nstop\n");
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(r.code, 1) << r.out;  // two bad rates
+  expectHas(r.out, "rate 0 (as fast as possible)");
+  expectHas(r.out, "> rate\nrate 2\n");
+  expectHas(r.out, "paused at frame 11");
+  expectHas(r.out, "error: rate: expected a number >= 0");
+  expectHas(r.out, "got 'fast'");
+  EXPECT_EQ(count(r.out, "error:"), 2u) << r.out;
+  EXPECT_GE(wall, 0.5) << r.out;
+}
+
 TEST_F(ShellTest, ErrorsLeaveTheShellAliveAndTheStateIntact) {
   const std::string cfg = lmsimConfig(0.3);
   const std::string slice = "pipeline.tracker.aligner.slices[0]";

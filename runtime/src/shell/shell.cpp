@@ -5,6 +5,7 @@
 #include <readline/readline.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
@@ -35,6 +36,8 @@ const CommandHelp kCommands[] = {
     {"stop", "stop", "end the run now; outputs and run.json are written"},
     {"wait", "wait", "wait until the run pauses or ends"},
     {"status", "status", "frame, rate, local maps, graph size, loops closed"},
+    {"rate", "rate [R]", "show or set the playback rate: 0 = as fast as possible, 1 = the data's "
+     "own speed (by its timestamps), 2 = twice as fast"},
     {"set", "set PATH VALUE", "change a parameter (checked like the YAML) and rebuild"},
     {"get", "get PATH", "show a parameter or a module by pipeline path"},
     {"list", "list actions", "every module action, by module path"},
@@ -186,6 +189,7 @@ void Shell::dispatch(const std::string& cmd, const Args& a, const std::string& r
   if (cmd == "save") return want(1, "save DIR"), cmdSave(a);
   if (cmd == "load-session") return cmdLoadSession(a);
   if (cmd == "help") return cmdHelp();
+  if (cmd == "rate") return a.size() > 1 ? want(1, "rate [R]") : cmdRate(a);
   std::string near = closestMatch(cmd, commandNames());
   throw InputError("unknown command '" + cmd + "'" +
                    (near.empty() ? std::string("; type help") : "; did you mean '" + near + "'?"));
@@ -260,6 +264,7 @@ void Shell::startExecution(int64_t budget) {
   RunOptions o;
   o.out_dir = options_.out_dir;
   o.observer = options_.observer;
+  o.rate = options_.rate;
   auto exec = std::make_unique<Execution>(*run_, o);
   {
     auto lk = lockBetweenFrames();
@@ -281,6 +286,15 @@ void Shell::workerLoop() {
     if (stop_requested_) break;
     bool more = false;
     try {
+      // Paced (rate > 0): wait for the frame's time with the lock released, so commands get in
+      // meanwhile; a pause, a stop or a new rate ends the wait.
+      const auto due = exec_->nextDue();
+      if (PlaybackClock::Clock::now() < due) {
+        cv_.wait_until(lk, due, [&] {
+          return stop_requested_ || state_ != State::kRunning || exec_->nextDue() != due;
+        });
+        continue;
+      }
       more = exec_->step();
     } catch (const std::exception& e) {
       worker_error_ = e.what();
@@ -397,6 +411,31 @@ void Shell::cmdStep(const Args& a) {
     return;
   }
   *out_ << "paused at frame " << exec_->frames() << "\n";
+}
+
+void Shell::cmdRate(const Args& a) {
+  if (a.empty()) {
+    *out_ << fmt::format("rate {}{}\n", options_.rate,
+                        options_.rate > 0 ? "" : " (as fast as possible)");
+    return;
+  }
+  double rate = -1;
+  try {
+    size_t used = 0;
+    rate = std::stod(a[0], &used);
+    if (used != a[0].size()) rate = -1;
+  } catch (const std::exception&) {
+  }
+  if (!(rate >= 0) || !std::isfinite(rate))
+    throw InputError("rate: expected a number >= 0 (0: as fast as possible, 1: the data's own "
+                     "speed), got '" + a[0] + "'");
+  {
+    auto lk = lockBetweenFrames();
+    options_.rate = rate;
+    if (exec_) exec_->setRate(rate);
+  }
+  cv_.notify_all();  // a worker waiting for a frame's time re-reads it
+  *out_ << fmt::format("rate {}\n", rate);
 }
 
 void Shell::cmdStop() {
