@@ -1,6 +1,7 @@
 #include "builtin_types.h"
 
 #include "plugslam/graph_writer.h"
+#include "plugslam/landmarks/landmark_map_writer.h"
 #include "plugslam/landmarks/landmark_slices.h"
 #include "plugslam/loop_closure.h"
 #include "plugslam/multi_tracker.h"
@@ -37,6 +38,8 @@ void registerBuiltinTypes(Registrar& registrar) {
       "LandmarkMapSlice2D", "landmark cue: merges keypoints into the local map's landmarks (2D)");
   registrar.add<LandmarkMapSlice<Space3D>>(
       "LandmarkMapSlice3D", "landmark cue: merges keypoints into the local map's landmarks");
+  registrar.add<LandmarkMapWriter>(
+      "LandmarkMapWriter", "landmark cue: the run's landmarks in the world as a binary PLY cloud");
   registrar.add<DistanceSplitter>("DistanceSplitter",
                                   "closes a local map on distance, angle, time or lost overlap");
 }
