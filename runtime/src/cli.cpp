@@ -54,6 +54,7 @@ int runCli(int argc, char** argv) {
   addOptimizeCommand(app, exit_code);
   addShellCommand(app, exit_code);
   addRenderCommand(app, exit_code);
+  addViewCommand(app, exit_code);
 
   app.parse_complete_callback([&] {
     auto console = spdlog::stderr_color_mt("plugslam");

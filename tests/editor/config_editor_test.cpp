@@ -72,7 +72,7 @@ TEST_F(Editor, SchemaListsEveryParameterWithItsIntrospection) {
   for (const json& t : schema["types"])
     if (t["name"] == "laser2d.PointToLineSlice") slice = &t;
   ASSERT_NE(slice, nullptr);
-  EXPECT_EQ((*slice)["kind"], "AlignerSlice");
+  EXPECT_EQ((*slice)["kind"], "AlignerSlice2D");
   const json* dist = nullptr;
   for (const json& p : (*slice)["params"])
     if (p["name"] == "max_distance") dist = &p;
@@ -142,13 +142,13 @@ TEST_F(Editor, SavesStayInsideTheRoot) {
   EXPECT_EQ(confinedPath(root, "a.yaml"), fs::canonical(root) / "a.yaml");
   EXPECT_EQ(confinedPath(root, "new/dir/b.yml"), fs::canonical(root) / "new/dir/b.yml");
   EXPECT_EQ(confinedPath(root, "inner/c.yaml"), fs::canonical(root) / "sub/c.yaml");
-  for (const std::string& bad :
-       std::vector<std::string>{"../x.yaml", "sub/../../x.yaml", "/tmp/x.yaml", (tmp.path / "outside/y.yaml").string(),
-        "escape/x.yaml", "link.yaml", "", "notes.txt", "sub/"}) {
+  for (const std::string& bad : std::vector<std::string>{
+           "../x.yaml", "sub/../../x.yaml", "/tmp/x.yaml", (tmp.path / "outside/y.yaml").string(),
+           "escape/x.yaml", "link.yaml", "", "notes.txt", "sub/"}) {
     EXPECT_THROW(confinedPath(root, bad), InputError) << "'" << bad << "' accepted";
   }
 
-  ConfigEditor editor(root, defaultConfig(), "default.yaml");
+  ConfigEditor editor(root, defaultConfig(), "default.yaml", program());
   const json tree = treeFromYaml(defaultConfig(), "default.yaml");
   const json saved = json::parse(
       editor.call("editor.save", json{{"path", "sub/mine.yaml"}, {"tree", tree}}.dump()));
@@ -170,7 +170,7 @@ TEST_F(Editor, SavesStayInsideTheRoot) {
 }
 
 TEST_F(Editor, MalformedRequestsAreRefusedWithAReason) {
-  ConfigEditor editor(tmp.path, defaultConfig(), "default.yaml");
+  ConfigEditor editor(tmp.path, defaultConfig(), "default.yaml", program());
   EXPECT_THROW(editor.call("editor.save", "{not json"), InputError);
   EXPECT_THROW(editor.call("editor.save", "{}"), InputError);
   EXPECT_THROW(editor.call("editor.save", R"({"path": "a.yaml", "tree": {"type": 3}})"),
@@ -179,6 +179,10 @@ TEST_F(Editor, MalformedRequestsAreRefusedWithAReason) {
   const json cfg = json::parse(editor.call("editor.config", ""));
   EXPECT_EQ(cfg["name"], "default.yaml");
   EXPECT_EQ(cfg["root"], fs::canonical(tmp.path).string());
+  // Only plugslam validates: inside another program (this test) the editor refuses rather than
+  // running that program as if it were plugslam.
+  ConfigEditor bare(tmp.path, defaultConfig(), "default.yaml");
+  EXPECT_THROW(bare.call("editor.validate", R"({"yaml": "a: 1"})"), Error);
   EXPECT_TRUE(ConfigEditor::handles("editor.validate"));
   EXPECT_FALSE(ConfigEditor::handles("pause"));
 }

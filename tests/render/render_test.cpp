@@ -291,18 +291,22 @@ TEST(RenderCanvas, PngRoundTripsAndTextIsDrawn) {
   EXPECT_THROW(readPng((tmp.path / "missing.png").string()), InputError);
 }
 
+// `plugslam ARGS` as a user runs it: its exit code, and stdout and stderr in `out`.
+int plugslamCli(const std::string& args, std::string& out) {
+  const std::string cmd = plugslam::testing::buildDir() + "/bin/plugslam " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  char buf[4096];
+  size_t n;
+  out.clear();
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  const int status = pclose(p);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
 // The CLI as a user runs it: exit codes and the files it says it wrote.
 TEST_F(Render, CommandLine) {
   auto run = [](const std::string& args, std::string& out) {
-    const std::string cmd =
-        plugslam::testing::buildDir() + "/bin/plugslam render " + args + " 2>&1";
-    FILE* p = popen(cmd.c_str(), "r");
-    char buf[4096];
-    size_t n;
-    out.clear();
-    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-    const int status = pclose(p);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return plugslamCli("render " + args, out);
   };
   std::string out;
   ASSERT_EQ(run(tmp.path.string() + " --width 640", out), 0) << out;
@@ -311,6 +315,24 @@ TEST_F(Render, CommandLine) {
   EXPECT_LE(readPng((tmp.path / "render_map.png").string()).width(), 640);
   EXPECT_EQ(run((tmp.path / "nowhere").string(), out), 2) << out;
   EXPECT_NE(out.find("is not a folder"), std::string::npos) << out;
+}
+
+// `plugslam view HOST:PORT` prints the page of a remote host; bad addresses exit 2.
+TEST(ViewCommand, PrintsThePageAddress) {
+  auto view = [](const std::string& args, std::string& out) {
+    return plugslamCli("view " + args, out);
+  };
+  std::string out;
+  EXPECT_EQ(view("robot.local:9000", out), 0);
+  EXPECT_EQ(out, "http://robot.local:9000/\n");
+  EXPECT_EQ(view(":8800", out), 0);
+  EXPECT_EQ(out, "http://127.0.0.1:8800/\n");
+  EXPECT_EQ(view("", out), 0);
+  EXPECT_EQ(out, "http://127.0.0.1:8765/\n");
+  EXPECT_EQ(view("[::1]:8765", out), 0);
+  EXPECT_EQ(out, "http://[::1]:8765/\n");
+  EXPECT_EQ(view("host:99999", out), 2) << out;
+  EXPECT_EQ(view("host:abc", out), 2) << out;
 }
 
 }  // namespace

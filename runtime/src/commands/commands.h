@@ -18,5 +18,6 @@ void addEvalCommand(CLI::App& root, int& exit_code);
 void addOptimizeCommand(CLI::App& root, int& exit_code);
 void addShellCommand(CLI::App& root, int& exit_code);
 void addRenderCommand(CLI::App& root, int& exit_code);
+void addViewCommand(CLI::App& root, int& exit_code);
 
 }  // namespace plugslam::runtime

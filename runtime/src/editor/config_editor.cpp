@@ -8,6 +8,7 @@
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <cstdio>
 #include <fstream>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -208,7 +209,14 @@ Validation validateYaml(const std::string& text, const std::string& shown_name,
   Validation v;
   try {
     { std::ofstream(file) << text; }
-    const std::string exe = program.empty() ? boost::dll::program_location().string() : program;
+    std::string exe = program;
+    if (exe.empty()) {
+      // Only the plugslam executable validates: any other host (a test) must say which one.
+      const boost::filesystem::path self = boost::dll::program_location();
+      if (self.filename() != "plugslam")
+        throw Error("cannot validate: '" + self.string() + "' is not plugslam");
+      exe = self.string();
+    }
     // Quoted for the shell: both paths are ours (a temp folder, the executable).
     const std::string cmd = fmt::format("'{}' validate '{}' 2>&1", exe, file.string());
     FILE* p = popen(cmd.c_str(), "r");
@@ -257,8 +265,27 @@ fs::path confinedPath(const fs::path& root, const std::string& relative) {
   return real;
 }
 
-ConfigEditor::ConfigEditor(fs::path root, std::string config_yaml, std::string config_name)
-    : config_yaml_(std::move(config_yaml)), config_name_(std::move(config_name)) {
+namespace {
+std::mutex root_mutex;
+fs::path root_path;
+}  // namespace
+
+void setEditorRoot(const fs::path& root) {
+  std::lock_guard<std::mutex> lock(root_mutex);
+  root_path = root;
+}
+
+fs::path editorRoot() {
+  std::lock_guard<std::mutex> lock(root_mutex);
+  if (root_path.empty()) root_path = fs::current_path();
+  return root_path;
+}
+
+ConfigEditor::ConfigEditor(fs::path root, std::string config_yaml, std::string config_name,
+                           std::string program)
+    : config_yaml_(std::move(config_yaml)),
+      config_name_(std::move(config_name)),
+      program_(std::move(program)) {
   std::error_code ec;
   root_ = fs::canonical(root, ec);
   if (ec) throw InputError("the editor's folder '" + root.string() + "' does not exist");
@@ -321,7 +348,8 @@ std::string ConfigEditor::answer(const std::string& service, const std::string& 
   }
   if (service == "editor.validate") {
     const std::string yaml = yamlOf();
-    return json{{"yaml", yaml}, {"validation", validation(validateYaml(yaml, "(edited config)"))}}
+    return json{{"yaml", yaml},
+                {"validation", validation(validateYaml(yaml, "(edited config)", program_))}}
         .dump();
   }
   if (service == "editor.save") {
@@ -334,7 +362,7 @@ std::string ConfigEditor::answer(const std::string& service, const std::string& 
     writeFileAtomically(file.string(), [&](std::ostream& out) { out << yaml; });
     return json{{"path", file.string()},
                 {"yaml", yaml},
-                {"validation", validation(validateYaml(yaml, rel))}}
+                {"validation", validation(validateYaml(yaml, rel, program_))}}
         .dump();
   }
   throw InputError("unknown editor service '" + service + "'");

@@ -28,8 +28,8 @@ struct Validation {
   bool ok = false;
   std::vector<std::string> messages;  ///< the CLI's lines (OK line, or one error a line)
 };
-/// Runs `plugslam validate` (this executable, or `program`) on the text in a private temporary
-/// folder; messages name the file as `shown_name`.
+/// Runs `plugslam validate` (`program`; default: this executable, which must then be plugslam) on
+/// the text in a private temporary folder; messages name the file as `shown_name`.
 Validation validateYaml(const std::string& text, const std::string& shown_name,
                         const std::string& program = "");
 
@@ -38,11 +38,18 @@ Validation validateYaml(const std::string& text, const std::string& shown_name,
 /// (symlinks followed) leads outside root.
 std::filesystem::path confinedPath(const std::filesystem::path& root, const std::string& relative);
 
+/// Where the host's editor may save: set by `--root` (default: the folder the host started in).
+void setEditorRoot(const std::filesystem::path& root);
+/// The editor's folder (the current folder when none was set).
+std::filesystem::path editorRoot();
+
 /// The editor of one host: the folder it may write in and the config it runs.
 class ConfigEditor {
  public:
-  /// `root`: where saves go (must exist); `config_yaml`, `config_name`: the host's config.
-  ConfigEditor(std::filesystem::path root, std::string config_yaml, std::string config_name);
+  /// `root`: where saves go (must exist); `config_yaml`, `config_name`: the host's config;
+  /// `program`: the plugslam executable that validates (default: this one).
+  ConfigEditor(std::filesystem::path root, std::string config_yaml, std::string config_name,
+               std::string program = "");
 
   /// Names of the services offered, "editor.*".
   static std::vector<std::string> serviceNames();
@@ -59,7 +66,7 @@ class ConfigEditor {
   std::string answer(const std::string& service, const std::string& request) const;
 
   std::filesystem::path root_;
-  std::string config_yaml_, config_name_;
+  std::string config_yaml_, config_name_, program_;
 };
 
 }  // namespace plugslam::runtime::editor

@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "editor/config_editor.h"
 #include "plugslam/errors.h"
 #include "shell/module_paths.h"
 
@@ -128,6 +129,10 @@ std::vector<foxglove::Service> standardServices(Configurable* root) {
       {0, "do", "plugslam.Action",
        R"({"type":"object","properties":{"action":{"type":"string","description":"MODULE.ACTION"},"args":{"type":"array","items":{"type":"string"}}},"required":["action"]})",
        reply}};
+  // The page's configuration editor (runtime/src/editor): JSON in, JSON out.
+  for (const std::string& name : editor::ConfigEditor::serviceNames())
+    s.push_back(foxglove::Service{0, name, "plugslam.Editor", R"({"type":"object"})",
+                                  R"({"type":"object"})"});
   if (!root) return s;
   const std::string args =
       R"({"type":"object","properties":{"args":{"type":"array","items":{"type":"string"}}}})";

@@ -4,6 +4,7 @@
 
 #include <boost/filesystem.hpp>
 
+#include "editor/config_editor.h"
 #include "config_builder.h"
 #include "plugslam/errors.h"
 #include "shell/module_paths.h"
@@ -200,6 +201,35 @@ void RunControl::validatorLoop() {
 }
 
 void RunControl::call(const std::string& service, const std::string& request, CallDone done) {
+  if (editor::ConfigEditor::handles(service)) {
+    // Off the run's thread and the server's: validation runs `plugslam validate` (a process).
+    std::unique_lock<std::mutex> lock(mutex_);
+    if (validations_.size() >= kMaxPendingValidations) {
+      lock.unlock();
+      return done(false, "too many requests waiting; try again");
+    }
+    auto job = [this, service, request, done] {
+      try {
+        std::string name;
+        {
+          std::lock_guard<std::mutex> guard(mutex_);
+          name = doc_.file;
+        }
+        const editor::ConfigEditor ed(editor::editorRoot(), configYaml(), name);
+        done(true, ed.call(service, request));
+      } catch (const std::exception& e) {
+        done(false, e.what());
+      }
+    };
+    if (stop_validator_) {  // the run has ended: nobody else will answer
+      lock.unlock();
+      return job();
+    }
+    validations_.push_back(std::move(job));
+    lock.unlock();
+    validation_cv_.notify_all();
+    return;
+  }
   ServiceRequest r;
   try {
     r = parseServiceRequest(request);

@@ -5,6 +5,7 @@
 
 #include <boost/filesystem.hpp>
 
+#include "editor/config_editor.h"
 #include "plugslam/errors.h"
 #include "shell/module_paths.h"
 #include "view/parameters.h"
@@ -153,6 +154,25 @@ void ShellControl::setParameters(std::vector<foxglove::ParameterAssignment> assi
 }
 
 void ShellControl::call(const std::string& service, const std::string& request, CallDone done) {
+  if (editor::ConfigEditor::handles(service)) {
+    enqueue(
+        [this, service, request, done] {
+          std::string yaml, name;
+          {
+            std::lock_guard<std::recursive_mutex> lock(shell_->command_mutex_);
+            if (!shell_->doc_) return done(false, "no config loaded (load CONFIG)");
+            yaml = YAML::Dump(shell_->doc_->root) + "\n";
+            name = shell_->doc_->file;
+          }
+          try {
+            done(true, editor::ConfigEditor(editor::editorRoot(), yaml, name).call(service, request));
+          } catch (const std::exception& e) {
+            done(false, e.what());
+          }
+        },
+        [done] { done(false, "the shell is busy or stopping"); });
+    return;
+  }
   ServiceRequest r;
   try {
     r = parseServiceRequest(request);

@@ -6,6 +6,8 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "editor/config_editor.h"
+
 namespace plugslam::runtime {
 
 namespace {
@@ -58,6 +60,10 @@ void addViewerOptions(CLI::App& cmd, ViewerOptions& o) {
                "let --serve listen on a non-loopback address (whoever reaches it can pause the "
                "run and change its parameters)");
   cmd.add_option("--web-root", o.web_root, "serve the page from this folder instead of the installed one");
+  cmd.add_option("--root", o.edit_root,
+                 "the folder the page's configuration editor may save in (default: the current "
+                 "folder); paths leading outside it are refused")
+      ->check(CLI::ExistingDirectory);
   cmd.add_option("--record", o.record,
                  "record the viewer stream (every channel, full rate) into this MCAP file");
   cmd.add_option("--view-rate", o.rate,
@@ -94,6 +100,7 @@ void Viewer::serve(ViewControl* control) {
   parseServeAddress(options_.serve, o);
   o.allow_remote = options_.remote;
   o.web_root = findWebRoot(options_.web_root);
+  if (!options_.edit_root.empty()) editor::setEditorRoot(options_.edit_root);
   server_ = std::make_unique<FoxgloveServer>(*hub_, control, o);
   server_->start();
   const std::string url = server_->url();

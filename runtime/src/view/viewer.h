@@ -23,6 +23,7 @@ struct ViewerOptions {
   std::string serve;                  ///< its ADDR:PORT ("" = the default)
   bool remote = false;                ///< --serve-remote
   std::string web_root;               ///< --web-root
+  std::string edit_root;              ///< --root: where the config editor may save
   std::string record;                 ///< --record FILE.mcap
   double rate = ViewHubOptions{}.stream_rate;  ///< --view-rate
   /// True when anything was asked for.

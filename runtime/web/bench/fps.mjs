@@ -25,7 +25,7 @@ try {
   const messages = syntheticSession({ maps, points });
   await page.evaluate((msgs) => msgs.forEach(([t, m]) => window.plugslamView.ingest(t, m)), messages);
   // Let the merged buffers be rebuilt and the page settle before counting.
-  await page.waitForFunction((n) => window.plugslamView.counts().mapPoints >= n, maps * points, { timeout: 60000 });
+  await page.waitForFunction((n) => window.plugslamView.counts().mapSourcePoints >= n, maps * points, { timeout: 60000 });
   await page.waitForTimeout(1000);
   const result = await page.evaluate(async (ms) => {
     const v = window.plugslamView.view;

@@ -67,11 +67,22 @@ export class Connection {
       if (!p) return;
       this.pending.delete(callId);
       const text = decoder.decode(data);
+      let reply;
       try {
-        p.resolve(text ? JSON.parse(text) : {});
+        reply = text ? JSON.parse(text) : {};
       } catch {
-        p.resolve({ message: text });
+        reply = { message: text };
       }
+      // The host answers {"message": TEXT}; a service whose answer is itself JSON (the editor's)
+      // has it in that text.
+      if (reply && typeof reply.message === "string" && Object.keys(reply).length === 1 && reply.message.startsWith("{")) {
+        try {
+          reply = JSON.parse(reply.message);
+        } catch {
+          // plain text after all
+        }
+      }
+      p.resolve(reply);
     });
     client.on("serviceCallFailure", ({ callId, message }) => {
       const p = this.pending.get(callId);

@@ -28,6 +28,26 @@ function setPositions(obj, array) {
   obj.geometry.computeBoundingSphere();
 }
 
+// One point per cell of `cell` metres (the first seen), exact keys for |coordinate| < 2^20 cells.
+function thin(points, cell) {
+  if (!(cell > 0)) return points;
+  const seen = new Set();
+  const out = new Float32Array(points.length);
+  let n = 0;
+  const half = 2 ** 20;
+  for (let i = 0; i < points.length; i += 3) {
+    const kx = Math.floor(points[i] / cell) + half, ky = Math.floor(points[i + 1] / cell) + half;
+    const kz = Math.min(1023, Math.max(0, Math.floor(points[i + 2] / cell) + 512));
+    const key = (kz * 2 ** 21 + kx) * 2 ** 21 + ky;
+    if (seen.has(key)) continue;
+    seen.add(key);
+    out[n++] = points[i];
+    out[n++] = points[i + 1];
+    out[n++] = points[i + 2];
+  }
+  return out.subarray(0, n);
+}
+
 /** The three.js view of a session in a canvas. */
 export class SceneView {
   constructor(canvas, session) {
@@ -144,25 +164,40 @@ export class SceneView {
       }
       for (const layer of ["map", "grid", "trajectory"]) parts[layer].push(...m.world[layer]);
     }
+    // More than one point per pixel is invisible work: map points and cells are thinned to one
+    // per screen pixel at the current zoom (rebuilt when the zoom changes by half or double).
+    const cell = this.pixelSize();
     for (const layer of ["map", "grid", "trajectory"]) {
       const total = parts[layer].reduce((n, a) => n + a.length, 0);
-      const out = new Float32Array(total);
+      let out = new Float32Array(total);
       let at = 0;
       for (const a of parts[layer]) {
         out.set(a, at);
         at += a.length;
       }
+      if (layer === "map") this.sourcePoints = out.length / 3;
+      if (layer !== "trajectory") out = thin(out, cell);
       setPositions(this.layers[layer], out);
     }
+    this.builtCell = cell;
     setPositions(this.layers.odometry, new Float32Array(s.graph.odometry.flat()));
     setPositions(this.layers.loops, new Float32Array(s.graph.loops.flat()));
     setPositions(this.layers.nodes, new Float32Array(s.graph.nodes.flat()));
     this.built = s.version;
   }
 
+  /** Metres per screen pixel at the camera's target. */
+  pixelSize() {
+    const h = this.canvas.clientHeight || 480;
+    if (this.camera.isOrthographicCamera) return (this.camera.top - this.camera.bottom) / this.camera.zoom / h;
+    const d = this.camera.position.distanceTo(this.controls.target);
+    return (2 * d * Math.tan((this.camera.fov * Math.PI) / 360)) / h;
+  }
+
   update(now) {
     const s = this.session;
-    if (this.built !== s.version && now - this.lastBuild > kRebuildMs) {
+    const zoomed = this.builtCell && Math.abs(Math.log2(this.pixelSize() / this.builtCell)) > 1;
+    if ((this.built !== s.version || zoomed) && now - this.lastBuild > kRebuildMs) {
       this.rebuild();
       this.lastBuild = now;
     }
@@ -220,6 +255,7 @@ export class SceneView {
     return {
       localMaps: this.session.localMaps(),
       mapPoints: n(this.layers.map),
+      mapSourcePoints: this.sourcePoints || 0,
       gridCells: n(this.layers.grid),
       trajectoryVertices: n(this.layers.trajectory),
       loopVertices: n(this.layers.loops),

@@ -30,15 +30,20 @@ test("the page draws a session fed to it", { skip: missing || false }, async () 
     const maps = 60, points = 200;
     await page.evaluate((msgs) => msgs.forEach(([t, m]) => window.plugslamView.ingest(t, m)),
       syntheticSession({ maps, points }));
-    await page.waitForFunction((n) => window.plugslamView.counts().mapPoints === n, maps * points);
+    await page.waitForFunction((n) => window.plugslamView.counts().mapSourcePoints === n, maps * points);
     const c = await page.evaluate(() => window.plugslamView.counts());
     assert.equal(c.localMaps, maps);
+    // Thinned to one point per screen pixel: fewer drawn, none invented.
+    assert.ok(c.mapPoints > 0 && c.mapPoints <= maps * points, `${c.mapPoints} map points drawn`);
     assert.equal(c.trajectoryVertices, maps * 9 * 2, "9 segments of 10 poses per local map");
     assert.ok(c.loopVertices > 0, "loop closures drawn");
     assert.equal(c.scanPoints, 360);
     // The status panel shows the /status message.
     await page.waitForFunction(() => document.querySelector('[data-status="local_maps"]')?.textContent === "60");
-    // Something is drawn where the robot is: the canvas centre is not the background colour.
+    // Something is drawn where the robot is: without the metre grid, the canvas centre is not
+    // all background colour.
+    await page.evaluate(() => (window.plugslamView.view.grid.visible = false));
+    await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
     const drawn = await page.evaluate(() => {
       const canvas = document.getElementById("view");
       const gl = canvas.getContext("webgl2") || canvas.getContext("webgl");
