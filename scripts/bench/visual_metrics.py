@@ -7,7 +7,8 @@
   visual_metrics.py f2f REF EST      frame-to-frame errors: translation [% of the step], rotation
                                      [deg per frame], as mean and max
   visual_metrics.py static REF EST   the largest departure of the estimate from its first pose
-                                     [m, deg], and the reference's own, over every frame
+                                     [m, deg] over every frame of the estimate, and the
+                                     reference's own over its rows (it may start later)
 Prints one JSON object. Poses are associated by equal timestamps (both files come from one run).
 """
 import bisect
@@ -106,7 +107,7 @@ def f2f(gt, est):
 
 
 def static(gt, est):
-    return {"frames": len(gt),
+    return {"frames": len(est),
             "estimate_max_m": max(norm(relative(est[0], e)) for e in est),
             "estimate_max_deg": max(math.degrees(angle(relative(est[0], e))) for e in est),
             "reference_max_m": max(norm(relative(gt[0], g)) for g in gt),
@@ -116,5 +117,12 @@ def static(gt, est):
 if __name__ == "__main__":
     if len(sys.argv) != 4 or sys.argv[1] not in ("kitti", "f2f", "static"):
         sys.exit(__doc__)
+    if sys.argv[1] == "static":
+        # Every estimated frame counts, also those before the reference's first row.
+        ref, est = read_tum(sys.argv[2]), read_tum(sys.argv[3])
+        if not ref or not est:
+            sys.exit(f"visual_metrics: {sys.argv[2]} or {sys.argv[3]} has no pose")
+        print(json.dumps(static([ref[s] for s in sorted(ref)], [est[s] for s in sorted(est)])))
+        sys.exit(0)
     gt, est = associated(sys.argv[2], sys.argv[3])
     print(json.dumps({"kitti": kitti, "f2f": f2f, "static": static}[sys.argv[1]](gt, est)))
