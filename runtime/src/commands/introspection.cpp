@@ -3,8 +3,11 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <cctype>
+
 #include <boost/filesystem.hpp>
 
+#include "plugslam/entry.h"
 #include "plugslam/errors.h"
 #include "plugslam/registry.h"
 
@@ -32,7 +35,20 @@ void loadPluginOf(PluginManager& plugins, const std::string& type) {
 
 namespace {
 
-std::string paramLine(const ParamBase& p) {
+// The entry whose property name `p` holds, or nullptr for a plain parameter.
+const EntryBase* entryOf(const Configurable& obj, const ParamBase* p) {
+  for (const EntryBase* e : obj.entries())
+    if (&e->param() == p) return e;
+  return nullptr;
+}
+
+// "reads the measurement entry of this name (laser2d.PointCloud2D)".
+std::string entryText(const EntryBase& e) {
+  return std::string(e.writes() ? "writes" : "reads") + " the " + containerName(e.container()) +
+         " entry of this name (" + e.typeName() + ")";
+}
+
+std::string paramLine(const ParamBase& p, const EntryBase* entry) {
   std::string extra;
   if (p.range()) extra = fmt::format(", range [{:g}, {:g}]", p.range()->min, p.range()->max);
   if (!p.choices().empty()) {
@@ -40,8 +56,9 @@ std::string paramLine(const ParamBase& p) {
     for (auto& v : p.choices()) c += (c.empty() ? "" : "|") + v;
     extra += ", one of " + c;
   }
-  return fmt::format("  {:<22} {:<14} default {}{}{}\n      {}\n", p.name(), p.typeName(),
-                     p.defaultText(), p.unit().empty() ? "" : " [" + p.unit() + "]", extra, p.doc());
+  return fmt::format("  {:<22} {:<14} default {}{}{}\n      {}\n{}", p.name(), p.typeName(),
+                     p.defaultText(), p.unit().empty() ? "" : " [" + p.unit() + "]", extra, p.doc(),
+                     entry ? "      " + entryText(*entry) + "\n" : "");
 }
 
 std::string md(const std::string& s) {
@@ -67,7 +84,7 @@ std::string describeType(const std::string& type) {
                                 info->plugin, info->doc);
   out += "\nparameters:\n";
   if (obj->params().empty()) out += "  (none)\n";
-  for (auto* p : obj->params()) out += paramLine(*p);
+  for (auto* p : obj->params()) out += paramLine(*p, entryOf(*obj, p));
   if (!obj->slots().empty()) {
     out += "\nnested modules:\n";
     for (auto* s : obj->slots())
@@ -105,6 +122,11 @@ std::string configReferenceMarkdown(const std::vector<PluginInfo>& plugins) {
         for (auto* p : obj->params()) {
           std::string doc = p->doc();
           if (!doc.empty() && doc.back() != '.') doc += ".";
+          if (const EntryBase* e = entryOf(*obj, p)) {
+            std::string text = entryText(*e);
+            text[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(text[0])));
+            doc += " " + text + ".";
+          }
           if (p->range()) doc += fmt::format(" Range [{:g}, {:g}].", p->range()->min, p->range()->max);
           if (!p->choices().empty()) {
             std::string c;

@@ -48,6 +48,23 @@ typename Eigen::Matrix<double, 3, S::kDof> restrictJacobian(const Eigen::Matrix<
 }  // namespace
 
 template <class S>
+typename LandmarkReprojection<S>::Error LandmarkReprojection<S>::error(
+    const typename S::Pose& t) const {
+  Error e = Error::Zero();
+  observationError(S::to3D(t), mount, camera, point, measured, e, nullptr, nullptr);
+  return e;
+}
+
+template <class S>
+bool LandmarkReprojection<S>::errorAndJacobian(const typename S::Pose& t, Error& e,
+                                               Jacobian& j) const {
+  Eigen::Matrix<double, 3, 6> jp;
+  if (!observationError(S::to3D(t), mount, camera, point, measured, e, &jp, nullptr)) return false;
+  j = restrictJacobian<S>(jp);
+  return true;
+}
+
+template <class S>
 ReprojectionSlice<S>::ReprojectionSlice() = default;
 template <class S>
 ReprojectionSlice<S>::~ReprojectionSlice() = default;
@@ -64,19 +81,16 @@ void ReprojectionSlice<S>::configure() {
 }
 
 template <class S>
-bool ReprojectionSlice<S>::bind(const Frame& frame, const PropertyContainer& scene_container,
-                                const AlignContext<S>&) {
+bool ReprojectionSlice<S>::prepare(const AlignContext<S>&) {
   if (kernel() != made_kernel_ || kernel_scale() != made_scale_) configure();
   matched_ += matches_.size();  // the previous frame's association at its solution
-  features_ = frame.measurement.find<FeatureSet>(measurement());
-  landmarks_ = scene_container.find<LandmarkMap>(scene());
   matches_.clear();
   round_ = 0;
-  if (!features_ || !landmarks_ || features_->empty() || landmarks_->empty()) return false;
+  if (measurement->empty() || scene->empty()) return false;
   Stopwatch watch(time_s_);
-  features_->checkConsistent();
-  landmarks_->checkConsistent();
-  grid_.build(*features_);
+  measurement->checkConsistent();
+  scene->checkConsistent();
+  grid_.build(*measurement);
   ++frames_;
   return true;
 }
@@ -84,7 +98,7 @@ bool ReprojectionSlice<S>::bind(const Frame& frame, const PropertyContainer& sce
 template <class S>
 void ReprojectionSlice<S>::associate(const Pose& t) {
   matches_.clear();
-  if (!features_ || !landmarks_) return;
+  if (!measurement.bound() || !scene.bound()) return;
   Stopwatch watch(time_s_);
   AssociationOptions o;
   // Each round starts nearer the solution: the radius halves down to refine_radius.
@@ -92,43 +106,27 @@ void ReprojectionSlice<S>::associate(const Pose& t) {
   o.max_hamming = max_hamming();
   o.ratio = ratio();
   ++round_;
-  grid_.associate(*landmarks_, S::to3D(t) * features_->mount, o, matches_);
+  grid_.associate(*scene, S::to3D(t) * measurement->mount, o, matches_);
 }
 
 template <class S>
 void ReprojectionSlice<S>::linearize(const Pose& t, NormalEquations<S>& eq) const {
-  if (!features_ || !landmarks_) return;
+  if (!measurement.bound() || !scene.bound()) return;
   Stopwatch watch(time_s_);
-  const FeatureSet& f = *features_;
+  const FeatureSet& f = *measurement;
   eq.candidates += f.size();
-  const Eigen::Isometry3d t3 = S::to3D(t);
-  Eigen::Vector3d e;
-  Eigen::Matrix<double, 3, 6> jp;
   for (const LandmarkMatch& m : matches_) {
     const size_t i = static_cast<size_t>(m.feature);
     const bool depth = use_depth() && f.hasDepth(i);
-    const Eigen::Vector3d measured(f.pixels[i].x(), f.pixels[i].y(), depth ? f.inverse_depth[i] : 0);
-    if (!observationError(t3, f.mount, f.camera, landmarks_->positions[m.landmark], measured, e, &jp,
-                          nullptr))
-      continue;
     const double wp = 1.0 / (f.pixel_sigma[i] * f.pixel_sigma[i]);
     const double wq = depth ? 1.0 / (f.inverse_depth_sigma[i] * f.inverse_depth_sigma[i]) : 0.0;
-    const Eigen::Vector3d info(wp, wp, wq);
-    const double s = e.dot(info.cwiseProduct(e));
-    ++eq.factors;
-    if (s <= kInlierChi2[depth ? 3 : 2]) ++eq.inliers;
-    double w = 1.0;
-    if (kernel_) {
-      const Eigen::Vector3d rho = kernel_->robustify(s);
-      eq.chi2 += rho[0];
-      w = rho[1];
-    } else {
-      eq.chi2 += s;
-    }
-    const auto j = restrictJacobian<S>(jp);
-    const auto jt_w = (j.transpose() * (w * info).asDiagonal()).eval();
-    eq.H.noalias() += jt_w * j;
-    eq.b.noalias() += jt_w * e;
+    const LandmarkReprojection<S> factor{
+        f.mount, f.camera, scene->positions[m.landmark],
+        Eigen::Vector3d(f.pixels[i].x(), f.pixels[i].y(), depth ? f.inverse_depth[i] : 0)};
+    // Inliers: within the chi-square 95 % band of the residual's dimensions.
+    Robust robust{kernel_.get()};
+    robust.inlier_chi2 = kInlierChi2[depth ? 3 : 2];
+    eq.addDiagonal(factor, t, Eigen::Vector3d(wp, wp, wq), robust);
   }
 }
 
@@ -150,16 +148,16 @@ std::vector<Statistic> LandmarkMapSlice<S>::statistics() const {
 }
 
 template <class S>
-void LandmarkMapSlice<S>::merge(const Frame& frame, PropertyContainer& scene_container,
-                                const Pose& t) {
+void LandmarkMapSlice<S>::integrate(const MergeContext<S>& context) {
+  const Pose& t = context.pose;
   last_matched_ = last_created_ = last_pruned_ = 0;
-  const FeatureSet* f = frame.measurement.find<FeatureSet>(measurement());
-  if (!f || f->empty()) return;
+  const FeatureSet* f = measurement.get();
+  if (f->empty()) return;
   Stopwatch watch(time_s_);
   f->checkConsistent();
-  LandmarkMap* map = scene_container.find<LandmarkMap>(scene());
+  LandmarkMap* map = scene.get();
   if (!map) {
-    map = &scene_container.emplace<LandmarkMap>(scene());
+    map = &scene.getOrInsert();
     map->descriptor_bytes = f->descriptor_bytes;
   }
   map->checkConsistent();
@@ -189,7 +187,7 @@ void LandmarkMapSlice<S>::merge(const Frame& frame, PropertyContainer& scene_con
     ++last_matched_;
     ++map->observations[j];
     if (!visible_[j]) ++map->visible[j];
-    map->last_seen[j] = frame.seq;
+    map->last_seen[j] = context.seq;
     map->colours[j] = f->colours[i];
     std::copy(f->descriptor(i), f->descriptor(i) + bytes, map->descriptor(j));
     if (!f->hasDepth(i)) continue;
@@ -210,7 +208,7 @@ void LandmarkMapSlice<S>::merge(const Frame& frame, PropertyContainer& scene_con
     if (matched[i] || !f->hasDepth(i)) continue;
     if (max_depth() > 0 && f->points[i].z() > max_depth()) continue;
     map->push(camera * f->points[i], r * f->covariances[i] * r.transpose(), next_id_++,
-              f->descriptor(i), f->colours[i], frame.seq);
+              f->descriptor(i), f->colours[i], context.seq);
     ++last_created_;
   }
   std::vector<bool> keep(map->size(), true);
@@ -231,6 +229,8 @@ void LandmarkMapSlice<S>::merge(const Frame& frame, PropertyContainer& scene_con
   landmarks_ += map->size();
 }
 
+template struct LandmarkReprojection<Space2D>;
+template struct LandmarkReprojection<Space3D>;
 template class ReprojectionSlice<Space2D>;
 template class ReprojectionSlice<Space3D>;
 template class LandmarkMapSlice<Space2D>;
