@@ -4,8 +4,11 @@
   visual_metrics.py kitti REF EST    KITTI devkit drift: mean translation error [%] and rotation
                                      error [deg/100 m] over every segment of 100, 200, ..., 800 m
                                      starting every 10 frames (the devkit's evaluate_odometry)
-  visual_metrics.py f2f REF EST      frame-to-frame errors: translation [% of the step], rotation
-                                     [deg per frame], as mean and max
+  visual_metrics.py f2f REF EST [PEER TIMES]
+                                     frame-to-frame errors: translation [% of the step], rotation
+                                     [deg per frame], as mean and max; with PEER (KITTI poses of
+                                     another system, one a frame) and TIMES (the frames' stamps),
+                                     also against that system's estimate (peer_* keys)
   visual_metrics.py static REF EST   the largest departure of the estimate from its first pose
                                      [m, deg] over every frame of the estimate, and the
                                      reference's own over its rows (it may start later)
@@ -23,6 +26,17 @@ def quat_to_matrix(qx, qy, qz, qw):
     return [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
             [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
             [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
+
+
+def read_kitti(path, times_path):
+    poses = {}
+    times = [float(line.split()[0]) for line in open(times_path) if line.strip()]
+    for t, line in zip(times, open(path)):
+        v = list(map(float, line.split()))
+        if len(v) != 12:
+            continue
+        poses[round(t, 6)] = ([v[0:3], v[4:7], v[8:11]], [v[3], v[7], v[11]])
+    return poses
 
 
 def read_tum(path):
@@ -115,6 +129,16 @@ def static(gt, est):
 
 
 if __name__ == "__main__":
+    if sys.argv[1:2] == ["f2f"] and len(sys.argv) == 6:
+        gt, est = associated(sys.argv[2], sys.argv[3])
+        out = f2f(gt, est)
+        peer, mine = read_kitti(sys.argv[4], sys.argv[5]), read_tum(sys.argv[3])
+        stamps = sorted(set(peer) & set(mine))
+        if len(stamps) >= 2:
+            p = f2f([peer[s] for s in stamps], [mine[s] for s in stamps])
+            out.update({"peer_" + k: v for k, v in p.items()})
+        print(json.dumps(out))
+        sys.exit(0)
     if len(sys.argv) != 4 or sys.argv[1] not in ("kitti", "f2f", "static"):
         sys.exit(__doc__)
     if sys.argv[1] == "static":

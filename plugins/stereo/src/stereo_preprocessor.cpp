@@ -59,6 +59,10 @@ std::vector<Statistic> StereoPreprocessor::statistics() const {
   return {{"frames", static_cast<double>(frames_)},
           {"extraction_s", extraction_s_},
           {"matching_s", matching_s_},
+          // The two parts of extraction, both images: FAST + bucketing, ORB descriptors.
+          {"detection_s", extractor_.detectionSeconds() + right_extractor_.detectionSeconds()},
+          {"description_s",
+           extractor_.descriptionSeconds() + right_extractor_.descriptionSeconds()},
           {"keypoints_per_frame", static_cast<double>(keypoints_) / n},
           {"with_depth_per_frame", static_cast<double>(with_depth_) / n}};
 }

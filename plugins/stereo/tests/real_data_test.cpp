@@ -183,6 +183,7 @@ TEST(StereoRealData, KittiRaw0001TracksWithoutFailure) {
     ++frames;
   }
   EXPECT_EQ(frames, 60);
+  for (const Statistic& st : t.pre.statistics()) std::printf("%s %g\n", st.name.c_str(), st.value);
   EXPECT_EQ(t.tracker.stats().failed, 0u);
 }
 
