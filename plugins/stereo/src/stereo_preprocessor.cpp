@@ -16,20 +16,6 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 }
 }  // namespace
 
-cv::Mat asMat(const Image& im) {
-  const int type = im.channels == 1 ? CV_8UC1 : (im.channels == 3 ? CV_8UC3 : CV_8UC4);
-  return cv::Mat(im.height, im.width, type, const_cast<uint8_t*>(im.data.data()),
-                 static_cast<size_t>(im.stride));
-}
-
-cv::Mat greyOf(const Image& im) {
-  cv::Mat m = asMat(im);
-  if (im.channels == 1) return m;
-  cv::Mat grey;
-  cv::cvtColor(m, grey, im.channels == 3 ? cv::COLOR_RGB2GRAY : cv::COLOR_RGBA2GRAY);
-  return grey;
-}
-
 StereoPreprocessor::StereoPreprocessor() = default;
 StereoPreprocessor::~StereoPreprocessor() = default;
 
@@ -37,16 +23,8 @@ void StereoPreprocessor::configure() {
   // The front-end is single-threaded and deterministic (DESIGN.md, Threads): OpenCV runs its
   // functions sequentially in the caller instead of on its own pool (0 = no threading).
   if (cv::getNumThreads() != 1) cv::setNumThreads(0);
-  if (min_fast_threshold() > fast_threshold())
-    throw ParamError("min_fast_threshold",
-                     "must not exceed fast_threshold (" + std::to_string(fast_threshold()) + ")");
-  OrbOptions o;
-  o.features = features();
-  o.cell = cell();
-  o.fast_threshold = fast_threshold();
-  o.min_fast_threshold = min_fast_threshold();
-  o.upright = upright();
-  extractor_.setOptions(o);
+  KeypointPreprocessor::configure();
+  OrbOptions o = orbOptions();
   // The disparity moves a left corner into another bucket of the right image, where stronger
   // corners may outrank it: the right image keeps more corners per bucket so that the left
   // keypoints' partners survive the bucketing.
@@ -123,12 +101,13 @@ bool StereoPreprocessor::process(Frame& frame) {
   f.stamp = l->stamp;
   f.descriptor_bytes = dl_.cols > 0 ? dl_.cols : 32;
   f.reserve(kl_.size());
+  // A rectified pair's pixels are the rectified image's: colours come from it, in grey.
   const bool rgb = l->channels >= 3 && !raw_pair;
   for (size_t i = 0; i < kl_.size(); ++i) {
     const int x = cvRound(kl_[i].pt.x), y = cvRound(kl_[i].pt.y);
     uint32_t colour;
     if (rgb) {
-      colour = (uint32_t(l->at(x, y, 0)) << 16) | (uint32_t(l->at(x, y, 1)) << 8) | l->at(x, y, 2);
+      colour = colourAt(*l, x, y);
     } else {
       const uint32_t g = gl.at<uint8_t>(y, x);
       colour = (g << 16) | (g << 8) | g;
