@@ -12,8 +12,7 @@
 #include <sstream>
 #include <utility>
 
-#include "plugslam/landmarks/landmark_slices.h"
-#include "plugslam/multi_tracker.h"
+#include "landmark_tracker.h"
 #include "sources/euroc_source.h"
 #include "sources/kitti_raw_source.h"
 #include "sources/kitti_source.h"
@@ -35,19 +34,7 @@ struct StereoTracker {
   MultiTracker<Space3D> tracker;
   explicit StereoTracker(double split_distance) {
     pre.configure();
-    auto aligner = std::make_shared<MultiAligner<Space3D>>();
-    auto slice = std::make_shared<ReprojectionSlice<Space3D>>();
-    slice->configure();
-    aligner->slices.assign(slice);
-    aligner->configure();
-    tracker.aligner.assign(aligner);
-    auto merge = std::make_shared<LandmarkMapSlice<Space3D>>();
-    merge->configure();
-    tracker.slices.assign(merge);
-    auto splitter = std::make_shared<DistanceSplitter>();
-    splitter->distance.set(split_distance);
-    tracker.splitter.assign(splitter);
-    tracker.configure();
+    testing::buildLandmarkTracker(tracker, split_distance);
   }
   // Tracks every frame of the source; returns the estimates (the robot in the world).
   std::vector<Eigen::Isometry3d> run(Source& source) {

@@ -5,8 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "plugslam/landmarks/landmark_slices.h"
-#include "plugslam/multi_tracker.h"
+#include "landmark_tracker.h"
 #include "plugslam/statistics.h"
 #include "sim3d/renderer.h"
 #include "sim3d/simulator.h"
@@ -89,19 +88,7 @@ TEST(StereoTracking, RecoversTheRenderedMotion) {
   visual::StereoPreprocessor pre;
   pre.configure();
   MultiTracker<Space3D> tracker;
-  auto aligner = std::make_shared<MultiAligner<Space3D>>();
-  auto slice = std::make_shared<ReprojectionSlice<Space3D>>();
-  slice->configure();
-  aligner->slices.assign(slice);
-  aligner->configure();
-  tracker.aligner.assign(aligner);
-  auto merge = std::make_shared<LandmarkMapSlice<Space3D>>();
-  merge->configure();
-  tracker.slices.assign(merge);
-  auto splitter = std::make_shared<DistanceSplitter>();
-  splitter->distance.set(10.0);
-  tracker.splitter.assign(splitter);
-  tracker.configure();
+  testing::buildLandmarkTracker(tracker, 10.0);
   const size_t n = 40;  // 32 m of the block loop at 8 m/s and 10 Hz, through a corner
   Eigen::Isometry3d first_truth = Eigen::Isometry3d::Identity(), first = first_truth;
   Eigen::Isometry3d truth, estimate;
