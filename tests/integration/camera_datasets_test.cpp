@@ -64,10 +64,10 @@ struct CliRun {
 
 // `plugslam run` of a config whose source is `source` (a YAML flow map), with --set arguments.
 CliRun plugslam(const TempDir& tmp, const std::string& source, const std::vector<std::string>& sets) {
-  const fs::path config = tmp.path / "run.yaml";
+  const fs::path config = tmp.path() / "run.yaml";
   writeText(config, "plugins: [io]\nsource: " + source + "\n");
   CliRun r;
-  r.out_dir = tmp.path / "out";
+  r.out_dir = tmp.path() / "out";
   std::string cmd = "'" + plugslam::testing::buildDir() + "/bin/plugslam' run '" + config.string() +
                     "' -o '" + r.out_dir.string() + "'";
   for (const auto& s : sets) cmd += " --set '" + s + "'";
@@ -154,7 +154,7 @@ TEST(CameraDatasets, KittiCutIsIndexedByTheImageNumber) {
   SKIP_WITHOUT(kKittiData);
   TempDir tmp;
   // Images 2..4 of sequence 00 with the full times.txt and poses file.
-  const fs::path cut = tmp.path / "00";
+  const fs::path cut = tmp.path() / "00";
   mirror(data(kKittiData), cut);
   for (const char* cam : {"image_0", "image_1"})
     for (const char* n : {"000000.png", "000001.png"}) fs::remove(cut / cam / n);
@@ -171,7 +171,7 @@ TEST(CameraDatasets, KittiCutIsIndexedByTheImageNumber) {
 TEST(CameraDatasets, KittiTruncatedImageNamesFileAndFrameOrIsSkipped) {
   SKIP_WITHOUT(kKittiData);
   TempDir tmp;
-  const fs::path copy = tmp.path / "00";
+  const fs::path copy = tmp.path() / "00";
   mirror(data(kKittiData), copy);
   replace(copy / "image_1/000003.png", truncated(data(kKittiData) + "/image_1/000003.png", 4000));
   const CliRun strict = plugslam(tmp, kKitti, {"source.path=" + copy.string()});
@@ -193,7 +193,7 @@ TEST(CameraDatasets, KittiTruncatedImageNamesFileAndFrameOrIsSkipped) {
 TEST(CameraDatasets, KittiMissingImageNamesFileAndFrame) {
   SKIP_WITHOUT(kKittiData);
   TempDir tmp;
-  const fs::path copy = tmp.path / "00";
+  const fs::path copy = tmp.path() / "00";
   mirror(data(kKittiData), copy);
   fs::remove(copy / "image_1/000002.png");
   const CliRun r = plugslam(tmp, kKitti, {"source.path=" + copy.string()});
@@ -205,7 +205,7 @@ TEST(CameraDatasets, KittiMissingImageNamesFileAndFrame) {
 TEST(CameraDatasets, KittiCalibrationWithoutP1NamesFileAndKey) {
   SKIP_WITHOUT(kKittiData);
   TempDir tmp;
-  const fs::path copy = tmp.path / "00";
+  const fs::path copy = tmp.path() / "00";
   mirror(data(kKittiData), copy);
   replace(copy / "calib.txt", withoutLines(data(kKittiData) + "/calib.txt", "P1:"));
   const CliRun r = plugslam(tmp, kKitti, {"source.path=" + copy.string()});
@@ -233,7 +233,7 @@ TEST(CameraDatasets, KittiRawReadsEveryPair) {
 TEST(CameraDatasets, KittiRawCalibrationWithoutPRect01NamesFileAndKey) {
   SKIP_WITHOUT(kKittiRawData);
   TempDir tmp;
-  const fs::path copy = tmp.path / "2011_09_26_drive_0001_sync";
+  const fs::path copy = tmp.path() / "2011_09_26_drive_0001_sync";
   mirror(data(kKittiRawData), copy);
   replace(copy / "calib_cam_to_cam.txt",
           withoutLines(data(kKittiRawData) + "/calib_cam_to_cam.txt", "P_rect_01:"));
@@ -272,7 +272,7 @@ TEST(CameraDatasets, EurocReadsEveryPairWithTheGroundTruthRows) {
 TEST(CameraDatasets, EurocSensorYamlWithoutIntrinsicsNamesFileAndKey) {
   SKIP_WITHOUT(kEurocData);
   TempDir tmp;
-  const fs::path copy = tmp.path / "V101";
+  const fs::path copy = tmp.path() / "V101";
   mirror(data(kEurocData), copy);
   replace(copy / "mav0/cam1/sensor.yaml",
           withoutLines(data(kEurocData) + "/mav0/cam1/sensor.yaml", "intrinsics:"));
@@ -285,7 +285,7 @@ TEST(CameraDatasets, EurocSensorYamlWithoutIntrinsicsNamesFileAndKey) {
 TEST(CameraDatasets, EurocCorruptImageNamesFileAndFrame) {
   SKIP_WITHOUT(kEurocData);
   TempDir tmp;
-  const fs::path copy = tmp.path / "V101";
+  const fs::path copy = tmp.path() / "V101";
   mirror(data(kEurocData), copy);
   // Frame 40's left image (data.csv row 40; stamps have 19 digits: read the name as text):
   // its bytes past the header overwritten (a flipped disk block).
@@ -329,7 +329,7 @@ TEST(CameraDatasets, SevenScenesReadsEveryFrameWithItsStampsAndPoses) {
 TEST(CameraDatasets, SevenScenesDepthOfTheWrongSizeNamesFileAndFrame) {
   SKIP_WITHOUT(kSevenScenesData);
   TempDir tmp;
-  const fs::path copy = tmp.path / "7scenes";
+  const fs::path copy = tmp.path() / "7scenes";
   mirror(data(kSevenScenesData), copy);
   // Frame 10's depth at half the resolution (a depth stream recorded at 320x240).
   const fs::path depth = copy / "frame-000010.depth.png";
@@ -345,7 +345,7 @@ TEST(CameraDatasets, SevenScenesDepthOfTheWrongSizeNamesFileAndFrame) {
 TEST(CameraDatasets, SevenScenesTruncatedJpegNamesFileAndFrame) {
   SKIP_WITHOUT(kSevenScenesData);
   TempDir tmp;
-  const fs::path copy = tmp.path / "7scenes";
+  const fs::path copy = tmp.path() / "7scenes";
   mirror(data(kSevenScenesData), copy);
   replace(copy / "frame-000123.color.jpg",
           truncated(data(kSevenScenesData) + "/frame-000123.color.jpg", 20000));
@@ -358,7 +358,7 @@ TEST(CameraDatasets, SevenScenesTruncatedJpegNamesFileAndFrame) {
 TEST(CameraDatasets, SevenScenesIntrinsicsFileCutShortIsNamed) {
   SKIP_WITHOUT(kSevenScenesData);
   TempDir tmp;
-  const fs::path copy = tmp.path / "7scenes";
+  const fs::path copy = tmp.path() / "7scenes";
   mirror(data(kSevenScenesData), copy);
   // Two rows of K: the third is missing.
   std::istringstream in(slurp(data(kSevenScenesData) + "/camera-intrinsics.txt"));
@@ -402,7 +402,7 @@ TEST(CameraDatasets, IclFolderReadsEveryFrameWithItsPoses) {
 TEST(CameraDatasets, IclMissingDepthNamesFileAndFrame) {
   SKIP_WITHOUT(kIclData);
   TempDir tmp;
-  const fs::path copy = tmp.path / "icl";
+  const fs::path copy = tmp.path() / "icl";
   mirror(data(kIclData), copy);
   fs::remove(copy / "depth/4.png");
   const CliRun strict = plugslam(tmp, kIcl, {"source.path=" + copy.string()});

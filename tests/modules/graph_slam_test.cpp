@@ -8,6 +8,7 @@
 #include "plugslam/loop_closure.h"
 #include "plugslam/registry.h"
 #include "plugslam/solver/graph_io.h"
+#include "temp_dir.h"
 
 using namespace plugslam;
 using namespace plugslam::testing;
@@ -786,7 +787,8 @@ TEST(GraphWriter, WritesLocalMapsAndEdgesAsG2o) {
   loop.relative = maps[0]->origin.inverse() * maps[3]->origin;
   loop.information = Eigen::Matrix3d::Identity() * 10;
   edges.push_back(loop);
-  const std::string path = ::testing::TempDir() + "/plugslam_graph_writer.g2o";
+  const plugslam::testing::TempDir tmp;
+  const std::string path = tmp.file("graph_writer.g2o");
   writeGraphG2o(path, maps, edges);
   FactorGraph back;
   readGraphFile(path, back);

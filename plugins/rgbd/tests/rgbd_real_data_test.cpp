@@ -40,11 +40,11 @@ Outcome run(const std::string& config, const std::vector<std::string>& sets) {
   runtime::PluginManager plugins;
   auto cfg = runtime::buildRun(doc, plugins);
   runtime::RunOptions options;
-  options.out_dir = out.path.string();
+  options.out_dir = out.path().string();
   Outcome o;
   o.report = runtime::runPipeline(*cfg, options);
-  o.estimate = readTumTrajectory((out.path / "trajectory.tum").string());
-  o.reference = readTumTrajectory((out.path / "reference.tum").string());
+  o.estimate = readTumTrajectory((out.path() / "trajectory.tum").string());
+  o.reference = readTumTrajectory((out.path() / "reference.tum").string());
   return o;
 }
 

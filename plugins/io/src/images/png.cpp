@@ -6,8 +6,12 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <new>
+#include <string>
 
+#include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
+#include "plugslam/png.h"
 
 namespace plugslam {
 namespace io {
@@ -31,33 +35,12 @@ void onError(png_structp png, png_const_charp message) {
 }
 void onWarning(png_structp, png_const_charp) {}
 
-// rows: one pointer per row; bit_depth 8 or 16 (16-bit samples given in host order).
-void writeRows(const std::string& path, int width, int height, int color_type, int bit_depth,
-               const std::vector<const uint8_t*>& rows) {
-  FilePtr file(std::fopen(path.c_str(), "wb"));
-  if (!file) throw InputError("cannot write PNG '" + path + "'");
-  std::string error;
-  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &error, onError, onWarning);
-  png_infop info = png ? png_create_info_struct(png) : nullptr;
-  if (!png || !info) {
-    png_destroy_write_struct(&png, &info);
-    throw InputError("libpng: out of memory writing '" + path + "'");
-  }
-  if (setjmp(png_jmpbuf(png))) {
-    png_destroy_write_struct(&png, &info);
-    throw InputError("cannot write PNG '" + path + "': " + error);
-  }
-  png_init_io(png, file.get());
-  png_set_compression_level(png, 1);  // fast: sequences have thousands of frames
-  png_set_IHDR(png, info, width, height, bit_depth, color_type, PNG_INTERLACE_NONE,
-               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_write_info(png, info);
-  if (bit_depth == 16) png_set_swap(png);  // PNG is big-endian; our samples are little-endian
-  png_write_rows(png, const_cast<png_bytepp>(rows.data()), static_cast<png_uint_32>(height));
-  png_write_end(png, nullptr);
-  png_destroy_write_struct(&png, &info);
-  if (std::fflush(file.get()) != 0)
-    throw InputError("cannot write PNG '" + path + "' (disk full?)");
+// Image sequences have thousands of frames: zlib level 1 (fast), libpng's row filters. Encoded in
+// memory, then written atomically: a crash mid-sequence leaves no truncated image.
+void writeEncoded(const std::string& path, const PngPixels& pixels) {
+  PngOptions fast;
+  fast.level = 1;
+  writeFileAtomically(path, encodePng(pixels, fast));
 }
 
 // Reading: each function that calls setjmp below takes only pointers and creates no C++ object
@@ -141,10 +124,13 @@ void writePng(const std::string& path, const Image& im) {
   if (im.width < 1 || im.height < 1 ||
       im.data.size() < static_cast<size_t>(im.stride) * static_cast<size_t>(im.height))
     throw InputError("writePng: the image is empty or its data is shorter than stride * height");
-  std::vector<const uint8_t*> rows(im.height);
-  for (int y = 0; y < im.height; ++y) rows[y] = &im.data[static_cast<size_t>(y) * im.stride];
-  writeRows(path, im.width, im.height, im.channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB,
-            8, rows);
+  PngPixels pixels;
+  pixels.data = im.data.data();
+  pixels.width = im.width;
+  pixels.height = im.height;
+  pixels.channels = im.channels;
+  pixels.stride = static_cast<size_t>(im.stride);
+  writeEncoded(path, pixels);
 }
 
 void writePng16(const std::string& path, int width, int height,
@@ -152,10 +138,12 @@ void writePng16(const std::string& path, int width, int height,
   if (width < 1 || height < 1 ||
       values.size() != static_cast<size_t>(width) * static_cast<size_t>(height))
     throw InputError("writePng16: expected width * height values");
-  std::vector<const uint8_t*> rows(height);
-  for (int y = 0; y < height; ++y)
-    rows[y] = reinterpret_cast<const uint8_t*>(&values[static_cast<size_t>(y) * width]);
-  writeRows(path, width, height, PNG_COLOR_TYPE_GRAY, 16, rows);
+  PngPixels pixels;
+  pixels.data = reinterpret_cast<const uint8_t*>(values.data());
+  pixels.width = width;
+  pixels.height = height;
+  pixels.bit_depth = 16;
+  writeEncoded(path, pixels);
 }
 
 PngImage readPng(const std::string& path) {
