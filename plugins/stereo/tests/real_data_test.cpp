@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -17,16 +16,14 @@
 #include "sources/kitti_raw_source.h"
 #include "sources/kitti_source.h"
 #include "stereo_preprocessor.h"
+#include "test_paths.h"
 
 namespace plugslam {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string dataDir() {
-  const char* env = std::getenv("PLUGSLAM_DATA");
-  return env ? env : PLUGSLAM_TEST_DATA_DIR;
-}
+using testing::dataDir;
 
 // The stereo pipeline of configs/stereo_*.yaml, built in code.
 struct StereoTracker {
@@ -40,6 +37,7 @@ struct StereoTracker {
   std::vector<Eigen::Isometry3d> run(Source& source) {
     std::vector<Eigen::Isometry3d> out;
     for (Frame frame; source.next(frame); frame = Frame()) {
+      frame.seq = out.size();  // as the runner numbers them
       EXPECT_TRUE(pre.process(frame)) << "frame " << frame.seq;
       tracker.track(frame);
       EXPECT_FALSE(frame.estimate.lost) << "frame " << frame.seq;
