@@ -6,6 +6,7 @@
 #include "plugslam/alignment_validator.h"
 #include "plugslam/graph_slam.h"
 #include "plugslam/graph_writer.h"
+#include "plugslam/landmarks/landmark_map_writer.h"
 #include "plugslam/landmarks/landmark_slices.h"
 #include "plugslam/localizer.h"
 #include "plugslam/loop_closure.h"
@@ -55,6 +56,8 @@ void registerBuiltinTypes(Registrar& registrar) {
       "LandmarkMapSlice2D", "landmark cue: merges keypoints into the local map's landmarks (2D)");
   registrar.add<LandmarkMapSlice<Space3D>>(
       "LandmarkMapSlice3D", "landmark cue: merges keypoints into the local map's landmarks");
+  registrar.add<LandmarkMapWriter>(
+      "LandmarkMapWriter", "landmark cue: the run's landmarks in the world as a binary PLY cloud");
   registrar.add<DistanceSplitter>("DistanceSplitter",
                                   "closes a local map on distance, angle, time or lost overlap");
 }
