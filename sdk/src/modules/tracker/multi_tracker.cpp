@@ -198,15 +198,8 @@ template <class S>
 std::shared_ptr<Tracker> MultiTracker<S>::localizer(
     std::vector<std::shared_ptr<const LocalMap>> maps) const {
   if (map_) throw InputError("localization can only start before the first frame");
-  auto out = std::make_shared<Localizer<S>>();
-  out->setName(name());
-  out->setTypeName(std::string("sdk.Localizer") + S::kSuffix);
-  out->aligner.assign(aligner.shared());
-  out->motion.assign(motion.shared());
-  out->constant_velocity = constant_velocity();
-  out->tie = localize_tie();
-  out->setMaps(std::move(maps));
-  return out;
+  return Localizer<S>::create(name(), aligner.shared(), motion.shared(), constant_velocity(),
+                              localize_tie(), std::move(maps));
 }
 
 template class MultiTracker<Space2D>;
