@@ -39,6 +39,12 @@ class Localizer : public Tracker {
   /// The frozen maps to localize in (before the first frame); throws InputError when there
   /// are none or one is of the other dimension.
   void setMaps(std::vector<std::shared_ptr<const LocalMap>> maps);
+  /// A localizer named `name` with these parts and settings, in `maps` (see setMaps).
+  static std::shared_ptr<Localizer> create(const std::string& name,
+                                           std::shared_ptr<MultiAligner<S>> aligner,
+                                           std::shared_ptr<MotionModel<S>> motion,
+                                           bool constant_velocity, double tie,
+                                           std::vector<std::shared_ptr<const LocalMap>> maps);
 
  private:
   struct State;  // the maps, the map the robot is in, the motion history

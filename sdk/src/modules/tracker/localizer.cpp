@@ -40,17 +40,26 @@ void Localizer<S>::continueSession(int64_t) {
 }
 
 template <class S>
-std::shared_ptr<Tracker> Localizer<S>::localizer(
-    std::vector<std::shared_ptr<const LocalMap>> maps) const {
+std::shared_ptr<Localizer<S>> Localizer<S>::create(
+    const std::string& name, std::shared_ptr<MultiAligner<S>> aligner,
+    std::shared_ptr<MotionModel<S>> motion, bool constant_velocity, double tie,
+    std::vector<std::shared_ptr<const LocalMap>> maps) {
   auto out = std::make_shared<Localizer<S>>();
-  out->setName(name());
-  out->setTypeName(typeName());
-  out->aligner.assign(aligner.shared());
-  out->motion.assign(motion.shared());
-  out->constant_velocity = constant_velocity();
-  out->tie = tie();
+  out->setName(name);
+  out->setTypeName(std::string("sdk.Localizer") + S::kSuffix);
+  out->aligner.assign(std::move(aligner));
+  out->motion.assign(std::move(motion));
+  out->constant_velocity = constant_velocity;
+  out->tie = tie;
   out->setMaps(std::move(maps));
   return out;
+}
+
+template <class S>
+std::shared_ptr<Tracker> Localizer<S>::localizer(
+    std::vector<std::shared_ptr<const LocalMap>> maps) const {
+  return create(name(), aligner.shared(), motion.shared(), constant_velocity(), tie(),
+                std::move(maps));
 }
 
 template <class S>

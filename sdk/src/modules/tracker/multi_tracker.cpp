@@ -22,8 +22,8 @@ MultiTracker<S>::~MultiTracker() = default;
 
 template <class S>
 void MultiTracker<S>::configure() {
-  // Without aligner slices no frame yields a factor, and without tracker slices the local map
-  // stays empty: either way the tracker would "track" every frame at the motion prediction.
+  // Without aligner slices no frame yields a factor: the tracker would "track" every frame at
+  // the motion prediction. (Tracker slices are optional: an odometry prior alone needs no map.)
   if (!aligner)
     throw ParamError("aligner", std::string("a tracker needs an aligner (sdk.MultiAligner") +
                                     S::kSuffix + ")");
@@ -31,12 +31,6 @@ void MultiTracker<S>::configure() {
     throw ParamError("aligner.slices",
                      std::string("the aligner has no slices, so no frame could be aligned: add "
                                  "one per cue (`plugslam plugins` lists the AlignerSlice") +
-                         S::kSuffix + " types)");
-  if (slices.empty())
-    throw ParamError("slices",
-                     std::string("no tracker slices, so nothing is merged into the local map "
-                                 "and no frame could be aligned: add one per cue (`plugslam "
-                                 "plugins` lists the TrackerSlice") +
                          S::kSuffix + " types)");
   if (fallback_sigma().size() != static_cast<size_t>(S::kDof))
     throw ParamError("fallback_sigma", "expected " + std::to_string(S::kDof) + " values, got " +
@@ -198,15 +192,8 @@ template <class S>
 std::shared_ptr<Tracker> MultiTracker<S>::localizer(
     std::vector<std::shared_ptr<const LocalMap>> maps) const {
   if (map_) throw InputError("localization can only start before the first frame");
-  auto out = std::make_shared<Localizer<S>>();
-  out->setName(name());
-  out->setTypeName(std::string("sdk.Localizer") + S::kSuffix);
-  out->aligner.assign(aligner.shared());
-  out->motion.assign(motion.shared());
-  out->constant_velocity = constant_velocity();
-  out->tie = localize_tie();
-  out->setMaps(std::move(maps));
-  return out;
+  return Localizer<S>::create(name(), aligner.shared(), motion.shared(), constant_velocity(),
+                              localize_tie(), std::move(maps));
 }
 
 template class MultiTracker<Space2D>;
