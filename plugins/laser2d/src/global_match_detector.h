@@ -13,6 +13,7 @@
 
 #include "correlative_matcher.h"
 #include "plugslam/drift_gate.h"
+#include "plugslam/entry.h"
 #include "plugslam/loop_closure.h"
 
 namespace plugslam {
