@@ -15,6 +15,7 @@
 #include "plugslam/drift_gate.h"
 #include "plugslam/entry.h"
 #include "plugslam/loop_closure.h"
+#include "point_cloud2d.h"
 
 namespace plugslam {
 namespace laser2d {
