@@ -221,7 +221,10 @@ TEST_F(Session, LocalizationTracksInTheFrozenMaps) {
 }
 
 // Item 17.8: localizing in a session of another place warns (most frames align with no map).
-TEST_F(Session, LocalizationInAnotherPlaceWarns) {
+// Disabled: its premise is false. lmsim's `source.seed=11` does not make another place: the run
+// localized 403 of 403 frames in the saved maps (suite of 2026-12-02), so the warning is never
+// reached. It needs a session of a really different world before it can test the warning.
+TEST_F(Session, DISABLED_LocalizationInAnotherPlaceWarns) {
   std::string config;
   mapAndSave(config);
   std::ostringstream log;

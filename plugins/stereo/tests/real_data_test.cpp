@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "landmark_tracker.h"
+#include "plugslam/pipeline.h"
 #include "sources/euroc_source.h"
 #include "sources/kitti_raw_source.h"
 #include "sources/kitti_source.h"
@@ -29,9 +30,11 @@ using testing::dataDir;
 struct StereoTracker {
   visual::StereoPreprocessor pre;
   MultiTracker<Space3D> tracker;
+  Pipeline pipeline;  // places the local maps and composes the world pose, as a run does
   explicit StereoTracker(double split_distance) {
     pre.configure();
     testing::buildLandmarkTracker(tracker, split_distance);
+    pipeline.tracker.assign(std::shared_ptr<Tracker>(std::shared_ptr<Tracker>(), &tracker));
   }
   // Tracks every frame of the source; returns the estimates (the robot in the world).
   std::vector<Eigen::Isometry3d> run(Source& source) {
@@ -39,7 +42,7 @@ struct StereoTracker {
     for (Frame frame; source.next(frame); frame = Frame()) {
       frame.seq = out.size();  // as the runner numbers them
       EXPECT_TRUE(pre.process(frame)) << "frame " << frame.seq;
-      tracker.track(frame);
+      pipeline.process(frame);
       EXPECT_FALSE(frame.estimate.lost) << "frame " << frame.seq;
       out.push_back(frame.estimate.world);
     }

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "landmark_tracker.h"
+#include "plugslam/pipeline.h"
 #include "plugslam/statistics.h"
 #include "sim3d/renderer.h"
 #include "sim3d/simulator.h"
@@ -89,6 +90,8 @@ TEST(StereoTracking, RecoversTheRenderedMotion) {
   pre.configure();
   MultiTracker<Space3D> tracker;
   testing::buildLandmarkTracker(tracker, 10.0);
+  Pipeline pipeline;  // places the local maps and composes the world pose, as a run does
+  pipeline.tracker.assign(std::shared_ptr<Tracker>(std::shared_ptr<Tracker>(), &tracker));
   const size_t n = 40;  // 32 m of the block loop at 8 m/s and 10 Hz, through a corner
   Eigen::Isometry3d first_truth = Eigen::Isometry3d::Identity(), first = first_truth;
   Eigen::Isometry3d truth, estimate;
@@ -97,7 +100,7 @@ TEST(StereoTracking, RecoversTheRenderedMotion) {
   for (size_t k = 0; k < n; ++k) {
     Frame frame = frameOf(sim, k);
     ASSERT_TRUE(pre.process(frame));
-    tracker.track(frame);
+    pipeline.process(frame);
     ASSERT_TRUE(frame.estimate.valid);
     EXPECT_FALSE(frame.estimate.lost) << "frame " << k;
     truth = frame.raw.get<Eigen::Isometry3d>("ground_truth");
