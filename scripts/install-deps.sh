@@ -14,6 +14,7 @@ PACKAGES=(
   libopencv-core-dev libopencv-imgproc-dev libopencv-features2d-dev libopencv-calib3d-dev
   libopencv-imgcodecs-dev
   nlohmann-json3-dev libjpeg62-turbo-dev
+  libzstd-dev libsqlite3-dev
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

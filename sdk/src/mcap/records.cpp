@@ -188,6 +188,156 @@ void appendChunk(std::string& o, ChunkHeader h, const std::string& records) {
   endRecord(o, at);
 }
 
+namespace {
+
+// Little-endian readers of the same types, bounds-checked against the content.
+class Cursor {
+ public:
+  Cursor(const uint8_t* p, size_t n) : p_(p), n_(n) {}
+  template <typename T>
+  T uint(const char* field) {
+    need(sizeof(T), field);
+    T v = 0;
+    for (size_t k = 0; k < sizeof(T); ++k) v |= static_cast<T>(T{p_[i_ + k]} << (8 * k));
+    i_ += sizeof(T);
+    return v;
+  }
+  std::string str(const char* field) {
+    const size_t at = i_;
+    const auto len = uint<uint32_t>(field);
+    if (len > n_ - i_) {
+      throw RecordError(at, std::string(field) + " of " + std::to_string(len) +
+                                " bytes exceeds the " + std::to_string(n_ - i_) +
+                                " bytes left in the record");
+    }
+    std::string s(reinterpret_cast<const char*>(p_ + i_), len);
+    i_ += len;
+    return s;
+  }
+  std::vector<std::pair<uint16_t, uint64_t>> u16u64Map(const char* field) {
+    const size_t at = i_;
+    const auto len = uint<uint32_t>(field);
+    if (len > n_ - i_ || len % 10 != 0) {
+      throw RecordError(at, std::string(field) + ": map of " + std::to_string(len) +
+                                " bytes (a multiple of 10 within the record expected)");
+    }
+    std::vector<std::pair<uint16_t, uint64_t>> out;
+    for (size_t k = 0; k < len / 10; ++k) {
+      const auto key = uint<uint16_t>(field);
+      out.emplace_back(key, uint<uint64_t>(field));
+    }
+    return out;
+  }
+  size_t at() const { return i_; }
+  size_t left() const { return n_ - i_; }
+  void skip(size_t n, const char* field) {
+    need(n, field);
+    i_ += n;
+  }
+
+ private:
+  void need(size_t k, const char* field) const {
+    if (n_ - i_ < k) {
+      throw RecordError(i_, std::string(field) + " needs " + std::to_string(k) + " bytes, " +
+                                std::to_string(n_ - i_) + " left in the record");
+    }
+  }
+  const uint8_t* p_;
+  size_t n_, i_ = 0;
+};
+
+}  // namespace
+
+void parseRecord(const uint8_t* p, size_t n, Header& r) {
+  Cursor c(p, n);
+  r.profile = c.str("header profile");
+  r.library = c.str("header library");
+}
+
+void parseRecord(const uint8_t* p, size_t n, Footer& r) {
+  Cursor c(p, n);
+  r.summary_start = c.uint<uint64_t>("footer summary_start");
+  r.summary_offset_start = c.uint<uint64_t>("footer summary_offset_start");
+  r.summary_crc = c.uint<uint32_t>("footer summary_crc");
+}
+
+void parseRecord(const uint8_t* p, size_t n, Schema& r) {
+  Cursor c(p, n);
+  r.id = c.uint<uint16_t>("schema id");
+  r.name = c.str("schema name");
+  r.encoding = c.str("schema encoding");
+  r.data = c.str("schema data");
+}
+
+void parseRecord(const uint8_t* p, size_t n, Channel& r) {
+  Cursor c(p, n);
+  r.id = c.uint<uint16_t>("channel id");
+  r.schema_id = c.uint<uint16_t>("channel schema_id");
+  r.topic = c.str("channel topic");
+  r.message_encoding = c.str("channel message_encoding");
+  const size_t at = c.at();
+  const auto len = c.uint<uint32_t>("channel metadata");
+  if (len > c.left()) throw RecordError(at, "channel metadata exceeds the record");
+  Cursor m(p + c.at(), len);
+  r.metadata.clear();
+  while (m.left() > 0) {
+    std::string key = m.str("channel metadata key");
+    r.metadata.emplace_back(std::move(key), m.str("channel metadata value"));
+  }
+}
+
+void parseRecord(const uint8_t* p, size_t n, ChunkIndex& r) {
+  Cursor c(p, n);
+  r.message_start_time = c.uint<uint64_t>("chunk index message_start_time");
+  r.message_end_time = c.uint<uint64_t>("chunk index message_end_time");
+  r.chunk_start_offset = c.uint<uint64_t>("chunk index chunk_start_offset");
+  r.chunk_length = c.uint<uint64_t>("chunk index chunk_length");
+  r.message_index_offsets = c.u16u64Map("chunk index message_index_offsets");
+  r.message_index_length = c.uint<uint64_t>("chunk index message_index_length");
+  r.compression = c.str("chunk index compression");
+  r.compressed_size = c.uint<uint64_t>("chunk index compressed_size");
+  r.uncompressed_size = c.uint<uint64_t>("chunk index uncompressed_size");
+}
+
+void parseRecord(const uint8_t* p, size_t n, Statistics& r) {
+  Cursor c(p, n);
+  r.message_count = c.uint<uint64_t>("statistics message_count");
+  r.schema_count = c.uint<uint16_t>("statistics schema_count");
+  r.channel_count = c.uint<uint32_t>("statistics channel_count");
+  r.attachment_count = c.uint<uint32_t>("statistics attachment_count");
+  r.metadata_count = c.uint<uint32_t>("statistics metadata_count");
+  r.chunk_count = c.uint<uint32_t>("statistics chunk_count");
+  r.message_start_time = c.uint<uint64_t>("statistics message_start_time");
+  r.message_end_time = c.uint<uint64_t>("statistics message_end_time");
+  r.channel_message_counts = c.u16u64Map("statistics channel_message_counts");
+}
+
+size_t parseMessage(const uint8_t* p, size_t n, MessageHeader& r) {
+  Cursor c(p, n);
+  r.channel_id = c.uint<uint16_t>("message channel_id");
+  r.sequence = c.uint<uint32_t>("message sequence");
+  r.log_time = c.uint<uint64_t>("message log_time");
+  r.publish_time = c.uint<uint64_t>("message publish_time");
+  return c.at();
+}
+
+size_t parseChunk(const uint8_t* p, size_t n, ChunkHeader& r) {
+  Cursor c(p, n);
+  r.message_start_time = c.uint<uint64_t>("chunk message_start_time");
+  r.message_end_time = c.uint<uint64_t>("chunk message_end_time");
+  r.uncompressed_size = c.uint<uint64_t>("chunk uncompressed_size");
+  r.uncompressed_crc = c.uint<uint32_t>("chunk uncompressed_crc");
+  r.compression = c.str("chunk compression");
+  const size_t at = c.at();
+  r.records_size = c.uint<uint64_t>("chunk records_size");
+  if (r.records_size > c.left()) {
+    throw RecordError(at, "chunk records of " + std::to_string(r.records_size) +
+                              " bytes exceed the " + std::to_string(c.left()) +
+                              " bytes left in the record");
+  }
+  return c.at();
+}
+
 }  // namespace mcap
 }  // namespace abi_v1
 }  // namespace plugslam

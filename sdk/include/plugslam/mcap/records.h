@@ -5,6 +5,7 @@
 // uint32 byte length.
 #include <cstddef>
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -133,6 +134,26 @@ void appendMessage(std::string& out, const MessageHeader& header, const void* da
 /// Appends a Chunk record around `records` (already compressed as `header.compression` says;
 /// header.records_size is set from `records`).
 void appendChunk(std::string& out, ChunkHeader header, const std::string& records);
+
+/// A record's content ended before its fields did; `at` is the byte offset into the content.
+class RecordError : public std::runtime_error {
+ public:
+  RecordError(uint64_t at, const std::string& what) : std::runtime_error(what), at(at) {}
+  uint64_t at;  ///< offset into the record's content where the field starts
+};
+
+/// Parse a record's content (the bytes after its opcode and uint64 length); RecordError when
+/// it is shorter than its fields.
+void parseRecord(const uint8_t* content, size_t size, Header& out);
+void parseRecord(const uint8_t* content, size_t size, Footer& out);
+void parseRecord(const uint8_t* content, size_t size, Schema& out);
+void parseRecord(const uint8_t* content, size_t size, Channel& out);
+void parseRecord(const uint8_t* content, size_t size, ChunkIndex& out);
+void parseRecord(const uint8_t* content, size_t size, Statistics& out);
+/// Parses a Message record's header; returns the offset of its data in the content.
+size_t parseMessage(const uint8_t* content, size_t size, MessageHeader& out);
+/// Parses a Chunk record's header fields; returns the offset of its records in the content.
+size_t parseChunk(const uint8_t* content, size_t size, ChunkHeader& out);
 
 }  // namespace mcap
 }  // namespace abi_v1
