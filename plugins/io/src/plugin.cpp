@@ -7,16 +7,20 @@
 #include "sources/kitti_source.h"
 #include "sources/rgbd_folder_source.h"
 #include "sources/tum_rgbd_source.h"
+#include "sources/ros2_bag_source.h"
 #include "sources/rosbag_source.h"
 #include "writers/image_sequence_writer.h"
 #include "writers/trajectory_writer.h"
 
-PLUGSLAM_PLUGIN("io", "1.0.0", "dataset sources (CARMEN, ROS1 bags, KITTI, EuRoC, TUM RGB-D) and writers") {
+PLUGSLAM_PLUGIN("io", "1.0.0", "dataset sources (CARMEN, ROS 1 and ROS 2 bags, KITTI, EuRoC, TUM RGB-D) and writers") {
   using namespace plugslam::io;
   registrar.add<CarmenSource>("CarmenSource",
                               "CARMEN log: one frame per front laser, ODOM odometry, logged pose");
   registrar.add<RosbagSource>("RosbagSource",
                               "ROS1 bag: LaserScan topics + interpolated nav_msgs/Odometry");
+  registrar.add<Ros2BagSource>("Ros2BagSource",
+                               "ROS 2 bag (MCAP or .db3): LaserScan topics + interpolated "
+                               "Odometry, mounts from /tf_static");
   registrar.add<KittiSource>("KittiSource",
                              "KITTI odometry layout: rectified stereo, calib.txt, times.txt, poses");
   registrar.add<KittiRawSource>("KittiRawSource",

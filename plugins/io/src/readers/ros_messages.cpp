@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "plugslam/errors.h"
+#include "readers/message_layouts.h"
 
 namespace plugslam {
 namespace io {
@@ -116,29 +117,13 @@ double OdometryMsg::yaw() const {
 
 void decodeLaserScan(const std::uint8_t* data, std::size_t size, LaserScanMsg& out) {
   Cursor c(data, size);
-  c.header(out.header);
-  out.angle_min = c.f32("angle_min");
-  out.angle_max = c.f32("angle_max");
-  out.angle_increment = c.f32("angle_increment");
-  out.time_increment = c.f32("time_increment");
-  out.scan_time = c.f32("scan_time");
-  out.range_min = c.f32("range_min");
-  out.range_max = c.f32("range_max");
-  c.f32Array(out.ranges, "ranges");
-  c.f32Array(out.intensities, "intensities");
+  layout::laserScan(c, out);
   c.finish();
 }
 
 void decodeOdometry(const std::uint8_t* data, std::size_t size, OdometryMsg& out) {
   Cursor c(data, size);
-  c.header(out.header);
-  out.child_frame_id = c.str("child_frame_id");
-  for (double& v : out.position) v = c.f64("pose.pose.position");
-  for (double& v : out.orientation) v = c.f64("pose.pose.orientation");
-  for (double& v : out.pose_covariance) v = c.f64("pose.covariance");
-  for (double& v : out.linear) v = c.f64("twist.twist.linear");
-  for (double& v : out.angular) v = c.f64("twist.twist.angular");
-  for (double& v : out.twist_covariance) v = c.f64("twist.covariance");
+  layout::odometry(c, out);
   c.finish();
 }
 

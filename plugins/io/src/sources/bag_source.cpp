@@ -1,0 +1,255 @@
+#include "sources/bag_source.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "plugslam/errors.h"
+#include "plugslam/geometry.h"
+
+namespace plugslam {
+namespace io {
+namespace {
+
+// How far past a frame's stamp (on the message clock) the bag is read before a stream is given
+// up on; covers messages of one stream arriving late relative to another.
+constexpr double kRecordSlack = 1.0;
+
+}  // namespace
+
+std::pair<std::string, std::string> splitTopicEntry(const std::string& param,
+                                                    const std::string& text) {
+  const auto colon = text.rfind(':');
+  if (colon == std::string::npos || colon == 0 || colon + 1 == text.size()) {
+    throw ParamError(param,
+                     "expected \"topic:entry\" (e.g. \"/scan:front_laser\"), got \"" + text + "\"");
+  }
+  return {text.substr(0, colon), text.substr(colon + 1)};
+}
+
+BagSource::BagSource(const char* path_doc, const char* mounts_doc)
+    : path(this, "path", "", "", path_doc),
+      mounts(this, "mounts", std::vector<double>{}, "", mounts_doc) {}
+
+BagSource::~BagSource() = default;
+
+void BagSource::configure() {
+  if (path().empty()) throw ParamError("path", "required: the ROS bag to read");
+  if (scans().empty()) throw ParamError("scans", "needs at least one \"topic:entry\"");
+  scan_topics_.clear();
+  scan_entries_.clear();
+  std::set<std::string> entries, topics;
+  for (const auto& s : scans()) {
+    auto [topic, entry] = splitTopicEntry("scans", s);
+    if (!topics.insert(topic).second) throw ParamError("scans", "topic " + topic + " listed twice");
+    if (!entries.insert(entry).second) throw ParamError("scans", "entry " + entry + " used twice");
+    scan_topics_.push_back(topic);
+    scan_entries_.push_back(entry);
+  }
+  odom_topic_.clear();
+  odom_entry_.clear();
+  if (!odometry().empty()) {
+    std::tie(odom_topic_, odom_entry_) = splitTopicEntry("odometry", odometry());
+    if (topics.count(odom_topic_)) throw ParamError("odometry", "topic is also a scan topic");
+    if (entries.count(odom_entry_)) throw ParamError("odometry", "entry is also a scan entry");
+  }
+  const auto& m = mounts();
+  if (!m.empty() && m.size() != 3 * scan_topics_.size()) {
+    throw ParamError("mounts", "expected 3 numbers (x, y, theta) per scan topic: " +
+                                   std::to_string(3 * scan_topics_.size()) + ", got " +
+                                   std::to_string(m.size()));
+  }
+  scan_mounts_.assign(scan_topics_.size(), std::nullopt);
+  for (size_t i = 0; !m.empty() && i < scan_topics_.size(); ++i) {
+    scan_mounts_[i] = se2(m[3 * i], m[3 * i + 1], m[3 * i + 2]);
+  }
+  open();
+}
+
+void BagSource::open() {
+  openBag();
+  opened_ = true;
+  finished_ = false;
+  latest_stamp_ = -std::numeric_limits<double>::infinity();
+  primary_.clear();
+  secondary_.assign(scan_topics_.size() > 1 ? scan_topics_.size() - 1 : 0, {});
+  odom_.clear();
+  size_hint_.reset();
+  frames_without_odometry_ = 0;
+  frames_ = 0;
+  summarized_ = false;
+  replay_.restart(bagName());
+}
+
+void BagSource::rewind() {
+  // Queued readings of the previous pass are all older than the replay: drop them. Frames
+  // without odometry are counted across replays; the end-of-bag warnings were given once.
+  // Every stream of the bag is shifted by the replay's one offset.
+  openBag();
+  finished_ = false;
+  primary_.clear();
+  for (auto& q : secondary_) q.clear();
+  odom_.clear();
+}
+
+void BagSource::noFramesError() const {
+  // A misspelt topic would otherwise make an empty run; say what the bag holds.
+  std::string topics;
+  for (const auto& info : bagTopics()) {
+    topics += (topics.empty() ? "" : ", ") + info.topic + " (" + info.type + ", " +
+              std::to_string(info.count) + ")";
+  }
+  throw InputError(bagName() + " has no message on scan topic " + scan_topics_[0] +
+                   "; its topics: " + (topics.empty() ? "none" : topics));
+}
+
+std::vector<ProvidedEntry> BagSource::provides() const {
+  std::vector<ProvidedEntry> out;
+  for (const std::string& entry : scan_entries_) out.push_back({entry, typeid(LaserScan)});
+  if (!odom_entry_.empty()) out.push_back({odom_entry_, typeid(Odometry2D)});
+  return out;
+}
+
+int64_t BagSource::sizeHint() const {
+  if (size_hint_) return *size_hint_;
+  if (path().empty() || scan_topics_.empty()) return -1;
+  try {
+    size_hint_ = 0;
+    for (const auto& info : bagTopics()) {
+      if (info.topic == scan_topics_[0]) size_hint_ = static_cast<int64_t>(info.count);
+    }
+    *size_hint_ = Replay::total(*size_hint_, repeat());
+  } catch (const Error&) {
+    size_hint_ = -1;
+  }
+  return *size_hint_;
+}
+
+bool BagSource::readOne() {
+  BagReading r;
+  if (!readReading(r)) return false;
+  // Record times may be offset from header stamps (another clock), so readiness is judged on
+  // the stamps actually used.
+  auto stampOf = [&](const RosHeader& h) {
+    double t = header_stamps() && h.stamp.toNsec() != 0 ? h.stamp.toSec() : r.record_time;
+    t = replay_.shift(t);  // replays continue the clock
+    latest_stamp_ = std::max(latest_stamp_, t);
+    return t;
+  };
+  if (r.kind == BagReading::Kind::kOdometry) {
+    const OdometryMsg& msg = r.odometry;
+    Pose p{stampOf(msg.header), se2(msg.position[0], msg.position[1], msg.yaw())};
+    // Kept sorted by stamp for the interpolation; out-of-order arrivals are rare and near the end.
+    auto it = odom_.end();
+    while (it != odom_.begin() && (it - 1)->t > p.t) --it;
+    odom_.insert(it, p);
+    return true;
+  }
+  const size_t i = r.scan_index;
+  LaserScanMsg& msg = r.scan;
+  if (!scan_mounts_[i]) scan_mounts_[i] = defaultMount(i, msg.header.frame_id);
+  Stamped s;
+  s.t = stampOf(msg.header);
+  s.scan.stamp = s.t;
+  s.scan.angle_min = msg.angle_min;
+  s.scan.angle_increment = msg.angle_increment;
+  s.scan.range_min = msg.range_min;
+  s.scan.range_max = msg.range_max;
+  s.scan.ranges = std::move(msg.ranges);
+  s.scan.mount = *scan_mounts_[i];
+  (i == 0 ? primary_ : secondary_[i - 1]).push_back(std::move(s));
+  return true;
+}
+
+bool BagSource::ready(double t) const {
+  if (finished_) return true;
+  if (!odom_topic_.empty()) {
+    const bool after = !odom_.empty() && odom_.back().t >= t;
+    if (!after && latest_stamp_ <= t + max_odometry_gap() + kRecordSlack) return false;
+  }
+  for (const auto& q : secondary_) {
+    const bool after = !q.empty() && q.back().t > t + sync_tolerance();
+    if (!after && latest_stamp_ <= t + sync_tolerance() + kRecordSlack) return false;
+  }
+  return true;
+}
+
+std::optional<Eigen::Isometry2d> BagSource::odometryAt(double t) const {
+  if (odom_.empty()) return std::nullopt;
+  auto it = std::lower_bound(odom_.begin(), odom_.end(), t,
+                             [](const Pose& p, double v) { return p.t < v; });
+  if (it != odom_.end() && it != odom_.begin()) {
+    const Pose& a = *(it - 1);
+    const Pose& b = *it;
+    if (b.t - a.t <= max_odometry_gap()) {
+      const double alpha = b.t > a.t ? (t - a.t) / (b.t - a.t) : 0.0;
+      const Eigen::Vector3d d = toVector(a.pose.inverse() * b.pose);
+      return a.pose * se2(alpha * d);
+    }
+  }
+  // Before the first, after the last, or across a gap: the nearest reading if close enough.
+  const Pose* best = nullptr;
+  if (it != odom_.end()) best = &*it;
+  if (it != odom_.begin() && (!best || t - (it - 1)->t < best->t - t)) best = &*(it - 1);
+  if (best && std::abs(best->t - t) <= max_odometry_gap()) return best->pose;
+  return std::nullopt;
+}
+
+bool BagSource::next(Frame& frame) {
+  if (!opened_) open();
+  for (;;) {
+    if (!primary_.empty() && ready(primary_.front().t)) break;
+    if (finished_) {
+      if (frames_ == 0) noFramesError();
+      if (!summarized_) endOfPass();
+      summarized_ = true;
+      // A pass of fewer than two frames is spaced like a 10 Hz scanner.
+      if (!replay_.next(repeat(), 0.1)) return false;
+      rewind();
+      continue;
+    }
+    if (!readOne()) finished_ = true;
+  }
+  ++frames_;
+  Stamped s = std::move(primary_.front());
+  primary_.pop_front();
+  const double t = s.t;
+  replay_.anchor(t);
+  replay_.frame(t);
+  frame.stamp = t;
+  frame.raw.set<LaserScan>(scan_entries_[0], std::move(s.scan));
+
+  if (!odom_topic_.empty()) {
+    if (auto pose = odometryAt(t)) {
+      frame.raw.set<Odometry2D>(odom_entry_, {t, *pose});
+    } else {
+      ++frames_without_odometry_;
+    }
+    // Keep one reading at or before the next frame's time for its interpolation.
+    const double keep = primary_.empty() ? t : std::min(t, primary_.front().t);
+    while (odom_.size() > 1 && odom_[1].t <= keep) odom_.pop_front();
+  }
+  for (size_t i = 0; i < secondary_.size(); ++i) {
+    auto& q = secondary_[i];
+    auto best = q.end();
+    for (auto it = q.begin(); it != q.end(); ++it) {
+      if (std::abs(it->t - t) <= sync_tolerance() &&
+          (best == q.end() || std::abs(it->t - t) < std::abs(best->t - t))) {
+        best = it;
+      }
+    }
+    if (best != q.end()) {
+      frame.raw.set<LaserScan>(scan_entries_[i + 1], best->scan);
+      q.erase(q.begin(), best + 1);  // each secondary scan is used at most once
+    }
+    const double keep = primary_.empty() ? t : primary_.front().t;
+    while (!q.empty() && q.front().t < keep - sync_tolerance()) q.pop_front();
+  }
+  return true;
+}
+
+}  // namespace io
+}  // namespace plugslam
