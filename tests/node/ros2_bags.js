@@ -1,0 +1,306 @@
+// Makes ROS 2 test bags with implementations independent of plugslam's: a ROS 1 bag read by
+// @foxglove/rosbag, its messages re-serialized to CDR by @foxglove/rosmsg2-serialization (from the
+// ROS 2 .msg definitions parsed by @foxglove/rosmsg), written as MCAP by @mcap/core (chunks
+// uncompressed, lz4 by lz4js, zstd by @foxglove/wasm-zstd; indexed or not) and as rosbag2 SQLite
+// by sql.js. Plus a small camera bag (Image, CompressedImage, CameraInfo, TFMessage) of known
+// values for the CDR decoders.
+//   node ros2_bags.js IN.bag OUT_DIR    writes the bags listed in OUT_DIR/bags.json
+// Exit 77 (CTest's skip) when the npm packages are missing. The bags are build artifacts.
+"use strict";
+const fs = require("fs");
+const path = require("path");
+
+const SKIP = 77;
+let deps;
+try {
+  deps = {
+    Bag: require("@foxglove/rosbag").Bag,
+    FileReader: require("@foxglove/rosbag/node").FileReader,
+    Bzip2: require("@foxglove/wasm-bz2"),
+    rosmsg: require("@foxglove/rosmsg"),
+    MessageWriter: require("@foxglove/rosmsg2-serialization").MessageWriter,
+    mcap: require("@mcap/core"),
+    lz4: require("lz4js"),
+    zstd: require("@foxglove/wasm-zstd"),
+    initSqlJs: require("sql.js"),
+  };
+} catch (e) {
+  console.log(`SKIPPED: npm packages missing (${e.message.split("\n")[0]}): run scripts/install-web-deps.sh`);
+  process.exit(SKIP);
+}
+
+const SEP = "\n================================================================================\nMSG: ";
+const TIME = "builtin_interfaces/Time\nint32 sec\nuint32 nanosec";
+const HEADER = "std_msgs/Header\nbuiltin_interfaces/Time stamp\nstring frame_id";
+const VECTOR3 = "geometry_msgs/Vector3\nfloat64 x\nfloat64 y\nfloat64 z";
+const QUATERNION = "geometry_msgs/Quaternion\nfloat64 x 0\nfloat64 y 0\nfloat64 z 0\nfloat64 w 1";
+// ROS 2 (Humble) definitions in the concatenated form rosbag2 stores as `ros2msg` schemas.
+const DEFINITIONS = {
+  "sensor_msgs/msg/LaserScan": [
+    "std_msgs/Header header\nfloat32 angle_min\nfloat32 angle_max\nfloat32 angle_increment\n" +
+      "float32 time_increment\nfloat32 scan_time\nfloat32 range_min\nfloat32 range_max\n" +
+      "float32[] ranges\nfloat32[] intensities",
+    HEADER, TIME,
+  ],
+  "nav_msgs/msg/Odometry": [
+    "std_msgs/Header header\nstring child_frame_id\ngeometry_msgs/PoseWithCovariance pose\n" +
+      "geometry_msgs/TwistWithCovariance twist",
+    HEADER, TIME,
+    "geometry_msgs/PoseWithCovariance\ngeometry_msgs/Pose pose\nfloat64[36] covariance",
+    "geometry_msgs/Pose\ngeometry_msgs/Point position\ngeometry_msgs/Quaternion orientation",
+    "geometry_msgs/Point\nfloat64 x\nfloat64 y\nfloat64 z",
+    QUATERNION,
+    "geometry_msgs/TwistWithCovariance\ngeometry_msgs/Twist twist\nfloat64[36] covariance",
+    "geometry_msgs/Twist\ngeometry_msgs/Vector3 linear\ngeometry_msgs/Vector3 angular",
+    VECTOR3,
+  ],
+  "tf2_msgs/msg/TFMessage": [
+    "geometry_msgs/TransformStamped[] transforms",
+    "geometry_msgs/TransformStamped\nstd_msgs/Header header\nstring child_frame_id\n" +
+      "geometry_msgs/Transform transform",
+    HEADER, TIME,
+    "geometry_msgs/Transform\ngeometry_msgs/Vector3 translation\ngeometry_msgs/Quaternion rotation",
+    VECTOR3, QUATERNION,
+  ],
+  "sensor_msgs/msg/Image": [
+    "std_msgs/Header header\nuint32 height\nuint32 width\nstring encoding\nuint8 is_bigendian\n" +
+      "uint32 step\nuint8[] data",
+    HEADER, TIME,
+  ],
+  "sensor_msgs/msg/CompressedImage": ["std_msgs/Header header\nstring format\nuint8[] data", HEADER, TIME],
+  "sensor_msgs/msg/CameraInfo": [
+    "std_msgs/Header header\nuint32 height\nuint32 width\nstring distortion_model\nfloat64[] d\n" +
+      "float64[9] k\nfloat64[9] r\nfloat64[12] p\nuint32 binning_x\nuint32 binning_y\n" +
+      "sensor_msgs/RegionOfInterest roi",
+    HEADER, TIME,
+    "sensor_msgs/RegionOfInterest\nuint32 x_offset\nuint32 y_offset\nuint32 height\nuint32 width\nbool do_rectify",
+  ],
+};
+
+function schemaText(type) {
+  const [root, ...deps] = DEFINITIONS[type];
+  return root + deps.map((d) => SEP + d).join("");
+}
+
+const writers = new Map();
+function serialize(type, message) {
+  if (!writers.has(type)) {
+    writers.set(type, new deps.MessageWriter(deps.rosmsg.parse(schemaText(type), { ros2: true })));
+  }
+  return writers.get(type).writeMessage(message);
+}
+
+// ROS 1 -> ROS 2 message objects.
+const frame = (f) => (f.startsWith("/") ? f.slice(1) : f);
+const header = (h) => ({ stamp: { sec: h.stamp.sec, nanosec: h.stamp.nsec }, frame_id: frame(h.frame_id) });
+const CONVERT = {
+  "sensor_msgs/LaserScan": ["sensor_msgs/msg/LaserScan", (m) => ({ ...m, header: header(m.header) })],
+  "nav_msgs/Odometry": [
+    "nav_msgs/msg/Odometry",
+    (m) => ({ ...m, header: header(m.header), child_frame_id: frame(m.child_frame_id) }),
+  ],
+  "tf2_msgs/TFMessage": [
+    "tf2_msgs/msg/TFMessage",
+    (m) => ({
+      transforms: m.transforms.map((t) => ({ ...t, header: header(t.header), child_frame_id: frame(t.child_frame_id) })),
+    }),
+  ],
+};
+
+// Reads the ROS 1 bag: [{topic, type (ROS 2), logTime (ns, BigInt), data (CDR)}], plus the
+// /tf_static a ROS 2 robot would publish: every /tf edge whose transform never changes.
+async function readRos1(file) {
+  const bz2 = await deps.Bzip2.init();
+  const reader = new deps.FileReader(file);
+  const bag = new deps.Bag(reader, {
+    parse: true,
+    decompress: { bz2: (buffer, size) => bz2.decompress(buffer, size, { small: false }) },
+  });
+  await bag.open();
+  const out = [];
+  const edges = new Map();  // "parent child" -> {transform, changed}
+  let firstNs = null;
+  for await (const e of bag.messageIterator()) {
+    const conv = CONVERT[bag.connections.get(e.connectionId).type];
+    if (!conv) continue;
+    const ns = BigInt(e.timestamp.sec) * 1000000000n + BigInt(e.timestamp.nsec);
+    if (firstNs === null) firstNs = ns;
+    const msg = conv[1](e.message);
+    out.push({ topic: e.topic, type: conv[0], logTime: ns, data: serialize(conv[0], msg) });
+    if (conv[0] === "tf2_msgs/msg/TFMessage") {
+      for (const t of msg.transforms) {
+        const key = `${t.header.frame_id} ${t.child_frame_id}`;
+        const v = JSON.stringify(t.transform);
+        const seen = edges.get(key);
+        if (!seen) edges.set(key, { t, v, changed: false, n: 1 });
+        else {
+          seen.n += 1;
+          if (seen.v !== v) seen.changed = true;
+        }
+      }
+    }
+  }
+  await reader.close();
+  const statics = [...edges.values()].filter((e) => !e.changed && e.n > 1).map((e) => e.t);
+  if (statics.length > 0) {
+    const m = { transforms: statics };
+    out.unshift({ topic: "/tf_static", type: "tf2_msgs/msg/TFMessage", logTime: firstNs,
+                  data: serialize("tf2_msgs/msg/TFMessage", m) });
+  }
+  return out;
+}
+
+async function writeMcap(file, messages, { compression = "", indexed = true, chunkSize = 256 * 1024 } = {}) {
+  const fd = fs.openSync(file, "w");
+  let position = 0n;
+  const writable = {
+    position: () => position,
+    write: async (buffer) => {
+      fs.writeSync(fd, buffer);
+      position += BigInt(buffer.byteLength);
+    },
+  };
+  const compressChunk =
+    compression === "lz4" ? (d) => ({ compression: "lz4", compressedData: Uint8Array.from(deps.lz4.compress(d)) })
+      : compression === "zstd" ? (d) => ({ compression: "zstd", compressedData: deps.zstd.compress(d, 3) })
+      : undefined;
+  const flags = indexed ? {} : {
+    useStatistics: false, useSummaryOffsets: false, repeatSchemas: false, repeatChannels: false,
+    useAttachmentIndex: false, useMetadataIndex: false, useMessageIndex: false, useChunkIndex: false,
+  };
+  const writer = new deps.mcap.McapWriter({ writable, chunkSize, compressChunk, ...flags });
+  await writer.start({ profile: "ros2", library: "plugslam tests/node/ros2_bags.js" });
+  const channels = new Map();
+  for (const m of messages) {
+    if (!channels.has(m.topic)) {
+      const schemaId = await writer.registerSchema({
+        name: m.type, encoding: "ros2msg", data: new TextEncoder().encode(schemaText(m.type)),
+      });
+      channels.set(m.topic, await writer.registerChannel({
+        topic: m.topic, schemaId, messageEncoding: "cdr", metadata: new Map(),
+      }));
+    }
+    await writer.addMessage({
+      channelId: channels.get(m.topic), sequence: 0, logTime: m.logTime, publishTime: m.logTime, data: m.data,
+    });
+  }
+  await writer.end();
+  fs.closeSync(fd);
+}
+
+async function writeDb3(file, messages) {
+  const SQL = await deps.initSqlJs();
+  const db = new SQL.Database();
+  // rosbag2's SQLite layout (schema version 3: what Humble's sqlite3 storage plugin reads).
+  db.run("CREATE TABLE schema(schema_version INTEGER PRIMARY KEY, ros_distro TEXT NOT NULL);" +
+         "INSERT INTO schema VALUES (3, 'humble');" +
+         "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT NOT NULL, type TEXT NOT NULL, " +
+         "serialization_format TEXT NOT NULL, offered_qos_profiles TEXT NOT NULL);" +
+         "CREATE TABLE messages(id INTEGER PRIMARY KEY, topic_id INTEGER NOT NULL, " +
+         "timestamp INTEGER NOT NULL, data BLOB NOT NULL);" +
+         "CREATE INDEX timestamp_idx ON messages (timestamp ASC);");
+  const ids = new Map();
+  db.run("BEGIN");
+  for (const m of messages) {
+    if (!ids.has(m.topic)) {
+      ids.set(m.topic, ids.size + 1);
+      db.run("INSERT INTO topics VALUES (?, ?, ?, 'cdr', '')", [ids.get(m.topic), m.topic, m.type]);
+    }
+    // The stamp as an SQL literal: nanoseconds since 1970 exceed a double's 53 bits.
+    db.run(`INSERT INTO messages (topic_id, timestamp, data) VALUES (?, ${m.logTime.toString()}, ?)`,
+           [ids.get(m.topic), m.data]);
+  }
+  db.run("COMMIT");
+  fs.writeFileSync(file, Buffer.from(db.export()));
+  db.close();
+}
+
+function writeMetadata(folder, storage, files, messages) {
+  const counts = new Map();
+  for (const m of messages) {
+    const c = counts.get(m.topic) || { type: m.type, n: 0 };
+    c.n += 1;
+    counts.set(m.topic, c);
+  }
+  const first = messages.reduce((a, m) => (m.logTime < a ? m.logTime : a), messages[0].logTime);
+  const last = messages.reduce((a, m) => (m.logTime > a ? m.logTime : a), messages[0].logTime);
+  let y = "rosbag2_bagfile_information:\n  version: 5\n";
+  y += `  storage_identifier: ${storage}\n`;
+  y += `  duration:\n    nanoseconds: ${last - first}\n`;
+  y += `  starting_time:\n    nanoseconds_since_epoch: ${first}\n`;
+  y += `  message_count: ${messages.length}\n  topics_with_message_count:\n`;
+  for (const [topic, c] of counts) {
+    y += `    - topic_metadata:\n        name: ${topic}\n        type: ${c.type}\n` +
+         `        serialization_format: cdr\n        offered_qos_profiles: ""\n` +
+         `      message_count: ${c.n}\n`;
+  }
+  y += "  compression_format: \"\"\n  compression_mode: \"\"\n  relative_file_paths:\n";
+  for (const f of files) y += `    - ${f}\n`;
+  fs.writeFileSync(path.join(folder, "metadata.yaml"), y);
+}
+
+// Messages of known values for the CDR decoders' test.
+function cameraMessages() {
+  const stamp = { sec: 1700000000, nanosec: 123456789 };
+  const h = { stamp, frame_id: "camera_optical" };
+  const pixels = new Uint8Array(4 * 3 * 3).map((_, i) => i);
+  const info = {
+    header: h, height: 3, width: 4, distortion_model: "plumb_bob", d: [0.1, -0.2, 0.001, 0.002, 0.05],
+    k: [500, 0, 320.5, 0, 501, 240.25, 0, 0, 1], r: [1, 0, 0, 0, 1, 0, 0, 0, 1],
+    p: [500, 0, 320.5, -25, 0, 501, 240.25, 0, 0, 0, 1, 0], binning_x: 1, binning_y: 2,
+    roi: { x_offset: 5, y_offset: 6, height: 7, width: 8, do_rectify: true },
+  };
+  const tf = { transforms: [
+    { header: { stamp, frame_id: "base_link" }, child_frame_id: "laser",
+      transform: { translation: { x: 0.25, y: -0.1, z: 0.3 }, rotation: { x: 0, y: 0, z: Math.sin(0.25), w: Math.cos(0.25) } } },
+    { header: { stamp, frame_id: "base_link" }, child_frame_id: "camera_optical",
+      transform: { translation: { x: 0.1, y: 0, z: 0.5 }, rotation: { x: -0.5, y: 0.5, z: -0.5, w: 0.5 } } },
+  ] };
+  const ns = BigInt(stamp.sec) * 1000000000n + BigInt(stamp.nanosec);
+  const list = [
+    ["/camera/image_raw", "sensor_msgs/msg/Image",
+     { header: h, height: 3, width: 4, encoding: "rgb8", is_bigendian: 0, step: 12, data: pixels }],
+    ["/camera/image_raw/compressed", "sensor_msgs/msg/CompressedImage",
+     { header: h, format: "jpeg", data: new Uint8Array([0xff, 0xd8, 0xff, 0xd9, 7]) }],
+    ["/camera/camera_info", "sensor_msgs/msg/CameraInfo", info],
+    ["/tf_static", "tf2_msgs/msg/TFMessage", tf],
+  ];
+  return list.map(([topic, type, m], i) => ({ topic, type, logTime: ns + BigInt(i), data: serialize(type, m) }));
+}
+
+async function main() {
+  const [input, outDir] = process.argv.slice(2);
+  if (!input || !outDir) {
+    console.error("usage: node ros2_bags.js IN.bag OUT_DIR");
+    process.exit(2);
+  }
+  await deps.zstd.isLoaded;
+  fs.mkdirSync(outDir, { recursive: true });
+  const messages = await readRos1(input);
+  const out = (f) => path.join(outDir, f);
+  const bags = {};
+  await writeMcap(out("dis_none.mcap"), messages, {});
+  bags.mcap_none = out("dis_none.mcap");
+  await writeMcap(out("dis_zstd.mcap"), messages, { compression: "zstd" });
+  bags.mcap_zstd = out("dis_zstd.mcap");
+  await writeMcap(out("dis_unindexed_lz4.mcap"), messages, { compression: "lz4", indexed: false });
+  bags.mcap_unindexed_lz4 = out("dis_unindexed_lz4.mcap");
+  fs.mkdirSync(out("dis_lz4"), { recursive: true });
+  await writeMcap(path.join(out("dis_lz4"), "dis_lz4_0.mcap"), messages, { compression: "lz4" });
+  writeMetadata(out("dis_lz4"), "mcap", ["dis_lz4_0.mcap"], messages);
+  bags.folder_mcap_lz4 = out("dis_lz4");
+  fs.mkdirSync(out("dis_db3"), { recursive: true });
+  await writeDb3(path.join(out("dis_db3"), "dis_db3_0.db3"), messages);
+  writeMetadata(out("dis_db3"), "sqlite3", ["dis_db3_0.db3"], messages);
+  bags.folder_db3 = out("dis_db3");
+  bags.db3 = path.join(out("dis_db3"), "dis_db3_0.db3");
+  await writeMcap(out("camera.mcap"), cameraMessages(), { compression: "zstd" });
+  bags.camera = out("camera.mcap");
+  fs.writeFileSync(out("bags.json"), JSON.stringify(bags, null, 1));
+  console.log(`wrote ${Object.keys(bags).length} bags of ${messages.length} messages into ${outDir}`);
+}
+
+main().catch((e) => {
+  console.error(`FAIL: ${e.stack || e}`);
+  process.exit(1);
+});
