@@ -9,13 +9,7 @@ need=()
 command -v node > /dev/null || need+=(nodejs)
 command -v npm > /dev/null || need+=(npm)
 if [ "${1:-}" = "--browser" ] && [ ! -x /usr/bin/chromium ]; then need+=(chromium); fi
-if [ ${#need[@]} -gt 0 ]; then
-  SUDO=""
-  if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-  echo "install-web-deps: installing ${need[*]}"
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${need[@]}"
-fi
+if [ ${#need[@]} -gt 0 ]; then "$root/scripts/apt-install.sh" install-web-deps "${need[@]}"; fi
 web="$root/runtime/web"
 stamp="$web/node_modules/.package-lock.json"
 if [ ! -f "$stamp" ] || [ "$web/package-lock.json" -nt "$stamp" ]; then

@@ -1,5 +1,6 @@
 #include "run_config.h"
 
+#include "entry_check.h"
 #include "plugslam/errors.h"
 
 namespace plugslam::runtime {
@@ -16,6 +17,8 @@ std::shared_ptr<RunConfig> buildRun(const ConfigDocument& doc, PluginManager& pl
   builder.configureRoot(*run);  // throws every error found, this one included
   if (!run->source)
     builder.fail(doc.root, "source", "missing 'source:' (where frames come from)");
+  checkEntries(*run, doc, builder);
+  builder.check();
   return run;
 }
 

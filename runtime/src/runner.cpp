@@ -71,6 +71,15 @@ std::string runReportJson(const RunReport& r) {
                            modules.empty() ? "" : ",", m.module, m.total_s, m.calls,
                            m.calls ? 1e3 * m.total_s / m.calls : 0.0);
   }
+  std::string statistics;
+  for (const auto& [module, figures] : r.statistics) {
+    std::string fields;
+    for (const auto& f : figures)
+      fields += fmt::format("{}{}: {}", fields.empty() ? "" : ", ", jsonString(f.name),
+                            jsonNumber(f.value));
+    statistics += fmt::format("{}\n    {}: {{{}}}", statistics.empty() ? "" : ",",
+                              jsonString(module), fields);
+  }
   return fmt::format(
       "{{\n  \"frames\": {},\n  \"wall_time_s\": {:.6f},\n  \"hz\": {:.3f},\n  \"pipeline_time_s\": {:.6f},\n  \"pipeline_hz\": {:.3f},\n  \"stopped_by\": "
       "\"{}\",\n  \"error\": {},\n  \"tracked_frames\": {},\n  \"local_maps\": {},\n  \"tracking_failures\": {},\n"
@@ -80,13 +89,21 @@ std::string runReportJson(const RunReport& r) {
       "\"loops_rejected\": {}, \"optimizations\": {}, \"optimization_time_s\": {:.6f}, "
       "\"loop_detection_time_s\": {:.6f}, \"loop_validation_time_s\": {:.6f}, "
       "\"final_chi2\": {:.6f}}},\n"
-      "  \"modules\": {{{}\n  }}\n}}\n",
+      "  \"modules\": {{{}\n  }},\n  \"statistics\": {{{}\n  }}\n}}\n",
       r.frames, r.wall_s, r.hz, r.pipeline_s, r.pipeline_hz, r.stopped_by, r.error.empty() ? "null" : jsonString(r.error), r.tracked,
       r.local_maps, r.tracking_failures, r.module_errors,
       jsonNumber(r.ate_rmse), jsonNumber(r.ate_max), jsonNumber(r.rpe_rmse), r.graph.nodes,
       r.graph.edges, r.graph.candidates, r.graph.loops_accepted, r.graph.loops_rejected,
       r.graph.optimizations, r.graph.optimization_time, r.graph.detection_time,
-      r.graph.validation_time, r.graph.final_chi2, modules);
+      r.graph.validation_time, r.graph.final_chi2, modules, statistics);
+}
+
+std::string scoreLine(const RunReport& r, const std::string& reference) {
+  if (!r.ate_rmse) return "";
+  std::string line = fmt::format("against '{}': ATE rmse {:.4f} m (max {:.4f} m), ", reference,
+                                 *r.ate_rmse, r.ate_max.value_or(NAN));
+  if (r.rpe_rmse) return line + fmt::format("RPE(1 m) rmse {:.4f} m\n", *r.rpe_rmse);
+  return line + "no RPE(1 m): " + r.rpe_unavailable + "\n";
 }
 
 // Runs one call into a source or sink (plugin code) so that whatever it throws names the module:
@@ -115,12 +132,26 @@ static void scoreAgainstGroundTruth(const RunResult& result, int dimension, RunR
     AteResult a = computeAte(result.reference, result.trajectory, ate);
     report.ate_rmse = a.translation.rmse;
     report.ate_max = a.translation.max;
-    RpeOptions rpe;
-    rpe.unit = RpeUnit::Meters;
-    rpe.delta = 1.0;
-    report.rpe_rmse = computeRpe(result.reference, result.trajectory, rpe).translation.rmse;
   } catch (const InputError& e) {
     spdlog::warn("cannot score against ground truth: {}", e.what());
+    return;
+  }
+  RpeOptions rpe;
+  rpe.unit = RpeUnit::Meters;
+  rpe.delta = 1.0;
+  double path = 0;
+  for (size_t i = 1; i < result.reference.size(); ++i)
+    path += (result.reference[i].pose.translation() - result.reference[i - 1].pose.translation())
+                .norm();
+  if (path < rpe.delta) {
+    report.rpe_unavailable = fmt::format(
+        "the run is too short for it (the reference path is {:.2f} m)", path);
+    return;
+  }
+  try {
+    report.rpe_rmse = computeRpe(result.reference, result.trajectory, rpe).translation.rmse;
+  } catch (const InputError& e) {
+    report.rpe_unavailable = e.what();
   }
 }
 
@@ -134,6 +165,7 @@ Execution::Execution(RunConfig& run, RunOptions options)
   for (auto& sink : run_.outputs) asModule(*sink, [&] { sink->begin(options_.out_dir); });
   report_.stopped_by = "end of data";
   total_ = run_.source->sizeHint();
+  if (run_.max_frames() > 0 && (total_ < 0 || total_ > run_.max_frames())) total_ = run_.max_frames();
   start_ = std::chrono::steady_clock::now();
 }
 
@@ -236,6 +268,16 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
     spdlog::warn("{} frame(s) skipped because a module failed (on_module_error: skip)",
                  report.module_errors);
   Pipeline& pipeline = *run_.pipeline;
+  // options_.finishing hears when the final work ends, however it ends.
+  struct Finishing {
+    const std::function<void(bool)>& tell;
+    explicit Finishing(const std::function<void(bool)>& f) : tell(f) {
+      if (tell) tell(false);
+    }
+    ~Finishing() {
+      if (tell) tell(true);
+    }
+  } finishing(options_.finishing);
   pipeline.finish();
   RunResult result = pipeline.result();
   if (pipeline.graph) report.graph = pipeline.graph->stats();
@@ -270,6 +312,7 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
   report.hz = report.wall_s > 0 ? report.frames / report.wall_s : 0;
   report.modules = io_timings_.entries();
   for (const auto& e : pipeline.timings().entries()) report.modules.push_back(e);
+  report.statistics = collectStatistics(pipeline);
   writeTextFileAtomic((fs::path(options_.out_dir) / "run.json").string(), runReportJson(report));
   if (sink_failure) std::rethrow_exception(sink_failure);
   return report;

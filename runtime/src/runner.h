@@ -8,6 +8,7 @@
 
 #include "plugslam/errors.h"
 #include "playback_clock.h"
+#include "plugslam/statistics.h"
 #include "plugslam/timings.h"
 #include "run_config.h"
 
@@ -30,6 +31,9 @@ struct RunReport {
   GraphStats graph;  ///< loops accepted/rejected, optimization time
   /// Against the source's ground truth, when it has one (SE2/SE3-aligned ATE, RPE over 1 m).
   std::optional<double> ate_rmse, ate_max, rpe_rmse;
+  std::string rpe_unavailable;  ///< why rpe_rmse is empty when ate_rmse is set (a short run)
+  /// Figures the modules report themselves (StatisticsSource), by module name.
+  std::vector<std::pair<std::string, std::vector<Statistic>>> statistics;
 };
 
 class Execution;
@@ -60,6 +64,10 @@ struct RunOptions {
   /// Called once when `interrupted` stopped the run, before the run finishes: the final
   /// optimization of a large graph can take minutes, so a front-end saves what is built first.
   std::function<void()> on_interrupt;
+  /// Called with false when the run's final work starts (the back-end's final loop passes and
+  /// optimization, the sinks' outputs: seconds to minutes on a large graph, with no frames to
+  /// count) and with true when it ends, also on an error; may be empty.
+  std::function<void(bool done)> finishing;
   /// Called when an error stopped the run, after its outputs and run.json were written (so a
   /// front-end can save the session); may be empty. The error is rethrown afterwards.
   std::function<void()> stopped_by_error;
@@ -93,7 +101,7 @@ class Execution {
   uint64_t frames() const { return report_.frames; }
   /// Seconds since the run started.
   double elapsed() const;
-  /// Frames in the source, or -1.
+  /// Frames this run will process: the source's count, bounded by max_frames; -1 if unknown.
   int64_t total() const { return total_; }
   /// True once the data (or max_frames) is exhausted.
   bool exhausted() const { return exhausted_; }
@@ -123,6 +131,10 @@ class Execution {
 /// module) stops it cleanly: the run is finished (outputs, run.json with the error), then
 /// options.stopped_by_error is called and the error rethrown.
 RunReport runPipeline(RunConfig& run, const RunOptions& options);
+
+/// "against 'REFERENCE': ATE ..., RPE(1 m) ..." (or why there is no RPE), one line; empty when
+/// the run was not scored. `reference`: the pipeline's reference entry.
+std::string scoreLine(const RunReport& report, const std::string& reference);
 
 /// run.json's content.
 std::string runReportJson(const RunReport& report);

@@ -7,9 +7,11 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <optional>
 
 #include "plugslam/archive.h"
 #include "plugslam/property_container.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -19,14 +21,10 @@ namespace {
 class AtomicFile : public ::testing::Test {
  protected:
   void SetUp() override {
-    const std::string name = std::string("plugslam_atomic_") +
-                             ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
-                             std::to_string(::getpid());
-    dir_ = fs::temp_directory_path() / name;
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    tmp_.emplace("plugslam_atomic");  // a fresh folder of this test's own
+    dir_ = tmp_->path();
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  void TearDown() override { tmp_.reset(); }
 
   std::vector<std::string> entries() const {
     std::vector<std::string> out;
@@ -41,6 +39,8 @@ class AtomicFile : public ::testing::Test {
     ss << in.rdbuf();
     return ss.str();
   }
+
+  std::optional<plugslam::testing::TempDir> tmp_;
 
   fs::path dir_;
 };

@@ -15,6 +15,7 @@
 #include "plugslam/eval/rpe.h"
 #include "plugslam/trajectory.h"
 #include "test_paths.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 using namespace plugslam;
@@ -70,8 +71,10 @@ Crispness crispness(const std::string& log, const fs::path& out, const std::stri
 }
 
 
+// A folder inside this test process's own fresh temporary folder.
 fs::path tempDir(const std::string& name) {
-  fs::path d = fs::temp_directory_path() / ("plugslam_it_" + std::to_string(::getpid()) + name);
+  static const plugslam::testing::TempDir tmp("plugslam_it");
+  fs::path d = tmp.path() / name;
   fs::create_directories(d);
   return d;
 }

@@ -8,6 +8,7 @@
 #include "plugslam/geometry.h"
 #include "plugslam/landmarks/landmark_slices.h"
 #include "plugslam/multi_aligner.h"
+#include "plugslam/slice_check.h"
 
 namespace plugslam {
 namespace {
@@ -172,6 +173,62 @@ TEST(ReprojectionSlice, AlignsAPlanarRobotThroughTheCameraMount) {
   // Measured under 1 cm and 0.01 deg; 3 cm / 0.2 deg catch a wrong tangent embedding.
   EXPECT_LT(err.head<2>().norm(), 0.03);
   EXPECT_LT(std::abs(err.z()), 0.2 * M_PI / 180);
+}
+
+// The slice's factors as the aligner sees them, at `at`, against a map made from `reference`.
+template <class S>
+SliceJacobianCheck checkReprojectionJacobians(const FeatureSet& reference,
+                                              const FeatureSet& current,
+                                              const typename S::Pose& at) {
+  PropertyContainer scene;
+  Frame ref;
+  ref.measurement.set<FeatureSet>("features", reference);
+  LandmarkMapSlice<S> merger;
+  merger.configure();
+  merger.merge(ref, scene, S::Pose::Identity());
+  ReprojectionSlice<S> slice;
+  slice.configure();
+  Frame frame;
+  frame.measurement.set<FeatureSet>("features", current);
+  EXPECT_TRUE(slice.bind(frame, scene, AlignContext<S>{at, at}));
+  slice.associate(at);
+  EXPECT_GT(slice.matches().size(), 100u);
+  return checkSliceJacobians(slice, at);
+}
+
+// Every factor the slice adds passes the SDK's Jacobian check (central differences through the
+// pose variable's oplus, the aligner's boxplus): in 3D, and in 2D through a tilted mount, where
+// the Jacobian is the 3D one restricted to (x, y, theta); with and without depth.
+TEST(ReprojectionSlice, EveryFactorPassesTheJacobianCheck) {
+  std::mt19937 rng(6);
+  const Eigen::Isometry3d id = Eigen::Isometry3d::Identity();
+  {
+    const World w = makeWorld(rng, 600);
+    Vector6d motion;
+    motion << 0.1, -0.05, 1.0, 0.01, 0.03, -0.005;
+    const FeatureSet a = observe(w, id, id, rng, 0.5, 0.2, 0.0);
+    FeatureSet b = observe(w, se3(motion), id, rng, 0.5, 0.2, 0.0);
+    for (size_t i = 0; i < b.size(); i += 2) b.inverse_depth[i] = 0;  // half without depth
+    // Away from the solution, so that the errors are not zero.
+    motion << 0.12, -0.04, 0.97, 0.012, 0.028, -0.004;
+    const SliceJacobianCheck r = checkReprojectionJacobians<Space3D>(a, b, se3(motion));
+    EXPECT_GT(r.factors, 100u);
+    EXPECT_TRUE(r.ok()) << r;
+  }
+  {
+    World w = makeWorld(rng, 600);
+    Eigen::Isometry3d mount = Eigen::Isometry3d::Identity();
+    mount.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+    mount.translation() << 0.3, 0.1, 1.2;
+    for (auto& p : w.points) p = mount * p;
+    const FeatureSet a = observe(w, mount, mount, rng, 0.5, 0.2, 0.0);
+    const Eigen::Isometry3d camera_in_world = Space2D::to3D(se2(0.8, 0.1, 0.05)) * mount;
+    FeatureSet b = observe(w, camera_in_world, mount, rng, 0.5, 0.2, 0.0);
+    for (size_t i = 1; i < b.size(); i += 2) b.inverse_depth[i] = 0;
+    const SliceJacobianCheck r = checkReprojectionJacobians<Space2D>(a, b, se2(0.78, 0.11, 0.052));
+    EXPECT_GT(r.factors, 100u);
+    EXPECT_TRUE(r.ok()) << r;
+  }
 }
 
 TEST(LandmarkMapSlice, KeepsTracksRefinesAndPrunes) {

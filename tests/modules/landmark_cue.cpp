@@ -7,39 +7,23 @@
 
 namespace plugslam::testing {
 
-bool LandmarkSlice::bind(const Frame& frame, const PropertyContainer& scene,
-                         const AlignContext<Space2D>&) {
-  measured_ = frame.measurement.find<Landmarks>(entry());
-  mapped_ = scene.find<Landmarks>(entry());
-  return measured_ && mapped_;
-}
-
-void LandmarkSlice::linearize(const Eigen::Isometry2d& t, NormalEquations<Space2D>& eq) const {
-  const double w = 1.0 / (sigma() * sigma());
-  const Eigen::Matrix2d r = t.linear();
-  for (size_t i = 0; i < measured_->size(); ++i) {
-    const Eigen::Vector2d& p = (*measured_)[i];
+void LandmarkSliceBase::linearize(const Eigen::Isometry2d& t, NormalEquations<Space2D>& eq) const {
+  const double w = information();
+  const Landmarks& measured = *measurement;
+  const Landmarks& mapped = *scene;
+  for (size_t i = 0; i < measured.size(); ++i) {
+    const Eigen::Vector2d& p = measured[i];
     if (!p.allFinite()) continue;
     ++eq.candidates;
-    if (i >= mapped_->size() || !(*mapped_)[i].allFinite()) continue;
-    const Eigen::Vector2d e = t * p - (*mapped_)[i];
-    Eigen::Matrix<double, 2, 3> j;
-    j.leftCols<2>() = r;
-    j.col(2) = r * Eigen::Vector2d(-p.y(), p.x());
-    eq.H += w * j.transpose() * j;
-    eq.b += w * j.transpose() * e;
-    eq.chi2 += w * e.squaredNorm();
-    ++eq.factors;
-    ++eq.inliers;
+    if (i >= mapped.size() || !mapped[i].allFinite()) continue;
+    eq.add(PointToPoint2D{p, mapped[i]}, t, w);
   }
 }
 
-void LandmarkMapSlice::merge(const Frame& frame, PropertyContainer& scene,
-                             const Eigen::Isometry2d& t) {
-  const Landmarks* m = frame.measurement.find<Landmarks>(entry());
-  if (!m) return;
-  Landmarks* map = scene.find<Landmarks>(entry());
-  if (!map) map = &scene.set<Landmarks>(entry(), {});
+void LandmarkMapSlice::integrate(const MergeContext<Space2D>& context) {
+  const Eigen::Isometry2d& t = context.pose;
+  const Landmarks* m = measurement.get();
+  Landmarks* map = &scene.getOrInsert();
   if (map->size() < m->size())
     map->resize(m->size(), Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN()));
   for (size_t i = 0; i < m->size(); ++i)

@@ -13,24 +13,36 @@ namespace plugslam::testing {
 using Landmarks = std::vector<Eigen::Vector2d>;
 
 /// Point-to-point factors between measured and mapped landmarks of the same id.
-class LandmarkSlice : public AlignerSlice<Space2D> {
+class LandmarkSliceBase : public AlignerSlice<Space2D> {
  public:
-  Param<std::string> entry{this, "entry", "landmarks", "", "measurement and scene entry"};
-  Param<double> sigma{this, "sigma", 0.01, "m", "measurement noise"};
-  bool bind(const Frame& frame, const PropertyContainer& scene,
-            const AlignContext<Space2D>&) override;
+  Input<Landmarks> measurement{this, Container::measurement, "measurement", "landmarks",
+                               "measured landmarks"};
+  Input<Landmarks> scene{this, Container::scene, "scene", "landmarks", "mapped landmarks"};
   void linearize(const Eigen::Isometry2d& t, NormalEquations<Space2D>& eq) const override;
 
- private:
-  const Landmarks* measured_ = nullptr;
-  const Landmarks* mapped_ = nullptr;
+ protected:
+  /// The information of each landmark's factor.
+  virtual double information() const = 0;
+};
+
+/// The landmark slice with its noise as a sigma.
+class LandmarkSlice : public LandmarkSliceBase {
+ public:
+  Param<double> sigma{this, "sigma", 0.01, "m", "measurement noise"};
+
+ protected:
+  double information() const override { return 1.0 / (sigma() * sigma()); }
 };
 
 /// Adds newly seen landmarks to the scene (in the scene frame).
 class LandmarkMapSlice : public TrackerSlice<Space2D> {
  public:
-  Param<std::string> entry{this, "entry", "landmarks", "", "measurement and scene entry"};
-  void merge(const Frame& frame, PropertyContainer& scene, const Eigen::Isometry2d& t) override;
+  Input<Landmarks> measurement{this, Container::measurement, "measurement", "landmarks",
+                               "measured landmarks"};
+  Output<Landmarks> scene{this, Container::scene, "scene", "landmarks", "mapped landmarks"};
+
+ protected:
+  void integrate(const MergeContext<Space2D>& context) override;
 };
 
 /// Registers both as "lmtest.LandmarkSlice" / "lmtest.LandmarkMapSlice" (once).

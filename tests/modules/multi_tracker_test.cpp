@@ -8,6 +8,7 @@
 #include "landmark_cue.h"
 #include "plugslam/multi_tracker.h"
 #include "plugslam/registry.h"
+#include "plugslam/slice_check.h"
 
 using namespace plugslam;
 using namespace plugslam::testing;
@@ -58,6 +59,88 @@ TEST(MultiAligner, RecoversAKnownOffsetWithOneSlice) {
   EXPECT_GT(r.inliers, 10u);
   EXPECT_DOUBLE_EQ(r.overlap(), 1.0);
   EXPECT_GT(r.H.determinant(), 0);
+}
+
+TEST(MultiAligner, CountsFactorsInliersAndCandidatesPerSlice) {
+  // Two slices on two landmark cues: the result's totals are the sums of the per-slice counts,
+  // and each slice's are its own cue's (every landmark seen is a candidate; the ones the map
+  // has make factors).
+  registerLandmarkCue();
+  const Landmarks world = grid(2.0, 8.0);
+  MultiAligner<Space2D> aligner;
+  auto near = std::make_shared<LandmarkSlice>(), far = std::make_shared<LandmarkSlice>();
+  near->setName("near");
+  far->setName("far");
+  far->measurement = "far";
+  far->scene = "far";
+  aligner.slices.assign(near);
+  aligner.slices.assign(far);
+  const Eigen::Isometry2d truth = se2(0.3, -0.2, 0.1);
+  PropertyContainer scene;
+  scene.set<Landmarks>("landmarks", world);
+  Landmarks half = world;
+  half.resize(world.size() / 2);  // the map knows only the first half of the far cue
+  scene.set<Landmarks>("far", half);
+  Frame frame;
+  const Landmarks seen = observe(world, truth, 6.0), seen_far = observe(world, truth, 12.0);
+  frame.measurement.set<Landmarks>("landmarks", seen);
+  frame.measurement.set<Landmarks>("far", seen_far);
+  auto count = [](const Landmarks& l, size_t n) {
+    size_t k = 0;
+    for (size_t i = 0; i < std::min(n, l.size()); ++i) k += l[i].allFinite();
+    return k;
+  };
+  const AlignResult<Space2D> r = aligner.align(
+      frame, scene, {Eigen::Isometry2d::Identity(), Eigen::Isometry2d::Identity()});
+  ASSERT_TRUE(r.valid);
+  ASSERT_EQ(r.cues.size(), 2u);
+  EXPECT_EQ(r.cues[0].slice, "near");
+  EXPECT_EQ(r.cues[0].candidates, count(seen, seen.size()));
+  EXPECT_EQ(r.cues[0].factors, count(seen, seen.size()));
+  EXPECT_EQ(r.cues[1].slice, "far");
+  EXPECT_EQ(r.cues[1].candidates, count(seen_far, seen_far.size()));
+  EXPECT_EQ(r.cues[1].factors, count(seen_far, half.size()));
+  EXPECT_LT(r.cues[1].factors, r.cues[1].candidates);
+  EXPECT_EQ(r.factors, r.cues[0].factors + r.cues[1].factors);
+  EXPECT_EQ(r.inliers, r.cues[0].inliers + r.cues[1].inliers);
+  EXPECT_EQ(r.candidates, r.cues[0].candidates + r.cues[1].candidates);
+  EXPECT_DOUBLE_EQ(r.cues[1].overlap(), double(r.cues[1].factors) / r.cues[1].candidates);
+  EXPECT_NE(describeCues(r.cues).find("far: "), std::string::npos) << describeCues(r.cues);
+}
+
+TEST(LandmarkSlice, EveryFactorPassesTheJacobianCheck) {
+  registerLandmarkCue();
+  const Landmarks world = grid(2.0, 8.0);
+  LandmarkSlice slice;
+  PropertyContainer scene;
+  scene.set<Landmarks>("landmarks", world);
+  Frame frame;
+  frame.measurement.set<Landmarks>("landmarks", observe(world, se2(0.3, -0.2, 0.1), 6.0));
+  ASSERT_TRUE(slice.bind(frame, scene, {}));
+  for (const Eigen::Isometry2d& t : {se2(0, 0, 0), se2(0.3, -0.2, 0.1), se2(-1, 2, 2.5)}) {
+    const SliceJacobianCheck r = checkSliceJacobians(slice, t);
+    EXPECT_GT(r.factors, 10u);
+    EXPECT_TRUE(r.ok()) << r;
+  }
+}
+
+TEST(AlignerSlice, AnAbsentEntrySitsTheFrameOut) {
+  // bind() binds every entry; with the scene entry missing the slice adds nothing.
+  registerLandmarkCue();
+  LandmarkSlice slice;
+  Frame frame;
+  frame.measurement.set<Landmarks>("landmarks", Landmarks{{1.0, 2.0}});
+  PropertyContainer scene;
+  EXPECT_FALSE(slice.bind(frame, scene, {}));
+  EXPECT_TRUE(slice.measurement.bound());
+  EXPECT_FALSE(slice.scene.bound());
+  scene.set<Landmarks>("landmarks", Landmarks{{1.0, 2.0}});
+  EXPECT_TRUE(slice.bind(frame, scene, {}));
+  EXPECT_EQ(slice.scene->size(), 1u);
+  // A property of another type is an error, not an absent cue.
+  frame.measurement.set<double>("other", 1.0);
+  slice.measurement = "other";
+  EXPECT_THROW(slice.bind(frame, scene, {}), PropertyTypeMismatch);
 }
 
 TEST(MultiAligner, NoSliceOrNoDataIsInvalidNotACrash) {

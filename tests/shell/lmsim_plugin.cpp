@@ -67,35 +67,25 @@ class LandmarkSource : public Source {
 /// Copies the raw landmark reading into the measurement.
 class LandmarkCue : public PreProcessor {
  public:
-  Param<std::string> entry{this, "entry", "landmarks", "", "raw and measurement entry"};
+  Input<Landmarks> input{this, Container::raw, "input", "landmarks", "landmark reading"};
+  Output<Landmarks> output{this, Container::measurement, "output", "landmarks",
+                           "measured landmarks"};
   bool process(Frame& frame) override {
-    const Landmarks* l = frame.raw.find<Landmarks>(entry());
+    const Landmarks* l = input.find(frame);
     if (!l) return false;
-    frame.measurement.set<Landmarks>(entry(), *l);
+    output.set(frame, *l);
     return true;
   }
 };
 
 /// The landmark aligner slice with a weight instead of a sigma (another type for swap tests).
-class WeightedLandmarkSlice : public AlignerSlice<Space2D> {
+class WeightedLandmarkSlice : public plugslam::testing::LandmarkSliceBase {
  public:
-  Param<std::string> entry{this, "entry", "landmarks", "", "measurement and scene entry"};
   Param<double> weight{
       this, "weight", 2500.0, "1/m^2", "information of each landmark", Range{1e-9, 1e12}};
-  void configure() override {
-    inner_.entry = entry();
-    inner_.sigma = 1.0 / std::sqrt(weight());
-  }
-  bool bind(const Frame& frame, const PropertyContainer& scene,
-            const AlignContext<Space2D>& context) override {
-    return inner_.bind(frame, scene, context);
-  }
-  void linearize(const Eigen::Isometry2d& t, NormalEquations<Space2D>& eq) const override {
-    inner_.linearize(t, eq);
-  }
 
- private:
-  plugslam::testing::LandmarkSlice inner_;
+ protected:
+  double information() const override { return weight(); }
 };
 
 }  // namespace lmsim

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <iostream>
 #include <sstream>
+#include <optional>
 
 #include "config_builder.h"
 #include "plugin_manager.h"
@@ -18,6 +19,7 @@
 #include "run_config.h"
 #include "runner.h"
 #include "test_paths.h"
+#include "temp_dir.h"
 
 using namespace plugslam;
 using namespace plugslam::runtime;
@@ -38,13 +40,11 @@ std::string configText(double laps) {
 class Session : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("plugslam_session_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
+    tmp_.emplace("plugslam_session");  // a fresh folder of this test's own
+    dir_ = tmp_->path();
     plugins_.addSearchDir(plugslam::testing::buildDir() + "/tests/plugins");
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  void TearDown() override { tmp_.reset(); }
 
   std::shared_ptr<RunConfig> build(const ConfigDocument& doc) { return buildRun(doc, plugins_); }
   // Why the real-log tests cannot run: a CARMEN plugin not built (empty: they can; the plugin
@@ -90,6 +90,8 @@ class Session : public ::testing::Test {
     r->pipeline->restoreSession(maps.maps, maps.edges, localize);
     return r;
   }
+
+  std::optional<plugslam::testing::TempDir> tmp_;
 
   fs::path dir_;
   PluginManager plugins_;

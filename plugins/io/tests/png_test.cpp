@@ -9,6 +9,7 @@
 #include <string>
 
 #include "plugslam/errors.h"
+#include "temp_dir.h"
 
 namespace plugslam::io {
 namespace {
@@ -17,9 +18,8 @@ namespace fs = std::filesystem;
 
 TEST(Png, ReadAndWriteErrors) {
   EXPECT_THROW(readPng("/nonexistent/x.png"), InputError);
-  const fs::path dir = fs::temp_directory_path() / ("plugslam_png_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const plugslam::testing::TempDir tmp("plugslam_png");
+  const fs::path dir = tmp.path();
   std::ofstream(dir / "bad.png") << "not a png at all";
   EXPECT_THROW(readPng((dir / "bad.png").string()), ParseError);
   // A truncated PNG.

@@ -298,10 +298,10 @@ CorrelativeMatch matchCorrelative(const CorrelativeGrid& grid,
 bool CorrelativeValidator::validate(const LocalMap& candidate, const LocalMap& query,
                                     const Eigen::Isometry3d& guess, LoopClosure& closure,
                                     std::string& reason) {
-  const auto* map_cloud = candidate.scene.find<PointCloud2D>(scene());
-  const auto* query_cloud = query.scene.find<PointCloud2D>(scene());
+  const auto* map_cloud = scene.find(candidate.scene);
+  const auto* query_cloud = scene.find(query.scene);
   if (!map_cloud || !query_cloud || map_cloud->empty() || query_cloud->empty()) {
-    reason = "no PointCloud2D '" + scene() + "' in both maps";
+    reason = "no PointCloud2D '" + scene.name() + "' in both maps";
     return false;
   }
   const double r = resolution();

@@ -8,8 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "plugslam/entry.h"
 #include "plugslam/geometry.h"
 #include "plugslam/graph_slam.h"
+#include "point_cloud2d.h"
 
 namespace plugslam {
 namespace laser2d {
@@ -100,7 +102,7 @@ std::vector<Eigen::Vector2d> voxelFilter(const std::vector<Eigen::Vector2d>& poi
 /// first in the chain: it finds the closure under large drift, a fine aligner refines it.
 class CorrelativeValidator final : public LoopValidator {
  public:
-  Param<std::string> scene{this, "scene", "front", "", "scene entry (PointCloud2D) to match"};
+  Input<PointCloud2D> scene{this, Container::scene, "scene", "front", "local maps' cloud to match"};
   Param<double> resolution{this, "resolution", 0.05, "m", "grid cell", Range{1e-3, 10}};
   Param<double> search_window{this,
                               "search_window",

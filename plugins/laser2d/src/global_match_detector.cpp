@@ -109,7 +109,7 @@ std::shared_ptr<const MatchGrid> GlobalMatchDetector::gridOf(const GraphView& vi
   std::vector<PlacedCloud> clouds;
   const double range2 = max_range() * max_range();
   for (int64_t k = first; k <= last; ++k) {
-    const auto* cloud = view.maps[k]->scene.find<PointCloud2D>(scene());
+    const auto* cloud = scene.find(view.maps[k]->scene);
     if (!cloud) continue;
     const SE2 t = Space2D::from3D(view.relative(id, k));
     PlacedCloud placed;
@@ -142,7 +142,7 @@ std::vector<LoopCandidate> GlobalMatchDetector::detect(const GraphView& view,
   if (after_loop() > 0 && view.last_loop_travelled >= 0 &&
       here - view.last_loop_travelled < after_loop())
     return out;
-  const auto* query_cloud = query.scene.find<PointCloud2D>(scene());
+  const auto* query_cloud = scene.find(query.scene);
   if (!query_cloud || query_cloud->empty()) return out;
 
   const Eigen::Vector3d at = view.origins.at(query.id).translation();

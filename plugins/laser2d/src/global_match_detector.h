@@ -47,7 +47,7 @@ MatchGrid rasterizeClouds(const std::vector<PlacedCloud>& clouds, double resolut
 /// neighbourhood over a window as wide as that radius, and proposes the best pose found.
 class GlobalMatchDetector final : public LoopDetector {
  public:
-  Param<std::string> scene{this, "scene", "front", "", "scene entry (PointCloud2D) to match"};
+  Input<PointCloud2D> scene{this, Container::scene, "scene", "front", "local maps' cloud to match"};
   Param<double> resolution{this, "resolution", 0.1, "m", "grid cell of the search",
                            Range{0.01, 1}};
   Param<double> radius{this, "radius", 5.0, "m",

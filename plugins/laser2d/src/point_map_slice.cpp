@@ -6,12 +6,12 @@
 namespace plugslam {
 namespace laser2d {
 
-void PointMapSlice::merge(const Frame& frame, PropertyContainer& scene_container, const Pose& t) {
-  const PointCloud2D* measured = frame.measurement.find<PointCloud2D>(measurement());
-  if (!measured || measured->empty()) return;
+void PointMapSlice::integrate(const MergeContext<Space2D>& context) {
+  const Pose& t = context.pose;
+  const PointCloud2D* measured = measurement.get();
+  if (measured->empty()) return;
   measured->checkConsistent();
-  PointCloud2D* map = scene_container.find<PointCloud2D>(scene());
-  if (!map) map = &scene_container.set<PointCloud2D>(scene(), PointCloud2D{});
+  PointCloud2D* map = &scene.getOrInsert();
   map->checkConsistent();
   const Eigen::Vector2d robot = t.translation();
 

@@ -12,8 +12,10 @@ namespace laser2d {
 /// Point fusion (weighted mean of position and normal) and clipping around the robot.
 class PointMapSlice final : public TrackerSlice<Space2D> {
  public:
-  Param<std::string> measurement{this, "measurement", "front", "", "measurement entry to merge"};
-  Param<std::string> scene{this, "scene", "front", "", "scene entry (PointCloud2D) to merge into"};
+  Input<PointCloud2D> measurement{this, Container::measurement, "measurement", "front",
+                                  "measured cloud to merge (robot frame)"};
+  Output<PointCloud2D> scene{this, Container::scene, "scene", "front",
+                             "local map's cloud to merge into"};
   Param<double> fusion_radius{this,
                               "fusion_radius",
                               0.05,
@@ -40,7 +42,8 @@ class PointMapSlice final : public TrackerSlice<Space2D> {
                            "cap on a map point's observation count, so the map keeps adapting",
                            Range{1, 1e9}};
 
-  void merge(const Frame& frame, PropertyContainer& scene, const Pose& t) override;
+ protected:
+  void integrate(const MergeContext<Space2D>& context) override;
 
  private:
   CellIndex index_;

@@ -18,13 +18,14 @@ void ScanPreprocessor::configure() {
   if (max_angle() < min_angle()) throw ParamError("max_angle", "must be >= min_angle");
   if (max_range() > 0 && max_range() <= min_range())
     throw ParamError("max_range", "must be > min_range (or 0 for the scan's own)");
-  if (input() == output()) throw ParamError("output", "must differ from input '" + input() + "'");
+  if (input.name() == output.name())
+    throw ParamError("output", "must differ from input '" + input.name() + "'");
 }
 
 bool ScanPreprocessor::process(Frame& frame) {
-  const LaserScan* scan = frame.raw.find<LaserScan>(input());
+  const LaserScan* scan = input.find(frame);
   if (!scan) return false;
-  PointCloud2D& cloud = frame.measurement.emplace<PointCloud2D>(output());
+  PointCloud2D& cloud = output.emplace(frame);
   convert(*scan, cloud);
   return !cloud.empty();
 }

@@ -13,8 +13,9 @@ namespace laser2d {
 /// Range/angle limits, normals from adjacent beams, spacing filter and the mount transform.
 class ScanPreprocessor final : public PreProcessor {
  public:
-  Param<std::string> input{this, "input", "front_laser", "", "raw LaserScan entry to read"};
-  Param<std::string> output{this, "output", "front", "", "measurement entry to write"};
+  Input<LaserScan> input{this, Container::raw, "input", "front_laser", "laser scan to convert"};
+  Output<PointCloud2D> output{this, Container::measurement, "output", "front",
+                              "cloud with normals (robot frame)"};
   Param<double> min_range{this,
                           "min_range",
                           0.0,

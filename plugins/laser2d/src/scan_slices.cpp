@@ -74,39 +74,38 @@ void ScanSliceBase::configure() {
   made_normal_angle_ = max_normal_angle();
 }
 
-bool ScanSliceBase::bind(const Frame& frame, const PropertyContainer& scene_container,
-                         const AlignContext<Space2D>&) {
+bool ScanSliceBase::prepare(const AlignContext<Space2D>&) {
   // Parameters may have been changed after configure() (shell, hot swap): refresh the cache.
   if (kernel() != made_kernel_ || kernel_scale() != made_scale_ || sigma() != made_sigma_ ||
       max_normal_angle() != made_normal_angle_)
     configure();
-  measured_ = frame.measurement.find<PointCloud2D>(measurement());
-  scene_ = scene_container.find<PointCloud2D>(scene());
   pairs_.clear();
-  if (!measured_ || !scene_ || measured_->empty() || scene_->empty()) return false;
-  measured_->checkConsistent();
-  scene_->checkConsistent();
-  if (association() == "kdtree" && (tree_->adaptor.points != &scene_->points ||
-                                    tree_revision_ != scene_->revision || scene_->revision == 0)) {
-    tree_->adaptor.points = &scene_->points;
+  const PointCloud2D& measured = *measurement;
+  const PointCloud2D& map = *scene;
+  if (measured.empty() || map.empty()) return false;
+  measured.checkConsistent();
+  map.checkConsistent();
+  if (association() == "kdtree" && (tree_->adaptor.points != &map.points ||
+                                    tree_revision_ != map.revision || map.revision == 0)) {
+    tree_->adaptor.points = &map.points;
     tree_->index.buildIndex();
-    tree_revision_ = scene_->revision;
+    tree_revision_ = map.revision;
     ++tree_builds_;
   }
-  pairs_.reserve(measured_->size());
+  pairs_.reserve(measured.size());
   point_information_.clear();
   if (range_sigma() > 0) {
     const double s2 = sigma() * sigma(), k2 = range_sigma() * range_sigma();
-    point_information_.reserve(measured_->size());
-    for (const Eigen::Vector2d& p : measured_->points)
-      point_information_.push_back(1.0 / (s2 + k2 * (p - measured_->sensor_origin).squaredNorm()));
+    point_information_.reserve(measured.size());
+    for (const Eigen::Vector2d& p : measured.points)
+      point_information_.push_back(1.0 / (s2 + k2 * (p - measured.sensor_origin).squaredNorm()));
   }
   return true;
 }
 
 void ScanSliceBase::associate(const Pose& t) {
   pairs_.clear();
-  if (!measured_ || !scene_) return;
+  if (!measurement.bound() || !scene.bound()) return;
   if (association() == "projective")
     associateProjective(t);
   else
@@ -115,10 +114,10 @@ void ScanSliceBase::associate(const Pose& t) {
 
 void ScanSliceBase::accept(int i, int j, const Eigen::Vector2d& point_in_scene,
                            const Eigen::Vector2d& normal_in_scene) {
-  if (normal_in_scene.dot(scene_->normals[j]) < cos_normal_) return;
+  if (normal_in_scene.dot(scene->normals[j]) < cos_normal_) return;
   if (max_tangential() > 0) {
-    const Eigen::Vector2d& n = scene_->normals[j];
-    const Eigen::Vector2d d = point_in_scene - scene_->points[j];
+    const Eigen::Vector2d& n = scene->normals[j];
+    const Eigen::Vector2d d = point_in_scene - scene->points[j];
     if (std::abs(n.x() * d.y() - n.y() * d.x()) > max_tangential()) return;
   }
   pairs_.emplace_back(i, j);
@@ -127,13 +126,14 @@ void ScanSliceBase::accept(int i, int j, const Eigen::Vector2d& point_in_scene,
 void ScanSliceBase::associateKdTree(const Pose& t) {
   const double gate = max_distance() * max_distance();
   const Eigen::Matrix2d r = t.linear();
-  const size_t n = measured_->size();
+  const PointCloud2D& measured = *measurement;
+  const size_t n = measured.size();
   for (size_t i = 0; i < n; ++i) {
-    const Eigen::Vector2d q = t * measured_->points[i];
+    const Eigen::Vector2d q = t * measured.points[i];
     NearestWithin result(gate);
     tree_->index.findNeighbors(result, q.data(), nanoflann::SearchParams());
     if (result.found())
-      accept(static_cast<int>(i), static_cast<int>(result.index()), q, r * measured_->normals[i]);
+      accept(static_cast<int>(i), static_cast<int>(result.index()), q, r * measured.normals[i]);
   }
 }
 
@@ -148,9 +148,11 @@ void ScanSliceBase::associateProjective(const Pose& t) {
   };
   // Scene in the robot frame at T; each bearing keeps its closest (visible) point.
   const Pose inv = t.inverse();
-  const size_t m = scene_->size();
+  const PointCloud2D& map = *scene;
+  const PointCloud2D& measured = *measurement;
+  const size_t m = map.size();
   for (size_t j = 0; j < m; ++j) {
-    const Eigen::Vector2d v = inv * scene_->points[j];
+    const Eigen::Vector2d v = inv * map.points[j];
     const int b = binOf(v);
     const double range = v.squaredNorm();
     if (range < bin_range_[b]) {
@@ -160,9 +162,9 @@ void ScanSliceBase::associateProjective(const Pose& t) {
   }
   const double gate = max_distance() * max_distance();
   const Eigen::Matrix2d r = t.linear();
-  const size_t n = measured_->size();
+  const size_t n = measured.size();
   for (size_t i = 0; i < n; ++i) {
-    const Eigen::Vector2d& p = measured_->points[i];
+    const Eigen::Vector2d& p = measured.points[i];
     const Eigen::Vector2d q = t * p;
     const int b = binOf(p);
     int best = -1;
@@ -170,77 +172,33 @@ void ScanSliceBase::associateProjective(const Pose& t) {
     for (int db = -1; db <= 1; ++db) {
       const int j = bin_index_[(b + db + bins) % bins];
       if (j < 0) continue;
-      const double d = (scene_->points[j] - q).squaredNorm();
+      const double d = (map.points[j] - q).squaredNorm();
       if (d < best_d) {
         best_d = d;
         best = j;
       }
     }
-    if (best >= 0) accept(static_cast<int>(i), best, q, r * measured_->normals[i]);
+    if (best >= 0) accept(static_cast<int>(i), best, q, r * measured.normals[i]);
   }
-}
-
-double ScanSliceBase::robustWeight(double s, double abs_error, NormalEquations<Space2D>& eq) const {
-  ++eq.factors;
-  if (abs_error <= kernel_scale()) ++eq.inliers;
-  if (!kernel_) {
-    eq.chi2 += s;
-    return 1.0;
-  }
-  const Eigen::Vector3d rho = kernel_->robustify(s);
-  eq.chi2 += rho[0];
-  return rho[1];
-}
-
-void PointToLineSlice::errorAndJacobian(const Pose& t, const Eigen::Vector2d& p,
-                                        const Eigen::Vector2d& q, const Eigen::Vector2d& n,
-                                        double& e, Eigen::Matrix<double, 1, 3>& j) {
-  const Eigen::Vector2d rp = t.linear() * p;
-  e = n.dot(rp + t.translation() - q);
-  const Eigen::Vector2d nr = t.linear().transpose() * n;
-  j << nr.x(), nr.y(), n.y() * rp.x() - n.x() * rp.y();
 }
 
 void PointToLineSlice::linearize(const Pose& t, NormalEquations<Space2D>& eq) const {
-  Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d b = Eigen::Vector3d::Zero();
-  Eigen::Matrix<double, 1, 3> j;
-  double e;
-  for (const auto& [i, k] : pairs_) {
-    errorAndJacobian(t, measured_->points[i], scene_->points[k], scene_->normals[k], e, j);
-    const double info = informationOf(i);
-    const double w = robustWeight(e * e * info, std::abs(e), eq) * info;
-    h.noalias() += w * j.transpose() * j;
-    b.noalias() += w * e * j.transpose();
-  }
-  eq.H += h;
-  eq.b += b;
-}
-
-void PointToPointSlice::errorAndJacobian(const Pose& t, const Eigen::Vector2d& p,
-                                         const Eigen::Vector2d& q, Eigen::Vector2d& e,
-                                         Eigen::Matrix<double, 2, 3>& j) {
-  const Eigen::Vector2d rp = t.linear() * p;
-  e = rp + t.translation() - q;
-  j.leftCols<2>() = t.linear();
-  j.col(2) = Eigen::Vector2d(-rp.y(), rp.x());
+  const PointCloud2D& measured = *measurement;
+  const PointCloud2D& map = *scene;
+  const Robust r = robust();
+  eq.candidates += measured.size();  // every measured point was tried
+  for (const auto& [i, k] : pairs_)
+    eq.add(PointToLine2D{measured.points[i], map.points[k], map.normals[k]}, t, informationOf(i),
+           r);
 }
 
 void PointToPointSlice::linearize(const Pose& t, NormalEquations<Space2D>& eq) const {
-  Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d b = Eigen::Vector3d::Zero();
-  Eigen::Matrix<double, 2, 3> j;
-  Eigen::Vector2d e;
-  for (const auto& [i, k] : pairs_) {
-    errorAndJacobian(t, measured_->points[i], scene_->points[k], e, j);
-    const double sq = e.squaredNorm();
-    const double info = informationOf(i);
-    const double w = robustWeight(sq * info, std::sqrt(sq), eq) * info;
-    h.noalias() += w * j.transpose() * j;
-    b.noalias() += w * j.transpose() * e;
-  }
-  eq.H += h;
-  eq.b += b;
+  const PointCloud2D& measured = *measurement;
+  const PointCloud2D& map = *scene;
+  const Robust r = robust();
+  eq.candidates += measured.size();  // every measured point was tried
+  for (const auto& [i, k] : pairs_)
+    eq.add(PointToPoint2D{measured.points[i], map.points[k]}, t, informationOf(i), r);
 }
 
 }  // namespace laser2d

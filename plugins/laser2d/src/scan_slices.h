@@ -1,7 +1,8 @@
 #pragma once
 // Aligner slices of the laser2d cue: point-to-line and point-to-point ICP factors between the
 // measured cloud (robot frame) and the scene cloud (local-map frame). Both share one base that
-// binds the entries, keeps the search index and does the data association.
+// declares the entries, keeps the search index and does the data association; the factors are
+// the SDK's (solver/registration_factors.h), added through NormalEquations::add.
 #include <memory>
 #include <string>
 #include <utility>
@@ -14,12 +15,14 @@
 namespace plugslam {
 namespace laser2d {
 
-/// Binding, nearest-neighbour association (k-d tree or projective) and the robust weighting
+/// Entries, nearest-neighbour association (k-d tree or projective) and the robust weighting
 /// shared by the laser2d aligner slices.
 class ScanSliceBase : public AlignerSlice<Space2D> {
  public:
-  Param<std::string> measurement{this, "measurement", "front", "", "measurement entry to align"};
-  Param<std::string> scene{this, "scene", "front", "", "scene entry to align against"};
+  Input<PointCloud2D> measurement{this, Container::measurement, "measurement", "front",
+                                  "measured cloud to align (robot frame)"};
+  Input<PointCloud2D> scene{this, Container::scene, "scene", "front",
+                            "local map's cloud to align against"};
   Param<double> max_distance{this, "max_distance", 0.5, "m", "association gate", Range{1e-6, 100}};
   Param<std::string> association{this,
                                  "association",
@@ -74,8 +77,6 @@ class ScanSliceBase : public AlignerSlice<Space2D> {
   ScanSliceBase();
   ~ScanSliceBase() override;
   void configure() override;
-  bool bind(const Frame& frame, const PropertyContainer& scene,
-            const AlignContext<Space2D>& context) override;
   void associate(const Pose& t) override;
 
   /// The pairs (measured index, scene index) of the last association.
@@ -84,11 +85,10 @@ class ScanSliceBase : public AlignerSlice<Space2D> {
   size_t treeBuilds() const { return tree_builds_; }
 
  protected:
-  /// Adds one robustified residual of squared Mahalanobis norm s; returns the IRLS weight.
-  double robustWeight(double s, double abs_error, NormalEquations<Space2D>& eq) const;
+  bool prepare(const AlignContext<Space2D>& context) override;
+  /// The kernel (in units of each pair's sigma) and the inlier band (kernel_scale, in metres).
+  Robust robust() const { return Robust{kernel_.get(), kernel_scale()}; }
 
-  const PointCloud2D* measured_ = nullptr;
-  const PointCloud2D* scene_ = nullptr;
   std::vector<std::pair<int, int>> pairs_;
   double information_ = 1.0;  // 1 / sigma^2
   /// Information 1 / sigma_i^2 of measured point i (information_ unless range_sigma > 0).
@@ -117,22 +117,16 @@ class ScanSliceBase : public AlignerSlice<Space2D> {
   std::vector<double> bin_range_;
 };
 
-/// laser2d.PointToLineSlice: e = n_q^T (T p - q), one scalar factor per pair.
+/// laser2d.PointToLineSlice: e = n_q^T (T p - q) (PointToLine2D), one scalar factor per pair.
 class PointToLineSlice final : public ScanSliceBase {
  public:
   void linearize(const Pose& t, NormalEquations<Space2D>& eq) const override;
-  /// The residual and its Jacobian w.r.t. a right perturbation of T (as PointToLineFactor2D).
-  static void errorAndJacobian(const Pose& t, const Eigen::Vector2d& p, const Eigen::Vector2d& q,
-                               const Eigen::Vector2d& n, double& e, Eigen::Matrix<double, 1, 3>& j);
 };
 
-/// laser2d.PointToPointSlice: e = T p - q, one 2D factor per pair.
+/// laser2d.PointToPointSlice: e = T p - q (PointToPoint2D), one 2D factor per pair.
 class PointToPointSlice final : public ScanSliceBase {
  public:
   void linearize(const Pose& t, NormalEquations<Space2D>& eq) const override;
-  /// The residual and its Jacobian w.r.t. a right perturbation of T (as PointToPointFactor2D).
-  static void errorAndJacobian(const Pose& t, const Eigen::Vector2d& p, const Eigen::Vector2d& q,
-                               Eigen::Vector2d& e, Eigen::Matrix<double, 2, 3>& j);
 };
 
 }  // namespace laser2d

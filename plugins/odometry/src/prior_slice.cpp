@@ -10,19 +10,32 @@
 namespace plugslam {
 namespace odometry {
 
-void PriorSlice::configure() {
-  if (input().empty()) throw ParamError("input", "must name the raw odometry entry");
+MotionPrior2D::Error MotionPrior2D::error(const Eigen::Isometry2d& t) const {
+  return toVector(prior.inverse() * t);
 }
 
-bool PriorSlice::bind(const Frame& frame, const PropertyContainer& scene,
-                      const AlignContext<Space2D>& context) {
-  const Odometry2D* odom = frame.raw.find<Odometry2D>(input());
-  if (!odom) return false;  // keep the last reading: the next delta spans the gap
+void MotionPrior2D::errorAndJacobian(const Eigen::Isometry2d& t, Error& e, Jacobian& j) const {
+  const Eigen::Isometry2d d = prior.inverse() * t;
+  // E * se2(dx): translation E.t + R(E) dx_xy, angle theta(E) + dtheta.
+  j.setZero();
+  j.topLeftCorner<2, 2>() = d.linear();
+  j(2, 2) = 1.0;
+  e = toVector(d);
+}
+
+void PriorSlice::configure() {
+  if (input.name().empty()) throw ParamError("input", "must name the raw odometry entry");
+}
+
+bool PriorSlice::prepare(const AlignContext<Space2D>& context) {
+  // Called only when the frame has the reading; a frame without keeps the last reading, so the
+  // next delta spans the gap.
+  const Odometry2D* odom = input.get();
   // Frames are told apart by sequence number and stamp, so callers that leave seq at 0 still
   // get one delta per frame.
-  if (!bound_ || bound_->first != frame.seq || bound_->second != frame.stamp) {
+  if (!bound_ || bound_->first != context.seq || bound_->second != context.stamp) {
     before_bound_ = last_;
-    bound_ = std::make_pair(frame.seq, frame.stamp);
+    bound_ = std::make_pair(context.seq, context.stamp);
   }
   last_ = odom->pose;
   if (!before_bound_) return false;  // the first reading has nothing to be relative to
@@ -39,25 +52,16 @@ bool PriorSlice::bind(const Frame& frame, const PropertyContainer& scene,
 }
 
 Eigen::Vector3d PriorSlice::error(const Eigen::Isometry2d& t, Eigen::Matrix3d* jacobian) const {
-  const Eigen::Isometry2d e = prior_.inverse() * t;
-  if (jacobian) {
-    // E * se2(dx): translation E.t + R(E) dx_xy, angle theta(E) + dtheta.
-    jacobian->setZero();
-    jacobian->topLeftCorner<2, 2>() = e.linear();
-    (*jacobian)(2, 2) = 1.0;
-  }
-  return toVector(e);
+  const MotionPrior2D factor{prior_};
+  if (!jacobian) return factor.error(t);
+  Eigen::Vector3d e;
+  factor.errorAndJacobian(t, e, *jacobian);
+  return e;
 }
 
 void PriorSlice::linearize(const Eigen::Isometry2d& t, NormalEquations<Space2D>& eq) const {
-  Eigen::Matrix3d j;
-  const Eigen::Vector3d e = error(t, &j);
-  const Eigen::Matrix3d jt_omega = j.transpose() * information_;
-  eq.H += jt_omega * j;
-  eq.b += jt_omega * e;
-  eq.chi2 += e.dot(information_ * e);
-  eq.inliers += 1;
-  eq.factors += 1;
+  // Least squares (no kernel); the one factor always counts as an inlier.
+  eq.add(MotionPrior2D{prior_}, t, information_);
 }
 
 }  // namespace odometry

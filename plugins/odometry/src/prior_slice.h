@@ -12,6 +12,20 @@
 namespace plugslam {
 namespace odometry {
 
+/// The prior's factor: e = (x, y, theta) of Z^-1 T, whose Jacobian w.r.t. the right perturbation
+/// of T (Space2D::boxplus, T * se2(dx)) is exactly blockdiag(R(E), 1) with E = Z^-1 T.
+struct MotionPrior2D {
+  using Space = Space2D;                         ///< the pose space of T
+  static constexpr int kErrorDim = 3;            ///< dimension of e
+  using Error = Eigen::Matrix<double, 3, 1>;     ///< e
+  using Jacobian = Eigen::Matrix<double, 3, 3>;  ///< de / dx
+  Eigen::Isometry2d prior;                       ///< Z (scene <- robot)
+  /// The error at T.
+  Error error(const Eigen::Isometry2d& t) const;
+  /// The error and its Jacobian at T.
+  void errorAndJacobian(const Eigen::Isometry2d& t, Error& e, Jacobian& j) const;
+};
+
 /// Adds e = log(Z^-1 * T) with Z = previous * (odometry delta since the previous frame) and an
 /// information matrix from a motion-proportional noise model:
 ///   sigma_t = max(min_sigma_translation, sigma_translation_per_m * |d|)
@@ -21,7 +35,7 @@ namespace odometry {
 /// Jacobian is exactly blockdiag(R(E), 1) with E = Z^-1 * T.
 class PriorSlice : public AlignerSlice<Space2D> {
  public:
-  Param<std::string> input{this, "input", "odom", "", "raw Odometry2D entry to read"};
+  Input<Odometry2D> input{this, Container::raw, "input", "odom", "wheel odometry to read"};
   Param<double> sigma_translation_per_m{
       this,         "sigma_translation_per_m", 0.05, "m/m", "translation noise per metre travelled",
       Range{0, 100}};
@@ -37,10 +51,7 @@ class PriorSlice : public AlignerSlice<Space2D> {
                                    "rad", "rotation noise floor", Range{1e-9, 1e6}};
 
   void configure() override;
-  bool bind(const Frame& frame, const PropertyContainer& scene,
-            const AlignContext<Space2D>& context) override;
   void linearize(const Eigen::Isometry2d& t, NormalEquations<Space2D>& eq) const override;
-  bool needsScene() const override { return false; }
 
   /// The prior pose of the bound frame (scene <- robot).
   const Eigen::Isometry2d& prior() const { return prior_; }
@@ -48,6 +59,9 @@ class PriorSlice : public AlignerSlice<Space2D> {
   const Eigen::Matrix3d& information() const { return information_; }
   /// The error e(T) and its Jacobian w.r.t. the right perturbation of T.
   Eigen::Vector3d error(const Eigen::Isometry2d& t, Eigen::Matrix3d* jacobian = nullptr) const;
+
+ protected:
+  bool prepare(const AlignContext<Space2D>& context) override;
 
  private:
   // Reading of the last frame seen, and the one before the frame being bound (so binding the

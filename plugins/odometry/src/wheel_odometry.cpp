@@ -6,11 +6,11 @@ namespace plugslam {
 namespace odometry {
 
 void WheelOdometry::configure() {
-  if (input().empty()) throw ParamError("input", "must name the raw odometry entry");
+  if (input.name().empty()) throw ParamError("input", "must name the raw odometry entry");
 }
 
 std::optional<Eigen::Isometry2d> WheelOdometry::predict(const Frame& frame) {
-  const Odometry2D* odom = frame.raw.find<Odometry2D>(input());
+  const Odometry2D* odom = input.find(frame);
   if (!odom) return std::nullopt;
   std::optional<Eigen::Isometry2d> delta;
   if (last_) delta = last_->inverse() * odom->pose;

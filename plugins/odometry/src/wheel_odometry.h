@@ -14,7 +14,7 @@ namespace odometry {
 /// prediction spans the gap.
 class WheelOdometry : public MotionModel<Space2D> {
  public:
-  Param<std::string> input{this, "input", "odom", "", "raw Odometry2D entry to read"};
+  Input<Odometry2D> input{this, Container::raw, "input", "odom", "wheel odometry to read"};
 
   void configure() override;
   std::optional<Eigen::Isometry2d> predict(const Frame& frame) override;

@@ -79,6 +79,14 @@ const sim2d::Simulator& Simulator2DSource::simulator() const {
   return *sim_;
 }
 
+std::vector<ProvidedEntry> Simulator2DSource::provides() const {
+  std::vector<ProvidedEntry> out;
+  for (const auto& name : lasers()) out.push_back({name, typeid(LaserScan)});
+  out.push_back({odometry(), typeid(Odometry2D)});
+  out.push_back({ground_truth(), typeid(Eigen::Isometry2d)});
+  return out;
+}
+
 int64_t Simulator2DSource::sizeHint() const {
   return sim_ ? static_cast<int64_t>(sim_->frameCount()) : -1;
 }

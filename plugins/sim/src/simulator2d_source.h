@@ -58,6 +58,8 @@ class Simulator2DSource : public Source {
   bool next(Frame& frame) override;
   /// The session's frame count.
   int64_t sizeHint() const override;
+  /// The raw entries next() writes (for the builder's wiring check).
+  std::vector<ProvidedEntry> provides() const override;
 
   /// The simulator (after configure()); for tools that need the world or the ground truth.
   const sim2d::Simulator& simulator() const;

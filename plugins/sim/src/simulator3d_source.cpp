@@ -39,6 +39,18 @@ const sim3d::Simulator3D& Simulator3DSource::simulator() const {
   return *sim_;
 }
 
+std::vector<ProvidedEntry> Simulator3DSource::provides() const {
+  if (!sim_) return {};  // the rig is known once configured
+  std::vector<ProvidedEntry> out;
+  if (sim_->rig() == sim3d::Rig::kStereo)
+    out = {{"left", typeid(Image)}, {"right", typeid(Image)}};
+  else
+    out = {{"rgb", typeid(Image)}, {"depth", typeid(DepthImage)}};
+  out.push_back({"camera", typeid(CameraInfo)});
+  out.push_back({ground_truth(), typeid(Eigen::Isometry3d)});
+  return out;
+}
+
 int64_t Simulator3DSource::sizeHint() const {
   return sim_ ? static_cast<int64_t>(sim_->frameCount()) : -1;
 }

@@ -67,6 +67,8 @@ class Simulator3DSource : public Source {
   bool next(Frame& frame) override;
   /// The number of frames.
   int64_t sizeHint() const override;
+  /// The raw entries next() writes (for the builder's wiring check).
+  std::vector<ProvidedEntry> provides() const override;
 
   /// The simulator (after configure()).
   const sim3d::Simulator3D& simulator() const;

@@ -35,6 +35,12 @@ void SimulatorMixedSource::configure() {
   sim_ = std::make_unique<sim3d::MixedSimulator>(o);
 }
 
+std::vector<ProvidedEntry> SimulatorMixedSource::provides() const {
+  return {{laser(), typeid(LaserScan)},       {"rgb", typeid(Image)},
+          {"depth", typeid(DepthImage)},      {"camera", typeid(CameraInfo)},
+          {odometry(), typeid(Odometry2D)},   {ground_truth(), typeid(Eigen::Isometry3d)}};
+}
+
 int64_t SimulatorMixedSource::sizeHint() const {
   return sim_ ? static_cast<int64_t>(sim_->frameCount()) : -1;
 }

@@ -49,6 +49,8 @@ class SimulatorMixedSource : public Source {
   bool next(Frame& frame) override;
   /// The number of frames.
   int64_t sizeHint() const override;
+  /// The raw entries next() writes (for the builder's wiring check).
+  std::vector<ProvidedEntry> provides() const override;
 
  private:
   std::unique_ptr<sim3d::MixedSimulator> sim_;

@@ -14,35 +14,10 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 }
 }  // namespace
 
-cv::Mat asMat(const Image& im) {
-  const int type = im.channels == 1 ? CV_8UC1 : (im.channels == 3 ? CV_8UC3 : CV_8UC4);
-  return cv::Mat(im.height, im.width, type, const_cast<uint8_t*>(im.data.data()),
-                 static_cast<size_t>(im.stride));
-}
-
-cv::Mat greyOf(const Image& im) {
-  cv::Mat m = asMat(im);
-  if (im.channels == 1) return m;
-  cv::Mat grey;
-  cv::cvtColor(m, grey, im.channels == 3 ? cv::COLOR_RGB2GRAY : cv::COLOR_RGBA2GRAY);
-  return grey;
-}
-
 StereoPreprocessor::StereoPreprocessor() = default;
 StereoPreprocessor::~StereoPreprocessor() = default;
 
-void StereoPreprocessor::configure() {
-  if (min_fast_threshold() > fast_threshold())
-    throw ParamError("min_fast_threshold",
-                     "must not exceed fast_threshold (" + std::to_string(fast_threshold()) + ")");
-  OrbOptions o;
-  o.features = features();
-  o.cell = cell();
-  o.fast_threshold = fast_threshold();
-  o.min_fast_threshold = min_fast_threshold();
-  o.upright = upright();
-  extractor_.setOptions(o);
-}
+void StereoPreprocessor::configure() { KeypointPreprocessor::configure(); }
 
 bool StereoPreprocessor::process(Frame& frame) {
   const Image* l = frame.raw.find<Image>(left());
@@ -84,16 +59,8 @@ bool StereoPreprocessor::process(Frame& frame) {
   f.stamp = l->stamp;
   f.descriptor_bytes = dl_.cols > 0 ? dl_.cols : 32;
   f.reserve(kl_.size());
-  const bool rgb = l->channels >= 3;
   for (size_t i = 0; i < kl_.size(); ++i) {
-    const int x = cvRound(kl_[i].pt.x), y = cvRound(kl_[i].pt.y);
-    uint32_t colour;
-    if (rgb) {
-      colour = (uint32_t(l->at(x, y, 0)) << 16) | (uint32_t(l->at(x, y, 1)) << 8) | l->at(x, y, 2);
-    } else {
-      const uint32_t g = l->at(x, y, 0);
-      colour = (g << 16) | (g << 8) | g;
-    }
+    const uint32_t colour = colourAt(*l, cvRound(kl_[i].pt.x), cvRound(kl_[i].pt.y));
     f.pushStereo(Eigen::Vector2d(kl_[i].pt.x, kl_[i].pt.y), pixel_sigma(), disparity_[i],
                  disparity_sigma(), dl_.ptr<uint8_t>(static_cast<int>(i)), colour);
   }

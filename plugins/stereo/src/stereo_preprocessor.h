@@ -7,9 +7,8 @@
 
 #include <opencv2/core.hpp>
 
-#include "orb_features.h"
+#include "keypoint_preprocessor.h"
 #include "plugslam/landmarks/feature_set.h"
-#include "plugslam/preprocessor.h"
 #include "plugslam/sensor_data.h"
 #include "stereo_matcher.h"
 
@@ -17,23 +16,13 @@ namespace plugslam {
 namespace visual {
 
 /// Keypoints with stereo depth from a left/right image pair.
-class StereoPreprocessor final : public PreProcessor {
+class StereoPreprocessor final : public KeypointPreprocessor {
  public:
   Param<std::string> left{this, "left", "left", "", "raw entry of the left image (Image)"};
   Param<std::string> right{this, "right", "right", "", "raw entry of the right image (Image)"};
   Param<std::string> camera{this, "camera", "camera", "",
                             "raw entry of the calibration (CameraInfo: left intrinsics, baseline)"};
   Param<std::string> output{this, "output", "features", "", "measurement entry (FeatureSet)"};
-  Param<int> features{this, "features", 1200, "",
-                      "target keypoints per image, spread over the image by bucketing",
-                      Range{10, 100000}};
-  Param<int> cell{this, "cell", 32, "px", "bucket side", Range{8, 4096}};
-  Param<int> fast_threshold{this, "fast_threshold", 20, "grey levels", "FAST threshold",
-                            Range{1, 255}};
-  Param<int> min_fast_threshold{this, "min_fast_threshold", 7, "grey levels",
-                                "FAST threshold retried in buckets left empty", Range{1, 255}};
-  Param<bool> upright{this, "upright", true, "",
-                      "descriptors without orientation (the camera rolls little between frames)"};
   Param<int> max_hamming{this, "max_hamming", 50, "bits",
                          "stereo descriptor check: larger distances are no match", Range{0, 256}};
   Param<int> row_tolerance{this, "row_tolerance", 2, "px",
@@ -45,8 +34,6 @@ class StereoPreprocessor final : public PreProcessor {
   Param<double> min_depth{this, "min_depth", 0.5, "m",
                           "nearest depth searched: sets the largest disparity, fx b / min_depth",
                           Range{0.01, 1000}};
-  Param<double> pixel_sigma{this, "pixel_sigma", 1.0, "px", "keypoint position noise (u and v)",
-                            Range{0.01, 100}};
   Param<double> disparity_sigma{this, "disparity_sigma", 0.5, "px",
                                 "noise of the refined disparity", Range{0.01, 100}};
 
@@ -60,17 +47,11 @@ class StereoPreprocessor final : public PreProcessor {
   double matchingTime() const { return matching_s_; }
 
  private:
-  OrbExtractor extractor_;
   std::vector<cv::KeyPoint> kl_, kr_;
   cv::Mat dl_, dr_;
   std::vector<double> disparity_;
   double extraction_s_ = 0, matching_s_ = 0;
 };
-
-/// An SDK image as an OpenCV header over the same pixels (no copy).
-cv::Mat asMat(const Image& image);
-/// The image in grey (a view when it already is, a conversion otherwise).
-cv::Mat greyOf(const Image& image);
 
 }  // namespace visual
 }  // namespace plugslam

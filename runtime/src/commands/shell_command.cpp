@@ -17,7 +17,7 @@ namespace plugslam::runtime {
 
 void addShellCommand(CLI::App& root, int& exit_code) {
   auto* cmd = root.add_subcommand(
-      "shell", "Interactive shell: run, pause, step, set/get, actions, hot swap, sessions");
+      "shell", "Interactive shell: run, pause, step, set, actions, hot swap, sessions");
   static std::string config;
   static std::string script;
   static std::string out_dir = "out";

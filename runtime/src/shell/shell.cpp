@@ -328,8 +328,7 @@ void Shell::printReport(const RunReport& r) {
       r.stopped_by, r.frames, r.wall_s, r.hz, r.local_maps, r.graph.loops_accepted,
       options_.out_dir);
   if (r.ate_rmse)
-    *out_ << fmt::format("against ground truth: ATE rmse {:.4f} m (max {:.4f} m)\n", *r.ate_rmse,
-                        *r.ate_max);
+    *out_ << scoreLine(r, run_ && run_->pipeline ? run_->pipeline->reference() : "");
 }
 
 // ---- commands -----------------------------------------------------------------------------------
@@ -513,7 +512,7 @@ void Shell::cmdSet(const std::string& rest) {
   // A deep copy: yaml-cpp nodes share their data, and assigning one overwrites what it refers to.
   ConfigDocument doc = *doc_;
   doc.root.reset(YAML::Clone(doc_->root));
-  applyOverride(doc, assignment);
+  applyOverride(doc, assignment, "set " + rest);  // errors quote what was typed
   const std::string path = assignment.substr(0, assignment.find('='));
   commit(std::move(doc));
   // The value as the rebuilt module holds it; a list slot (e.g. "outputs") echoes the input.
@@ -613,8 +612,8 @@ void Shell::cmdSwap(const Args& a) {
                      (near.empty() ? std::string("") : "; did you mean '" + near + "'?"));
   }
   if (info->kind != t.slot->kind())
-    throw InputError("'" + type + "' is a " + info->kind + ", but '" + path + "' takes a " +
-                     t.slot->kind());
+    throw InputError("'" + type + "' is " + withArticle(info->kind) + ", but '" + path +
+                     "' takes " + withArticle(t.slot->kind()));
   // The new node keeps the keys the new type also has (and the instance name).
   std::vector<std::string> keys{"name"};
   {
@@ -658,7 +657,7 @@ void Shell::cmdSwap(const Args& a) {
   }
   YAML::Emitter e;
   e << YAML::Flow << node;
-  applyOverride(doc, path + "=" + e.c_str());
+  applyOverride(doc, path + "=" + e.c_str(), "swap " + path + " " + type);
   doc.overrides.erase(path);
   const std::string from = t.module->typeName();
   commit(std::move(doc));

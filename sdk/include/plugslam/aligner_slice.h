@@ -1,33 +1,48 @@
 #pragma once
-// AlignerSlice: the part of the Multi-Aligner that handles one cue. It binds a measurement entry
-// to a scene entry by name, associates them at the current estimate, and adds its factors on
-// the one relative-pose variable to the shared normal equations.
+// AlignerSlice: the part of the Multi-Aligner that handles one cue. It declares the entries it
+// reads as typed members (Input<T>, see entry.h), typically a measurement entry and the scene
+// entry it aligns against; the SDK binds them for each frame, the slice associates them at the
+// current estimate and adds its factors on the one relative-pose variable through
+// NormalEquations::add.
+//   class MySlice : public AlignerSlice<Space2D> {
+//     Input<PointCloud2D> measurement{this, Container::measurement, "measurement", "front", "..."};
+//     Input<PointCloud2D> scene{this, Container::scene, "scene", "front", "..."};
+//     void linearize(const Pose& t, NormalEquations<Space2D>& eq) const override {
+//       for (auto [i, j] : pairs_) eq.add(PointToPoint2D{measurement->points[i], ...}, t, info);
+//     }
+//   };
+#include <cstdint>
+#include <optional>
 #include <string>
+#include <utility>
 
 #include "plugslam/configurable.h"
+#include "plugslam/entry.h"
 #include "plugslam/frame.h"
+#include "plugslam/normal_equations.h"
 #include "plugslam/pose_space.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
 
-/// Gauss-Newton normal equations of the aligner's single pose, accumulated over slices.
-template <class S>
-struct NormalEquations {
-  typename S::Matrix H = S::Matrix::Zero();  ///< J^T W J
-  typename S::Vector b = S::Vector::Zero();  ///< J^T W e
-  double chi2 = 0;                           ///< sum of robustified squared errors
-  size_t inliers = 0;                        ///< factors within the kernel's inlier band
-  size_t factors = 0;                        ///< factors added
-  size_t candidates = 0;  ///< measurement elements the slices tried to associate (overlap base)
-  void clear() { *this = NormalEquations(); }
-};
-
-/// What a slice knows about the frame being aligned, besides its cue.
+/// What a slice knows about the frame being aligned, besides its entries.
 template <class S>
 struct AlignContext {
-  typename S::Pose previous;  ///< the previous frame's pose in the scene frame
-  typename S::Pose guess;     ///< the initial estimate (the motion prediction)
+  using Pose = typename S::Pose;  ///< the pose type
+  /// Previous pose and guess at the scene's origin, no measured motion.
+  AlignContext() = default;
+  /// The previous pose, the initial estimate and the motion model's measured motion.
+  AlignContext(const Pose& previous_pose, const Pose& initial_guess,
+               std::optional<Pose> measured_motion = std::nullopt)
+      : previous(previous_pose), guess(initial_guess), motion(std::move(measured_motion)) {}
+
+  Pose previous = Pose::Identity();  ///< the previous frame's pose in the scene frame
+  Pose guess = Pose::Identity();     ///< the initial estimate (the motion prediction)
+  /// The motion since the previous frame as the tracker's motion model measured it (in the
+  /// previous robot frame); empty without a motion model or a reading this frame.
+  std::optional<typename S::Pose> motion;
+  uint64_t seq = 0;  ///< the frame's index in the run (set by bind from the frame)
+  double stamp = 0;  ///< the frame's time [s] (set by bind from the frame)
 };
 
 /// One cue's contribution to the Multi-Aligner.
@@ -38,16 +53,23 @@ class AlignerSlice : public Configurable {
   using Pose = typename S::Pose;
   ~AlignerSlice() override;
 
-  /// Takes this frame's inputs. The scene is the local map (in its own frame). Returns false when
-  /// the cue is absent this frame (the slice then adds nothing).
-  virtual bool bind(const Frame& frame, const PropertyContainer& scene,
-                    const AlignContext<S>& context) = 0;
+  /// Binds the slice's entries to this frame (raw and measurement entries to the frame's
+  /// containers, scene entries to `scene`, the local map in its own frame), then calls prepare().
+  /// Returns false when an entry is absent or prepare() declines (the slice then adds nothing).
+  bool bind(const Frame& frame, const PropertyContainer& scene, const AlignContext<S>& context);
   /// Data association at estimate T (scene <- robot); called once per outer iteration.
   virtual void associate(const Pose& t) { (void)t; }
-  /// Adds the slice's linearised factors at T.
+  /// Adds the slice's linearised factors at T (NormalEquations::add); sets eq.candidates to the
+  /// number of measurement elements it tried to associate when it knows it.
   virtual void linearize(const Pose& t, NormalEquations<S>& eq) const = 0;
-  /// True when the slice needs a non-empty scene (false for e.g. an odometry prior).
-  virtual bool needsScene() const { return true; }
+
+ protected:
+  /// Takes this frame's inputs once every entry is bound (none absent). Returns false when the
+  /// cue is unusable this frame (for example an empty cloud). The default accepts.
+  virtual bool prepare(const AlignContext<S>& context) {
+    (void)context;
+    return true;
+  }
 };
 
 extern template class AlignerSlice<Space2D>;

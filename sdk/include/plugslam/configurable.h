@@ -1,7 +1,8 @@
 #pragma once
 // Configurable: the base of every module. It keeps the list of its parameters (Param<T>
-// members), of its nested modules (Slot<I>, SlotList<I>) and of its runtime actions, so a whole
-// pipeline is built, dumped, validated and driven from data alone.
+// members), of the container entries it reads and writes (Input<T>, Output<T>), of its nested
+// modules (Slot<I>, SlotList<I>) and of its runtime actions, so a whole pipeline is built, dumped,
+// validated and driven from data alone.
 #include <functional>
 #include <memory>
 #include <string>
@@ -13,6 +14,7 @@ namespace plugslam {
 inline namespace abi_v1 {
 
 class SlotBase;
+class EntryBase;
 
 /// A named operation a module exposes at runtime ("save_graph", "reset"); returns a message.
 struct Action {
@@ -40,6 +42,9 @@ class Configurable {
   const std::vector<ParamBase*>& params() const { return params_; }
   /// The nested module slots, in declaration order.
   const std::vector<SlotBase*>& slots() const { return slots_; }
+  /// The container entries the module reads and writes, in declaration order (each also in
+  /// params(), as the string parameter that names its property).
+  const std::vector<EntryBase*>& entries() const { return entries_; }
   /// The runtime actions.
   const std::vector<Action>& actions() const { return actions_; }
   /// The parameter called `name`, or nullptr.
@@ -66,8 +71,10 @@ class Configurable {
  private:
   friend class ParamBase;
   friend class SlotBase;
+  friend class EntryBase;
   std::vector<ParamBase*> params_;
   std::vector<SlotBase*> slots_;
+  std::vector<EntryBase*> entries_;
   std::vector<Action> actions_;
   std::string type_name_;
   std::string name_;

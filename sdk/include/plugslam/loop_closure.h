@@ -70,8 +70,13 @@ class AlignmentValidator : public ViewLoopValidator {
   Slot<SceneMerger> merger{this, "merger", "",
                            "joins a neighbour's scene into the candidate's or query's; required "
                            "when a neighbourhood is set"};
-  Param<double> min_overlap{this, "min_overlap", 0.5, "",
-                            "fraction of the query's elements that must be inliers", Range{0, 1}};
+  Param<double> min_inlier_ratio{this, "min_inlier_ratio", 0.5, "",
+                                 "fraction of the associated pairs (factors) that must be inliers",
+                                 Range{0, 1}};
+  Param<double> min_overlap{this, "min_overlap", 0.0, "",
+                            "fraction of the query's elements that must be inliers, over the "
+                            "cues that count them (0: off)",
+                            Range{0, 1}};
   Param<double> max_residual{this, "max_residual", 1.0, "",
                              "max robust chi2 per inlier at the solution", Range{0, 1e12}};
   Param<double> max_correction{this, "max_correction", 5.0, "m",

@@ -3,6 +3,7 @@
 #include <optional>
 
 #include "plugslam/configurable.h"
+#include "plugslam/entry.h"
 #include "plugslam/frame.h"
 #include "plugslam/pose_space.h"
 

@@ -2,12 +2,29 @@
 // The Multi-Aligner (seed, section IV-B): one iterative least-squares solve on the robot's
 // relative pose, to which every slice adds the factors of its cue. Data association is redone
 // at each outer iteration; each inner iteration is a damped Gauss-Newton step.
+#include <string>
 #include <vector>
 
 #include "plugslam/aligner_slice.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
+
+/// One slice's share of an alignment, counted by the SDK at the solution.
+struct CueStats {
+  std::string slice;      ///< the slice's instance name
+  size_t factors = 0;     ///< factors it added
+  size_t inliers = 0;     ///< of them within its inlier band
+  size_t candidates = 0;  ///< measurement elements it tried to associate (0: not known)
+  /// inliers / factors, 0 without factors.
+  double inlierRatio() const { return factors ? double(inliers) / factors : 0.0; }
+  /// inliers / candidates: how much of the cue the scene explains (0 when unknown).
+  double overlap() const { return candidates ? double(inliers) / candidates : 0.0; }
+};
+
+/// "slices[0]: 412 inliers of 430 factors, 541 candidates; slices[1]: 1 inlier of 1 factor":
+/// per-slice counts for messages (a slice is named by the last part of its instance name).
+std::string describeCues(const std::vector<CueStats>& cues);
 
 /// Outcome of one alignment.
 template <class S>
@@ -17,14 +34,25 @@ struct AlignResult {
   double chi2 = 0;               ///< final robustified error
   size_t inliers = 0;            ///< inlier factors at the solution
   size_t factors = 0;            ///< factors at the solution
-  size_t candidates = 0;         ///< measurement elements considered (see NormalEquations)
+  size_t candidates = 0;         ///< measurement elements considered, summed over the cues
   int iterations = 0;            ///< Gauss-Newton steps taken
   bool converged = false;        ///< the step fell below the threshold
   bool valid = false;            ///< enough constraints for a well-posed solution
+  std::vector<CueStats> cues;    ///< per slice that took part, in slice order
   /// inliers / factors, 0 without factors.
   double inlierRatio() const { return factors ? double(inliers) / factors : 0.0; }
-  /// inliers / candidates: how much of the measurement the scene explains (0 when unknown).
-  double overlap() const { return candidates ? double(inliers) / candidates : 0.0; }
+  /// How much of the measurement the scene explains: inliers over candidates, summed over the
+  /// cues that count their candidates (a cue that does not, such as a motion prior, has no say);
+  /// 0 when none does.
+  double overlap() const {
+    size_t in = 0, of = 0;
+    for (const CueStats& c : cues)
+      if (c.candidates) {
+        in += c.inliers;
+        of += c.candidates;
+      }
+    return of ? double(in) / of : 0.0;
+  }
 };
 
 /// Aligns a measurement to a scene with any number of slices ("sdk.MultiAligner2D/3D").

@@ -79,7 +79,9 @@ class MultiTracker : public Tracker {
   Pose pose_ = Pose::Identity();         // robot in the current local map
   Pose last_motion_ = Pose::Identity();  // for the constant-velocity prediction
   size_t frames_in_map_ = 0;
-  bool predicted_by_model_ = false;  // the last prediction came from the motion model
+  // The motion model's measured motion this frame (empty: the prediction did not come from it);
+  // the aligner's slices get it in their AlignContext.
+  std::optional<Pose> model_motion_;
   int64_t next_id_ = 0;
   // Localization mode: the frozen maps and the one the robot is in.
   std::vector<std::shared_ptr<const LocalMap>> frozen_;

@@ -1,6 +1,9 @@
 #pragma once
-// PreProcessor: turns raw readings into one cue of the measurement container.
+// PreProcessor: turns raw readings into one cue of the measurement container. It declares the raw
+// entries it reads (Input<T>, Container::raw) and the measurement entries it writes (Output<T>,
+// Container::measurement), so the builder can check that every slice's measurement is written.
 #include "plugslam/configurable.h"
+#include "plugslam/entry.h"
 #include "plugslam/frame.h"
 
 namespace plugslam {

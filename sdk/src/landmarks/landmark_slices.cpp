@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "plugslam/landmarks/observation_factor.h"
@@ -12,6 +13,23 @@ inline namespace abi_v1 {
 namespace {
 // Chi-square 95 % quantiles: the inlier band of a residual with 2 (no depth) or 3 dimensions.
 constexpr double kInlierChi2[4] = {0.0, 3.841, 5.991, 7.815};
+
+// Adds the lifetime of a scope to a seconds counter.
+class Stopwatch {
+ public:
+  explicit Stopwatch(double& total) : total_(total), start_(std::chrono::steady_clock::now()) {}
+  ~Stopwatch() {
+    total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+ private:
+  double& total_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+double perFrame(uint64_t total, uint64_t frames) {
+  return frames ? static_cast<double>(total) / static_cast<double>(frames) : 0.0;
+}
 
 // Columns of the SE3 tangent (x, y, z, rx, ry, rz) a pose space moves: all six in 3D, (x, y, rz)
 // for a planar robot (its tangent is (x, y, theta)).
@@ -30,6 +48,23 @@ typename Eigen::Matrix<double, 3, S::kDof> restrictJacobian(const Eigen::Matrix<
 }  // namespace
 
 template <class S>
+typename LandmarkReprojection<S>::Error LandmarkReprojection<S>::error(
+    const typename S::Pose& t) const {
+  Error e = Error::Zero();
+  observationError(S::to3D(t), mount, camera, point, measured, e, nullptr, nullptr);
+  return e;
+}
+
+template <class S>
+bool LandmarkReprojection<S>::errorAndJacobian(const typename S::Pose& t, Error& e,
+                                               Jacobian& j) const {
+  Eigen::Matrix<double, 3, 6> jp;
+  if (!observationError(S::to3D(t), mount, camera, point, measured, e, &jp, nullptr)) return false;
+  j = restrictJacobian<S>(jp);
+  return true;
+}
+
+template <class S>
 ReprojectionSlice<S>::ReprojectionSlice() = default;
 template <class S>
 ReprojectionSlice<S>::~ReprojectionSlice() = default;
@@ -46,79 +81,83 @@ void ReprojectionSlice<S>::configure() {
 }
 
 template <class S>
-bool ReprojectionSlice<S>::bind(const Frame& frame, const PropertyContainer& scene_container,
-                                const AlignContext<S>&) {
+bool ReprojectionSlice<S>::prepare(const AlignContext<S>&) {
   if (kernel() != made_kernel_ || kernel_scale() != made_scale_) configure();
-  features_ = frame.measurement.find<FeatureSet>(measurement());
-  landmarks_ = scene_container.find<LandmarkMap>(scene());
+  matched_ += matches_.size();  // the previous frame's association at its solution
   matches_.clear();
   round_ = 0;
-  if (!features_ || !landmarks_ || features_->empty() || landmarks_->empty()) return false;
-  features_->checkConsistent();
-  landmarks_->checkConsistent();
-  grid_.build(*features_);
+  if (measurement->empty() || scene->empty()) return false;
+  Stopwatch watch(time_s_);
+  measurement->checkConsistent();
+  scene->checkConsistent();
+  grid_.build(*measurement);
+  ++frames_;
   return true;
 }
 
 template <class S>
 void ReprojectionSlice<S>::associate(const Pose& t) {
   matches_.clear();
-  if (!features_ || !landmarks_) return;
+  if (!measurement.bound() || !scene.bound()) return;
+  Stopwatch watch(time_s_);
   AssociationOptions o;
   // Each round starts nearer the solution: the radius halves down to refine_radius.
   o.radius = std::max(refine_radius(), search_radius() / static_cast<double>(1 << std::min(round_, 20)));
   o.max_hamming = max_hamming();
   o.ratio = ratio();
   ++round_;
-  grid_.associate(*landmarks_, S::to3D(t) * features_->mount, o, matches_);
+  grid_.associate(*scene, S::to3D(t) * measurement->mount, o, matches_);
 }
 
 template <class S>
 void ReprojectionSlice<S>::linearize(const Pose& t, NormalEquations<S>& eq) const {
-  if (!features_ || !landmarks_) return;
-  const FeatureSet& f = *features_;
+  if (!measurement.bound() || !scene.bound()) return;
+  Stopwatch watch(time_s_);
+  const FeatureSet& f = *measurement;
   eq.candidates += f.size();
-  const Eigen::Isometry3d t3 = S::to3D(t);
-  Eigen::Vector3d e;
-  Eigen::Matrix<double, 3, 6> jp;
   for (const LandmarkMatch& m : matches_) {
     const size_t i = static_cast<size_t>(m.feature);
     const bool depth = use_depth() && f.hasDepth(i);
-    const Eigen::Vector3d measured(f.pixels[i].x(), f.pixels[i].y(), depth ? f.inverse_depth[i] : 0);
-    if (!observationError(t3, f.mount, f.camera, landmarks_->positions[m.landmark], measured, e, &jp,
-                          nullptr))
-      continue;
     const double wp = 1.0 / (f.pixel_sigma[i] * f.pixel_sigma[i]);
     const double wq = depth ? 1.0 / (f.inverse_depth_sigma[i] * f.inverse_depth_sigma[i]) : 0.0;
-    const Eigen::Vector3d info(wp, wp, wq);
-    const double s = e.dot(info.cwiseProduct(e));
-    ++eq.factors;
-    if (s <= kInlierChi2[depth ? 3 : 2]) ++eq.inliers;
-    double w = 1.0;
-    if (kernel_) {
-      const Eigen::Vector3d rho = kernel_->robustify(s);
-      eq.chi2 += rho[0];
-      w = rho[1];
-    } else {
-      eq.chi2 += s;
-    }
-    const auto j = restrictJacobian<S>(jp);
-    const auto jt_w = (j.transpose() * (w * info).asDiagonal()).eval();
-    eq.H.noalias() += jt_w * j;
-    eq.b.noalias() += jt_w * e;
+    const LandmarkReprojection<S> factor{
+        f.mount, f.camera, scene->positions[m.landmark],
+        Eigen::Vector3d(f.pixels[i].x(), f.pixels[i].y(), depth ? f.inverse_depth[i] : 0)};
+    // Inliers: within the chi-square 95 % band of the residual's dimensions.
+    Robust robust{kernel_.get()};
+    robust.inlier_chi2 = kInlierChi2[depth ? 3 : 2];
+    eq.addDiagonal(factor, t, Eigen::Vector3d(wp, wp, wq), robust);
   }
 }
 
 template <class S>
-void LandmarkMapSlice<S>::merge(const Frame& frame, PropertyContainer& scene_container,
-                                const Pose& t) {
+std::vector<Statistic> ReprojectionSlice<S>::statistics() const {
+  return {{"frames", static_cast<double>(frames_)},
+          {"alignment_s", time_s_},
+          {"matches_per_frame", perFrame(matched_ + matches_.size(), frames_)}};
+}
+
+template <class S>
+std::vector<Statistic> LandmarkMapSlice<S>::statistics() const {
+  return {{"frames", static_cast<double>(frames_)},
+          {"merge_s", time_s_},
+          {"matched_per_frame", perFrame(matched_, frames_)},
+          {"created_per_frame", perFrame(created_, frames_)},
+          {"pruned_per_frame", perFrame(pruned_, frames_)},
+          {"landmarks_per_frame", perFrame(landmarks_, frames_)}};
+}
+
+template <class S>
+void LandmarkMapSlice<S>::integrate(const MergeContext<S>& context) {
+  const Pose& t = context.pose;
   last_matched_ = last_created_ = last_pruned_ = 0;
-  const FeatureSet* f = frame.measurement.find<FeatureSet>(measurement());
-  if (!f || f->empty()) return;
+  const FeatureSet* f = measurement.get();
+  if (f->empty()) return;
+  Stopwatch watch(time_s_);
   f->checkConsistent();
-  LandmarkMap* map = scene_container.find<LandmarkMap>(scene());
+  LandmarkMap* map = scene.get();
   if (!map) {
-    map = &scene_container.emplace<LandmarkMap>(scene());
+    map = &scene.getOrInsert();
     map->descriptor_bytes = f->descriptor_bytes;
   }
   map->checkConsistent();
@@ -148,7 +187,7 @@ void LandmarkMapSlice<S>::merge(const Frame& frame, PropertyContainer& scene_con
     ++last_matched_;
     ++map->observations[j];
     if (!visible_[j]) ++map->visible[j];
-    map->last_seen[j] = frame.seq;
+    map->last_seen[j] = context.seq;
     map->colours[j] = f->colours[i];
     std::copy(f->descriptor(i), f->descriptor(i) + bytes, map->descriptor(j));
     if (!f->hasDepth(i)) continue;
@@ -169,7 +208,7 @@ void LandmarkMapSlice<S>::merge(const Frame& frame, PropertyContainer& scene_con
     if (matched[i] || !f->hasDepth(i)) continue;
     if (max_depth() > 0 && f->points[i].z() > max_depth()) continue;
     map->push(camera * f->points[i], r * f->covariances[i] * r.transpose(), next_id_++,
-              f->descriptor(i), f->colours[i], frame.seq);
+              f->descriptor(i), f->colours[i], context.seq);
     ++last_created_;
   }
   std::vector<bool> keep(map->size(), true);
@@ -183,8 +222,15 @@ void LandmarkMapSlice<S>::merge(const Frame& frame, PropertyContainer& scene_con
     map->keepOnly(keep);
   else
     map->touch();
+  ++frames_;
+  matched_ += last_matched_;
+  created_ += last_created_;
+  pruned_ += last_pruned_;
+  landmarks_ += map->size();
 }
 
+template struct LandmarkReprojection<Space2D>;
+template struct LandmarkReprojection<Space3D>;
 template class ReprojectionSlice<Space2D>;
 template class ReprojectionSlice<Space3D>;
 template class LandmarkMapSlice<Space2D>;

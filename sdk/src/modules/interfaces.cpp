@@ -7,6 +7,14 @@
 namespace plugslam {
 inline namespace abi_v1 {
 Source::~Source() = default;
+
+std::vector<ProvidedEntry> Source::provides() const {
+  std::vector<ProvidedEntry> out;
+  for (const EntryBase* e : entries())
+    if (e->writes() && e->container() == Container::raw && !e->name().empty())
+      out.push_back({e->name(), e->type()});
+  return out;
+}
 PreProcessor::~PreProcessor() = default;
 Sink::~Sink() = default;
 }  // namespace abi_v1

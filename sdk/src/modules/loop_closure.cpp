@@ -121,12 +121,24 @@ bool AlignmentValidator<S>::check(const PropertyContainer& candidate,
   const typename S::Pose g = S::from3D(guess);
   AlignResult<S> r = aligner->align(frame, candidate, AlignContext<S>{g, g});
   if (!r.valid) {
-    reason = "alignment failed (" + std::to_string(r.inliers) + " inliers)";
+    reason = "alignment failed (" + std::to_string(r.inliers) + " inliers; " +
+             describeCues(r.cues) + ")";
     return false;
   }
-  const double overlap = r.candidates ? r.overlap() : r.inlierRatio();
-  if (overlap < min_overlap()) {
-    reason = "overlap " + std::to_string(overlap) + " below " + std::to_string(min_overlap());
+  // Two different fractions: of the pairs the association made (a wrong pose pairs points too,
+  // but few within the inlier band), and of all the query's elements (how much of the query the
+  // candidate explains; known from the cues that count their candidates).
+  const double ratio = r.inlierRatio();
+  if (ratio < min_inlier_ratio()) {
+    reason = "inlier ratio " + std::to_string(ratio) + " below " +
+             std::to_string(min_inlier_ratio()) + " (" + describeCues(r.cues) + ")";
+    return false;
+  }
+  const bool counted = r.candidates > 0;
+  const double overlap = counted ? r.overlap() : ratio;
+  if (counted && overlap < min_overlap()) {
+    reason = "overlap " + std::to_string(overlap) + " below " + std::to_string(min_overlap()) +
+             " (" + describeCues(r.cues) + ")";
     return false;
   }
   const double residual = r.inliers ? r.chi2 / r.inliers : 0;

@@ -9,8 +9,39 @@
 namespace plugslam {
 inline namespace abi_v1 {
 
+FactorObserver::~FactorObserver() = default;
+
+std::string describeCues(const std::vector<CueStats>& cues) {
+  std::string out;
+  for (const CueStats& c : cues) {
+    const size_t dot = c.slice.rfind('.');
+    out += (out.empty() ? "" : "; ") + (dot == std::string::npos ? c.slice : c.slice.substr(dot + 1));
+    out += ": " + std::to_string(c.inliers) + (c.inliers == 1 ? " inlier of " : " inliers of ") +
+           std::to_string(c.factors) + (c.factors == 1 ? " factor" : " factors");
+    if (c.candidates) out += ", " + std::to_string(c.candidates) + " candidates";
+  }
+  return out;
+}
+
 template <class S>
 AlignerSlice<S>::~AlignerSlice() = default;
+
+template <class S>
+bool AlignerSlice<S>::bind(const Frame& frame, const PropertyContainer& scene,
+                           const AlignContext<S>& context) {
+  bool present = true;
+  for (EntryBase* entry : entries()) {
+    const Container c = entry->container();
+    entry->bind(c == Container::scene ? &scene : c == Container::raw ? &frame.raw
+                                                                     : &frame.measurement);
+    present = present && entry->bound();
+  }
+  if (!present) return false;
+  AlignContext<S> frame_context = context;
+  frame_context.seq = frame.seq;
+  frame_context.stamp = frame.stamp;
+  return prepare(frame_context);
+}
 
 template <class S>
 MultiAligner<S>::MultiAligner() = default;
@@ -55,14 +86,31 @@ AlignResult<S> MultiAligner<S>::solve(const std::vector<AlignerSlice<S>*>& activ
   AlignResult<S> result;
   result.pose = guess;
   result.H.setZero();
+  // Each slice sums its own factors from zero (its counts are its cue's), then the slices' sums
+  // are added in slice order. chi2 runs on through the slices: it sums in factor order.
   NormalEquations<S> eq;
+  std::vector<NormalEquations<S>> parts(active.size());
+  auto linearize = [&](const Pose& t) {
+    eq.clear();
+    for (size_t k = 0; k < active.size(); ++k) {
+      NormalEquations<S>& part = parts[k];
+      part.clear();
+      part.chi2 = eq.chi2;
+      active[k]->linearize(t, part);
+      eq.H += part.H;
+      eq.b += part.b;
+      eq.chi2 = part.chi2;
+      eq.inliers += part.inliers;
+      eq.factors += part.factors;
+      eq.candidates += part.candidates;
+    }
+  };
   typename S::Pose t = guess;
   for (int outer = 0; outer < outer_iterations(); ++outer) {
     for (auto* slice : active) slice->associate(t);
     bool step_converged = false;
     for (int inner = 0; inner < inner_iterations(); ++inner) {
-      eq.clear();
-      for (auto* slice : active) slice->linearize(t, eq);
+      linearize(t);
       if (eq.factors == 0) return result;
       typename S::Matrix h = eq.H;
       h.diagonal().array() += damping();
@@ -85,14 +133,17 @@ AlignResult<S> MultiAligner<S>::solve(const std::vector<AlignerSlice<S>*>& activ
   }
   // Statistics and information at the solution.
   for (auto* slice : active) slice->associate(t);
-  eq.clear();
-  for (auto* slice : active) slice->linearize(t, eq);
+  linearize(t);
   result.pose = t;
   result.H = eq.H;
   result.chi2 = eq.chi2;
   result.inliers = eq.inliers;
   result.factors = eq.factors;
   result.candidates = eq.candidates;
+  result.cues.reserve(active.size());
+  for (size_t k = 0; k < active.size(); ++k)
+    result.cues.push_back(
+        CueStats{active[k]->name(), parts[k].factors, parts[k].inliers, parts[k].candidates});
   // A solution needs enough inliers and a full-rank information matrix.
   Eigen::SelfAdjointEigenSolver<typename S::Matrix> eig(eq.H);
   result.valid = eq.inliers >= static_cast<size_t>(min_inliers()) &&

@@ -22,6 +22,25 @@ void Tracker::localizeIn(std::vector<std::shared_ptr<const LocalMap>>) {
 Splitter::~Splitter() = default;
 template <class S>
 TrackerSlice<S>::~TrackerSlice() = default;
+
+template <class S>
+void TrackerSlice<S>::merge(const Frame& frame, PropertyContainer& scene, const Pose& t) {
+  bool present = true;
+  for (EntryBase* entry : entries()) {
+    if (entry->writes()) {
+      if (entry->container() != Container::scene)
+        throw InputError("tracker slice '" + name() + "': '" + entry->key() + "' " +
+                         entry->describe() + "; a tracker slice writes scene entries only");
+      entry->bind(&scene);
+      continue;
+    }
+    const Container c = entry->container();
+    entry->bind(static_cast<const PropertyContainer*>(
+        c == Container::scene ? &scene : c == Container::raw ? &frame.raw : &frame.measurement));
+    present = present && entry->bound();
+  }
+  if (present) integrate(MergeContext<S>{t, frame.seq, frame.stamp});
+}
 template <class S>
 MotionModel<S>::~MotionModel() = default;
 
@@ -66,7 +85,7 @@ void MultiTracker<S>::reset() {
   located_.reset();
   pose_ = last_motion_ = Pose::Identity();
   frames_in_map_ = 0;
-  predicted_by_model_ = false;
+  model_motion_.reset();
   if (motion) motion->reset();
 }
 
@@ -130,7 +149,8 @@ void MultiTracker<S>::trackFrozen(Frame& frame) {
     const Pose previous = S::normalized(S::from3D(to_map * previous_world));
     const Pose guess = S::normalized(S::from3D(to_map * guess_world));
     if (m == fallback) fallback_guess = guess;
-    AlignResult<S> r = aligner->align(frame, m->scene, AlignContext<S>{previous, guess});
+    AlignResult<S> r =
+        aligner->align(frame, m->scene, AlignContext<S>{previous, guess, model_motion_});
     if (!r.valid) continue;
     const Pose correction = S::normalized(guess.inverse() * r.pose);
     best_ratio = std::max(best_ratio, r.inlierRatio());
@@ -180,7 +200,8 @@ void MultiTracker<S>::track(Frame& frame) {
   if (!map_) {
     startLocalMap(frame, information);
   } else {
-    AlignResult<S> aligned = aligner->align(frame, map_->scene, AlignContext<S>{previous, guess});
+    AlignResult<S> aligned =
+        aligner->align(frame, map_->scene, AlignContext<S>{previous, guess, model_motion_});
     if (!aligned.valid && map_->scene.empty()) {
       // The map was started by a frame that brought no data: seed it again from this one.
       pose_ = guess;
@@ -189,7 +210,7 @@ void MultiTracker<S>::track(Frame& frame) {
       writeEstimate(frame, false);
       return;
     }
-    if (aligned.valid && predicted_by_model_ && !max_correction().empty()) {
+    if (aligned.valid && model_motion_ && !max_correction().empty()) {
       const Pose correction = S::normalized(guess.inverse() * aligned.pose);
       if (S::distance(correction) > max_correction()[0] ||
           S::angle(correction) > max_correction()[1]) {
@@ -209,8 +230,8 @@ void MultiTracker<S>::track(Frame& frame) {
       pose_ = guess;
       lost = true;
       ++stats_.failed;
-      spdlog::debug("frame {}: alignment failed ({} inliers of {} factors); new local map",
-                    frame.seq, aligned.inliers, aligned.factors);
+      spdlog::debug("frame {}: alignment failed ({} inliers of {} factors: {}); new local map",
+                    frame.seq, aligned.inliers, aligned.factors, describeCues(aligned.cues));
     }
     last_motion_ = S::normalized(previous.inverse() * pose_);
     merge(frame);
@@ -245,11 +266,11 @@ void MultiTracker<S>::writeEstimate(Frame& frame, bool lost) const {
 
 template <class S>
 typename S::Pose MultiTracker<S>::predict(const Frame& frame) {
-  std::optional<Pose> delta;
-  if (motion) delta = motion->predict(frame);
-  predicted_by_model_ = delta.has_value();
-  if (!delta) delta = constant_velocity() ? last_motion_ : Pose::Identity();
-  return S::normalized(pose_ * *delta);
+  model_motion_.reset();
+  if (motion) model_motion_ = motion->predict(frame);
+  const Pose delta =
+      model_motion_ ? *model_motion_ : constant_velocity() ? last_motion_ : Pose::Identity();
+  return S::normalized(pose_ * delta);
 }
 
 template <class S>

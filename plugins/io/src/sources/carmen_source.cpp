@@ -31,11 +31,14 @@ CarmenSource::~CarmenSource() = default;
 
 void CarmenSource::configure() {
   if (path().empty()) throw ParamError("path", "required: the CARMEN log to read");
-  for (const auto* p : {&front, &odometry, &reference}) {
-    if (p->value().empty()) throw ParamError(p->name(), "must name a raw entry (not empty)");
+  for (const EntryBase* e : {static_cast<const EntryBase*>(&front),
+                             static_cast<const EntryBase*>(&odometry),
+                             static_cast<const EntryBase*>(&reference)}) {
+    if (e->name().empty()) throw ParamError(e->key(), "must name a raw entry (not empty)");
   }
-  if (front() == rear() || front() == odometry() || front() == reference() ||
-      odometry() == reference() || rear() == odometry() || rear() == reference()) {
+  const std::string &f = front.name(), &r = rear.name(), &o = odometry.name(),
+                    &g = reference.name();
+  if (f == r || f == o || f == g || o == g || r == o || r == g) {
     throw ParamError("front", "front, rear, odometry and reference must be distinct entry names");
   }
   open();
@@ -219,11 +222,11 @@ void CarmenSource::fill(Frame& frame, Held& held, const std::optional<Eigen::Iso
   frame.stamp = held.stamp;
   LaserScan scan = toScan(laser);
   scan.stamp = held.stamp;
-  frame.raw.set<LaserScan>(front(), std::move(scan));
-  if (held.rear && !rear().empty()) frame.raw.set<LaserScan>(rear(), std::move(*held.rear));
+  front.set(frame, std::move(scan));
+  if (held.rear && !rear.name().empty()) rear.set(frame, std::move(*held.rear));
   if (use_laser_odometry()) {
     if (laser.has_pose) {
-      frame.raw.set<Odometry2D>(odometry(), {held.stamp, toIso(laser.robot_pose)});
+      odometry.set(frame, {held.stamp, toIso(laser.robot_pose)});
     }
   } else if (held.odometry_unknown) {
     // Leaving the entry out lets the motion model and the prior span the gap from the last
@@ -233,7 +236,7 @@ void CarmenSource::fill(Frame& frame, Held& held, const std::optional<Eigen::Iso
                   "before; frame without odometry",
                   path(), held.stamp);
   } else if (odom) {
-    frame.raw.set<Odometry2D>(odometry(), {held.stamp, *odom});
+    odometry.set(frame, {held.stamp, *odom});
   }
   // The reference is the robot's pose: the logged laser pose moved back by the mount. In raw
   // logs that is the logged robot pose; GMapping-corrected logs write GMapping's estimate of the
@@ -241,9 +244,8 @@ void CarmenSource::fill(Frame& frame, Held& held, const std::optional<Eigen::Iso
   // it as the robot pose on every log with a laser offset), so the robot field would be off by
   // the offset, turned with the robot.
   if (laser.has_pose) {
-    const LaserScan& placed = frame.raw.get<LaserScan>(front());
-    frame.raw.set<Eigen::Isometry2d>(reference(),
-                                     toIso(laser.laser_pose) * placed.mount.inverse());
+    const LaserScan& placed = frame.raw.get<LaserScan>(front.name());
+    reference.set(frame, toIso(laser.laser_pose) * placed.mount.inverse());
   }
 }
 

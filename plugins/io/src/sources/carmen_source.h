@@ -28,13 +28,13 @@ namespace io {
 class CarmenSource : public Source {
  public:
   Param<std::string> path{this, "path", "", "", "CARMEN log to read (plain text or gzip)"};
-  Param<std::string> front{this, "front", "front_laser", "",
-                           "raw entry for FLASER / ROBOTLASER1 scans (one frame each)"};
-  Param<std::string> rear{this, "rear", "rear_laser", "",
-                          "raw entry for RLASER / ROBOTLASER2 scans"};
-  Param<std::string> odometry{this, "odometry", "odom", "", "raw entry for the wheel odometry"};
-  Param<std::string> reference{this, "reference", "reference", "",
-                               "raw entry for the pose logged on the laser line"};
+  Output<LaserScan> front{this, Container::raw, "front", "front_laser",
+                          "FLASER / ROBOTLASER1 scans (one frame each)"};
+  Output<LaserScan> rear{this, Container::raw, "rear", "rear_laser",
+                         "RLASER / ROBOTLASER2 scans (empty: not emitted)"};
+  Output<Odometry2D> odometry{this, Container::raw, "odometry", "odom", "the wheel odometry"};
+  Output<Eigen::Isometry2d> reference{this, Container::raw, "reference", "reference",
+                                      "the pose logged on the laser line"};
   Param<std::string> on_error{this,
                               "on_error",
                               "strict",

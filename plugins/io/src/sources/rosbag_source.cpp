@@ -123,6 +123,13 @@ void RosbagSource::noFramesError() const {
                    "; its topics: " + (topics.empty() ? "none" : topics));
 }
 
+std::vector<ProvidedEntry> RosbagSource::provides() const {
+  std::vector<ProvidedEntry> out;
+  for (const std::string& entry : scan_entries_) out.push_back({entry, typeid(LaserScan)});
+  if (!odom_entry_.empty()) out.push_back({odom_entry_, typeid(Odometry2D)});
+  return out;
+}
+
 int64_t RosbagSource::sizeHint() const {
   if (size_hint_) return *size_hint_;
   if (path().empty() || scan_topics_.empty()) return -1;

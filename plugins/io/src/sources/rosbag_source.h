@@ -64,6 +64,8 @@ class RosbagSource : public Source {
   /// Messages on the first scan topic (one pass over the bag, cached) times `repeat`; -1 when
   /// replaying endlessly.
   int64_t sizeHint() const override;
+  /// The raw entries next() writes (for the builder's wiring check).
+  std::vector<ProvidedEntry> provides() const override;
   /// Replays started so far (1 during the first pass over the bag).
   int64_t replay() const { return replay_; }
 

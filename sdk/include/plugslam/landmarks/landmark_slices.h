@@ -11,19 +11,40 @@
 #include "plugslam/aligner_slice.h"
 #include "plugslam/landmarks/association.h"
 #include "plugslam/solver/robust_kernel.h"
+#include "plugslam/statistics.h"
 #include "plugslam/tracker_slice.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
 
+/// One observation (u, v, 1/z) of a mapped landmark by a camera on the aligner's pose: the
+/// reprojection slice's typed factor (observationError; the Jacobian is restricted to the pose
+/// space's tangent). It does not apply while the landmark is behind the camera.
+template <class S>
+struct LandmarkReprojection {
+  using Space = S;                                     ///< the pose space of T
+  static constexpr int kErrorDim = 3;                  ///< (u, v, 1/z)
+  using Error = Eigen::Matrix<double, 3, 1>;           ///< predicted - measured
+  using Jacobian = Eigen::Matrix<double, 3, S::kDof>;  ///< de / dx
+  const Eigen::Isometry3d& mount;                      ///< camera in the robot frame
+  const PinholeCamera& camera;                         ///< its intrinsics
+  const Eigen::Vector3d& point;                        ///< the landmark, scene frame
+  Eigen::Vector3d measured;                            ///< (u, v, 1/z); 1/z = 0 without depth
+  /// The error at T (zero while the landmark is behind the camera).
+  Error error(const typename S::Pose& t) const;
+  /// The error and its Jacobian at T; false while the landmark is behind the camera.
+  bool errorAndJacobian(const typename S::Pose& t, Error& e, Jacobian& j) const;
+};
+
 /// "sdk.ReprojectionSlice2D/3D": projective association + descriptor check, robust factors.
 template <class S>
-class ReprojectionSlice final : public AlignerSlice<S> {
+class ReprojectionSlice final : public AlignerSlice<S>, public StatisticsSource {
  public:
   using Pose = typename S::Pose;
-  Param<std::string> measurement{this, "measurement", "features", "",
-                                 "measurement entry (FeatureSet) to align"};
-  Param<std::string> scene{this, "scene", "landmarks", "", "scene entry (LandmarkMap) to align to"};
+  Input<FeatureSet> measurement{this, Container::measurement, "measurement", "features",
+                                "keypoints to align"};
+  Input<LandmarkMap> scene{this, Container::scene, "scene", "landmarks",
+                           "local map's landmarks to align to"};
   Param<double> search_radius{this, "search_radius", 20.0, "px",
                               "association radius of the first round, at the motion prediction",
                               Range{0.5, 1000}};
@@ -47,23 +68,26 @@ class ReprojectionSlice final : public AlignerSlice<S> {
   ReprojectionSlice();
   ~ReprojectionSlice() override;
   void configure() override;
-  bool bind(const Frame& frame, const PropertyContainer& scene,
-            const AlignContext<S>& context) override;
   void associate(const Pose& t) override;
   void linearize(const Pose& t, NormalEquations<S>& eq) const override;
 
   /// The pairs of the last association.
   const std::vector<LandmarkMatch>& matches() const { return matches_; }
+  /// frames, alignment_s (association and factors), matches_per_frame (at the solution).
+  std::vector<Statistic> statistics() const override;
+
+ protected:
+  bool prepare(const AlignContext<S>& context) override;
 
  private:
-  const FeatureSet* features_ = nullptr;
-  const LandmarkMap* landmarks_ = nullptr;
   FeatureGrid grid_;
   std::vector<LandmarkMatch> matches_;
   std::unique_ptr<RobustKernel> kernel_;
   std::string made_kernel_;
   double made_scale_ = -1;
   int round_ = 0;
+  uint64_t frames_ = 0, matched_ = 0;
+  mutable double time_s_ = 0;
 };
 
 /// "sdk.LandmarkMapSlice2D/3D": merges a FeatureSet into the local map's LandmarkMap: matched
@@ -71,12 +95,13 @@ class ReprojectionSlice final : public AlignerSlice<S> {
 /// descriptor, unmatched keypoints with depth become landmarks with a new track id, landmarks
 /// found in too few of the frames they projected into are pruned.
 template <class S>
-class LandmarkMapSlice final : public TrackerSlice<S> {
+class LandmarkMapSlice final : public TrackerSlice<S>, public StatisticsSource {
  public:
   using Pose = typename S::Pose;
-  Param<std::string> measurement{this, "measurement", "features", "",
-                                 "measurement entry (FeatureSet) to merge"};
-  Param<std::string> scene{this, "scene", "landmarks", "", "scene entry (LandmarkMap) to merge into"};
+  Input<FeatureSet> measurement{this, Container::measurement, "measurement", "features",
+                                "keypoints to merge"};
+  Output<LandmarkMap> scene{this, Container::scene, "scene", "landmarks",
+                            "local map's landmarks to merge into"};
   Param<double> match_radius{this, "match_radius", 3.0, "px",
                              "association radius at the aligned pose", Range{0.5, 1000}};
   Param<int> max_hamming{this, "max_hamming", 50, "bits",
@@ -96,12 +121,15 @@ class LandmarkMapSlice final : public TrackerSlice<S> {
                                 "into are pruned",
                                 Range{0, 1}};
 
-  void merge(const Frame& frame, PropertyContainer& scene, const Pose& t) override;
-
   /// Counters of the last merge: matched landmarks, new landmarks, pruned landmarks.
   size_t lastMatched() const { return last_matched_; }
   size_t lastCreated() const { return last_created_; }
   size_t lastPruned() const { return last_pruned_; }
+  /// frames, merge_s, per frame: matched, created, pruned and the local map's landmarks.
+  std::vector<Statistic> statistics() const override;
+
+ protected:
+  void integrate(const MergeContext<S>& context) override;
 
  private:
   FeatureGrid grid_;
@@ -109,8 +137,12 @@ class LandmarkMapSlice final : public TrackerSlice<S> {
   std::vector<bool> visible_;
   uint64_t next_id_ = 0;
   size_t last_matched_ = 0, last_created_ = 0, last_pruned_ = 0;
+  uint64_t frames_ = 0, matched_ = 0, created_ = 0, pruned_ = 0, landmarks_ = 0;
+  double time_s_ = 0;
 };
 
+extern template struct LandmarkReprojection<Space2D>;
+extern template struct LandmarkReprojection<Space3D>;
 extern template class ReprojectionSlice<Space2D>;
 extern template class ReprojectionSlice<Space3D>;
 extern template class LandmarkMapSlice<Space2D>;

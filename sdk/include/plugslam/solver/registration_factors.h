@@ -1,60 +1,159 @@
 #pragma once
-// Registration factors of an aligner: one pose variable T (moving -> fixed frame) and fixed
-// measured points. p is a point of the moving set, q its associated fixed point, n the fixed
-// normal (unit length).
+// Registration factors on one pose T (moving -> fixed frame): p is a point of the moving set, q
+// its associated fixed point, n the fixed normal (unit length). Each is a small typed factor with
+// its error dimension and Jacobian size fixed at compile time, used two ways: an aligner slice
+// adds it through NormalEquations::add at the aligner's estimate (inline, nothing allocated), and
+// PoseFactor<F> makes it a graph factor on a pose variable (the optimizer, checkJacobian). The
+// Jacobians are w.r.t. the right perturbation T * exp(dx) of Space2D/Space3D::boxplus, which is
+// also the pose variables' oplus.
+#include <type_traits>
+
+#include "plugslam/pose_space.h"
 #include "plugslam/solver/factor.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
 
+/// The pose variable of a pose space: VariableSE2 for Space2D, VariableSE3 for Space3D.
+template <class S>
+using PoseVariable = std::conditional_t<S::kDim == 2, VariableSE2, VariableSE3>;
+
 /// 2D point-to-point: e = T p - q.
-class PointToPointFactor2D final : public Factor<2, VariableSE2> {
- public:
-  /// Aligns moving point p to fixed point q.
-  PointToPointFactor2D(VariableSE2* t, const Eigen::Vector2d& p, const Eigen::Vector2d& q);
-  ErrorVector error() const override;
-  void errorAndJacobian(ErrorVector& e, JacobianMatrix& J) const override;
-
- private:
-  Eigen::Vector2d p_, q_;
-};
-
-/// 3D point-to-point: e = T p - q.
-class PointToPointFactor3D final : public Factor<3, VariableSE3> {
- public:
-  /// Aligns moving point p to fixed point q.
-  PointToPointFactor3D(VariableSE3* t, const Eigen::Vector3d& p, const Eigen::Vector3d& q);
-  ErrorVector error() const override;
-  void errorAndJacobian(ErrorVector& e, JacobianMatrix& J) const override;
-
- private:
-  Eigen::Vector3d p_, q_;
+struct PointToPoint2D {
+  using Space = Space2D;                             ///< the pose space of T
+  static constexpr int kErrorDim = 2;                ///< dimension of e
+  using Error = Eigen::Matrix<double, 2, 1>;         ///< e
+  using Jacobian = Eigen::Matrix<double, 2, 3>;      ///< de / dx
+  Eigen::Vector2d p;                                 ///< moving point
+  Eigen::Vector2d q;                                 ///< fixed point
+  /// The error at T.
+  Error error(const SE2& t) const { return t.linear() * p + t.translation() - q; }
+  /// The error and its Jacobian at T.
+  void errorAndJacobian(const SE2& t, Error& e, Jacobian& j) const {
+    const Eigen::Vector2d rp = t.linear() * p;
+    e = rp + t.translation() - q;
+    j.leftCols<2>() = t.linear();
+    j.col(2) = Eigen::Vector2d(-rp.y(), rp.x());
+  }
 };
 
 /// 2D point-to-line: e = n^T (T p - q).
-class PointToLineFactor2D final : public Factor<1, VariableSE2> {
- public:
-  /// Aligns moving point p to the line through q with normal n.
-  PointToLineFactor2D(VariableSE2* t, const Eigen::Vector2d& p, const Eigen::Vector2d& q,
-                      const Eigen::Vector2d& n);
-  ErrorVector error() const override;
-  void errorAndJacobian(ErrorVector& e, JacobianMatrix& J) const override;
+struct PointToLine2D {
+  using Space = Space2D;                         ///< the pose space of T
+  static constexpr int kErrorDim = 1;            ///< dimension of e
+  using Error = Eigen::Matrix<double, 1, 1>;     ///< e
+  using Jacobian = Eigen::Matrix<double, 1, 3>;  ///< de / dx
+  Eigen::Vector2d p;                             ///< moving point
+  Eigen::Vector2d q;                             ///< a point of the fixed line
+  Eigen::Vector2d n;                             ///< the fixed line's normal
+  /// The error at T.
+  Error error(const SE2& t) const { return Error(n.dot(t.linear() * p + t.translation() - q)); }
+  /// The error and its Jacobian at T.
+  void errorAndJacobian(const SE2& t, Error& e, Jacobian& j) const {
+    const Eigen::Vector2d rp = t.linear() * p;
+    e[0] = n.dot(rp + t.translation() - q);
+    const Eigen::Vector2d nr = t.linear().transpose() * n;
+    j << nr.x(), nr.y(), n.y() * rp.x() - n.x() * rp.y();
+  }
+};
 
- private:
-  Eigen::Vector2d p_, q_, n_;
+/// 3D point-to-point: e = T p - q.
+struct PointToPoint3D {
+  using Space = Space3D;                         ///< the pose space of T
+  static constexpr int kErrorDim = 3;            ///< dimension of e
+  using Error = Eigen::Matrix<double, 3, 1>;     ///< e
+  using Jacobian = Eigen::Matrix<double, 3, 6>;  ///< de / dx
+  Eigen::Vector3d p;                             ///< moving point
+  Eigen::Vector3d q;                             ///< fixed point
+  /// The error at T.
+  Error error(const SE3& t) const { return t.linear() * p + t.translation() - q; }
+  /// The error and its Jacobian at T.
+  void errorAndJacobian(const SE3& t, Error& e, Jacobian& j) const {
+    e = t.linear() * p + t.translation() - q;
+    j.block<3, 3>(0, 0) = t.linear();
+    j.block<3, 3>(0, 3) = -t.linear() * skew(p);
+  }
 };
 
 /// 3D point-to-plane: e = n^T (T p - q).
-class PointToPlaneFactor3D final : public Factor<1, VariableSE3> {
+struct PointToPlane3D {
+  using Space = Space3D;                         ///< the pose space of T
+  static constexpr int kErrorDim = 1;            ///< dimension of e
+  using Error = Eigen::Matrix<double, 1, 1>;     ///< e
+  using Jacobian = Eigen::Matrix<double, 1, 6>;  ///< de / dx
+  Eigen::Vector3d p;                             ///< moving point
+  Eigen::Vector3d q;                             ///< a point of the fixed plane
+  Eigen::Vector3d n;                             ///< the fixed plane's normal
+  /// The error at T.
+  Error error(const SE3& t) const { return Error(n.dot(t.linear() * p + t.translation() - q)); }
+  /// The error and its Jacobian at T.
+  void errorAndJacobian(const SE3& t, Error& e, Jacobian& j) const {
+    e[0] = n.dot(t.linear() * p + t.translation() - q);
+    const Eigen::Vector3d nr = t.linear().transpose() * n;
+    j.block<1, 3>(0, 0) = nr.transpose();
+    // d/dphi n^T R Exp(phi) p = -n^T R [p]x = (p x R^T n)^T.
+    j.block<1, 3>(0, 3) = p.cross(nr).transpose();
+  }
+};
+
+/// A typed factor F on one pose (F::Space, F::kErrorDim, F::error(T), F::errorAndJacobian(T, e,
+/// J)) as a graph factor on a pose variable.
+template <class F>
+class PoseFactor : public Factor<F::kErrorDim, PoseVariable<typename F::Space>> {
+  using Base = Factor<F::kErrorDim, PoseVariable<typename F::Space>>;
+  static_assert(std::is_same_v<typename F::Error, typename Base::ErrorVector> &&
+                    std::is_same_v<typename F::Jacobian, typename Base::JacobianMatrix>,
+                "a pose factor's Error and Jacobian are E x 1 and E x dof");
+
+ public:
+  /// F on the pose variable t.
+  PoseFactor(PoseVariable<typename F::Space>* t, const F& factor) : Base(t), factor_(factor) {}
+  /// The typed factor.
+  const F& factor() const { return factor_; }
+  typename Base::ErrorVector error() const override {
+    return factor_.error(this->template var<0>()->estimate());
+  }
+  void errorAndJacobian(typename Base::ErrorVector& e,
+                        typename Base::JacobianMatrix& j) const override {
+    factor_.errorAndJacobian(this->template var<0>()->estimate(), e, j);
+  }
+
+ private:
+  F factor_;
+};
+
+/// 2D point-to-point as a graph factor.
+class PointToPointFactor2D final : public PoseFactor<PointToPoint2D> {
+ public:
+  /// Aligns moving point p to fixed point q.
+  PointToPointFactor2D(VariableSE2* t, const Eigen::Vector2d& p, const Eigen::Vector2d& q)
+      : PoseFactor(t, PointToPoint2D{p, q}) {}
+};
+
+/// 3D point-to-point as a graph factor.
+class PointToPointFactor3D final : public PoseFactor<PointToPoint3D> {
+ public:
+  /// Aligns moving point p to fixed point q.
+  PointToPointFactor3D(VariableSE3* t, const Eigen::Vector3d& p, const Eigen::Vector3d& q)
+      : PoseFactor(t, PointToPoint3D{p, q}) {}
+};
+
+/// 2D point-to-line as a graph factor.
+class PointToLineFactor2D final : public PoseFactor<PointToLine2D> {
+ public:
+  /// Aligns moving point p to the line through q with normal n.
+  PointToLineFactor2D(VariableSE2* t, const Eigen::Vector2d& p, const Eigen::Vector2d& q,
+                      const Eigen::Vector2d& n)
+      : PoseFactor(t, PointToLine2D{p, q, n}) {}
+};
+
+/// 3D point-to-plane as a graph factor.
+class PointToPlaneFactor3D final : public PoseFactor<PointToPlane3D> {
  public:
   /// Aligns moving point p to the plane through q with normal n.
   PointToPlaneFactor3D(VariableSE3* t, const Eigen::Vector3d& p, const Eigen::Vector3d& q,
-                       const Eigen::Vector3d& n);
-  ErrorVector error() const override;
-  void errorAndJacobian(ErrorVector& e, JacobianMatrix& J) const override;
-
- private:
-  Eigen::Vector3d p_, q_, n_;
+                       const Eigen::Vector3d& n)
+      : PoseFactor(t, PointToPlane3D{p, q, n}) {}
 };
 
 }  // namespace abi_v1
