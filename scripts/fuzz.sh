@@ -15,7 +15,7 @@ seconds="${1:-60}"
 shift || true
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=(fuzz_config fuzz_carmen fuzz_rosbag fuzz_graph fuzz_archive fuzz_trajectory fuzz_image
-  fuzz_camera_files)
+  fuzz_camera_files fuzz_foxglove)
 build="${PLUGSLAM_FUZZ_DIR:-$root/build-fuzz}"
 lock=()
 [ -n "${PLUGSLAM_LOCK:-}" ] && lock=(flock "$PLUGSLAM_LOCK")
@@ -42,6 +42,7 @@ seed_files() {  # files seeding one target
     fuzz_image) find "$bad"/cases -path '*/cam_*' \( -name '*.png' -o -name '*.jpg' \) | sort ;;
     fuzz_camera_files) find "$bad"/cases -path '*/cam_*' \( -name '*.txt' -o -name '*.csv' \
                          -o -name '*.yaml' \) | sort ;;
+    fuzz_foxglove) ls "$root"/tests/fuzz/seeds/foxglove/* ;;
   esac 2>/dev/null || true
 }
 

@@ -24,7 +24,8 @@ for a in "$@"; do
   esac
 done
 "$root/scripts/install-deps.sh"
-# The page's browser tests: Debian's chromium and the page's npm packages.
+# Node, the page's and the viewer tests' npm packages (runtime/web, tests/node), and Debian's
+# chromium for the page's browser tests.
 "$root/scripts/install-web-deps.sh" --browser
 "$root/scripts/build.sh" "${cmake_args[@]}"
 : "${PLUGSLAM_DATA:=$root/../shared/data}"

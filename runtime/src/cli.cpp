@@ -18,14 +18,16 @@ namespace plugslam::runtime {
 
 std::string defaultConfigPath() {
   namespace fs = boost::filesystem;
-  const char* name = "default.yaml";
+  // The built-in default is a shipped config, named once, here.
+  const char* name = "sim2d_double_laser.yaml";
   fs::path exe = boost::dll::program_location();
   for (const fs::path& dir : {exe.parent_path().parent_path() / "share" / "plugslam" / "configs",
                               fs::path(PLUGSLAM_INSTALL_DATADIR) / "configs",
                               fs::path(PLUGSLAM_SOURCE_DIR) / "configs"}) {
     if (fs::exists(dir / name)) return (dir / name).string();
   }
-  throw InputError("no config given and the default config (configs/default.yaml) is not installed");
+  throw InputError(std::string("no config given and the default config (configs/") + name +
+                   ") is not installed");
 }
 
 int runCli(int argc, char** argv) {

@@ -1,16 +1,18 @@
 #include "runner.h"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
-#include <unistd.h>
 
 #include <boost/filesystem.hpp>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <thread>
 
+#include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
 #include "plugslam/eval/ate.h"
 #include "plugslam/eval/rpe.h"
@@ -22,80 +24,66 @@ namespace fs = boost::filesystem;
 
 RunObserver::~RunObserver() = default;
 
-void writeTextFileAtomic(const std::string& path, const std::string& content) {
-  fs::path target(path);
-  fs::path tmp = target.parent_path() / (target.filename().string() + ".tmp-" +
-                                         std::to_string(::getpid()));
-  {
-    std::ofstream out(tmp.string(), std::ios::binary | std::ios::trunc);
-    if (!out) throw Error("cannot write '" + tmp.string() + "'");
-    out << content;
-    out.flush();
-    if (!out) throw Error("write to '" + tmp.string() + "' failed (disk full?)");
-  }
-  boost::system::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw Error("cannot move '" + tmp.string() + "' to '" + path + "'");
-  }
-}
-
 namespace {
-std::string jsonNumber(const std::optional<double>& v) {
-  return v && std::isfinite(*v) ? fmt::format("{:.6f}", *v) : "null";
+// A figure with the decimals run.json has always printed it with (the timers resolve
+// microseconds, rates a thousandth), so its value is the same as before the JSON library wrote
+// it; a NaN or infinity stays as it is and is written as null.
+double decimals(double v, int places) {
+  if (!std::isfinite(v)) return v;
+  const std::string text = fmt::format("{:.{}f}", v, places);
+  double out = v;
+  std::from_chars(text.data(), text.data() + text.size(), out);  // locale-independent
+  return out;
 }
 
-// A JSON string literal: error messages quote file contents and names.
-std::string jsonString(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    const auto u = static_cast<unsigned char>(c);
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (u < 0x20) {
-      out += fmt::format("\\u{:04x}", u);
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
+// A measured figure, or null when there is none.
+nlohmann::ordered_json optionalFigure(const std::optional<double>& v) {
+  if (!v || !std::isfinite(*v)) return nullptr;
+  return decimals(*v, 6);
 }
 }  // namespace
 
 std::string runReportJson(const RunReport& r) {
-  std::string modules;
+  // Keys in the order readers have always seen them.
+  nlohmann::ordered_json j;
+  j["frames"] = r.frames;
+  j["wall_time_s"] = decimals(r.wall_s, 6);
+  j["hz"] = decimals(r.hz, 3);
+  j["pipeline_time_s"] = decimals(r.pipeline_s, 6);
+  j["pipeline_hz"] = decimals(r.pipeline_hz, 3);
+  j["stopped_by"] = r.stopped_by;
+  j["error"] = r.error.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(r.error);
+  j["tracked_frames"] = r.tracked;
+  j["local_maps"] = r.local_maps;
+  j["tracking_failures"] = r.tracking_failures;
+  j["module_errors"] = r.module_errors;
+  j["reference"] = {{"ate_rmse_m", optionalFigure(r.ate_rmse)},
+                    {"ate_max_m", optionalFigure(r.ate_max)},
+                    {"rpe_1m_rmse_m", optionalFigure(r.rpe_rmse)}};
+  const GraphStats& g = r.graph;
+  j["graph"] = {{"nodes", g.nodes},
+                {"edges", g.edges},
+                {"loop_candidates", g.candidates},
+                {"loops_accepted", g.loops_accepted},
+                {"loops_rejected", g.loops_rejected},
+                {"optimizations", g.optimizations},
+                {"optimization_time_s", decimals(g.optimization_time, 6)},
+                {"loop_detection_time_s", decimals(g.detection_time, 6)},
+                {"loop_validation_time_s", decimals(g.validation_time, 6)},
+                {"final_chi2", decimals(g.final_chi2, 6)}};
+  nlohmann::ordered_json& modules = j["modules"] = nlohmann::ordered_json::object();
   for (const auto& m : r.modules) {
-    modules += fmt::format("{}\n    \"{}\": {{\"total_s\": {:.6f}, \"calls\": {}, \"mean_ms\": {:.4f}}}",
-                           modules.empty() ? "" : ",", m.module, m.total_s, m.calls,
-                           m.calls ? 1e3 * m.total_s / m.calls : 0.0);
+    modules[m.module] = {{"total_s", decimals(m.total_s, 6)},
+                         {"calls", m.calls},
+                         {"mean_ms", decimals(m.calls ? 1e3 * m.total_s / m.calls : 0.0, 4)}};
   }
-  std::string statistics;
+  nlohmann::ordered_json& statistics = j["statistics"] = nlohmann::ordered_json::object();
   for (const auto& [module, figures] : r.statistics) {
-    std::string fields;
-    for (const auto& f : figures)
-      fields += fmt::format("{}{}: {}", fields.empty() ? "" : ", ", jsonString(f.name),
-                            jsonNumber(f.value));
-    statistics += fmt::format("{}\n    {}: {{{}}}", statistics.empty() ? "" : ",",
-                              jsonString(module), fields);
+    nlohmann::ordered_json& fields = statistics[module] = nlohmann::ordered_json::object();
+    for (const auto& f : figures) fields[f.name] = optionalFigure(f.value);
   }
-  return fmt::format(
-      "{{\n  \"frames\": {},\n  \"wall_time_s\": {:.6f},\n  \"hz\": {:.3f},\n  \"pipeline_time_s\": {:.6f},\n  \"pipeline_hz\": {:.3f},\n  \"stopped_by\": "
-      "\"{}\",\n  \"error\": {},\n  \"tracked_frames\": {},\n  \"local_maps\": {},\n  \"tracking_failures\": {},\n"
-      "  \"module_errors\": {},\n"
-      "  \"reference\": {{\"ate_rmse_m\": {}, \"ate_max_m\": {}, \"rpe_1m_rmse_m\": {}}},\n"
-      "  \"graph\": {{\"nodes\": {}, \"edges\": {}, \"loop_candidates\": {}, \"loops_accepted\": {}, "
-      "\"loops_rejected\": {}, \"optimizations\": {}, \"optimization_time_s\": {:.6f}, "
-      "\"loop_detection_time_s\": {:.6f}, \"loop_validation_time_s\": {:.6f}, "
-      "\"final_chi2\": {:.6f}}},\n"
-      "  \"modules\": {{{}\n  }},\n  \"statistics\": {{{}\n  }}\n}}\n",
-      r.frames, r.wall_s, r.hz, r.pipeline_s, r.pipeline_hz, r.stopped_by, r.error.empty() ? "null" : jsonString(r.error), r.tracked,
-      r.local_maps, r.tracking_failures, r.module_errors,
-      jsonNumber(r.ate_rmse), jsonNumber(r.ate_max), jsonNumber(r.rpe_rmse), r.graph.nodes,
-      r.graph.edges, r.graph.candidates, r.graph.loops_accepted, r.graph.loops_rejected,
-      r.graph.optimizations, r.graph.optimization_time, r.graph.detection_time,
-      r.graph.validation_time, r.graph.final_chi2, modules, statistics);
+  // An error message may quote a file's bytes: invalid UTF-8 is replaced, never a throw.
+  return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 
 std::string scoreLine(const RunReport& r, const std::string& reference) {
@@ -313,7 +301,7 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
   report.modules = io_timings_.entries();
   for (const auto& e : pipeline.timings().entries()) report.modules.push_back(e);
   report.statistics = collectStatistics(pipeline);
-  writeTextFileAtomic((fs::path(options_.out_dir) / "run.json").string(), runReportJson(report));
+  writeFileAtomically((fs::path(options_.out_dir) / "run.json").string(), runReportJson(report));
   if (sink_failure) std::rethrow_exception(sink_failure);
   return report;
 }

@@ -6,8 +6,8 @@
 #include <optional>
 #include <string>
 
-#include "plugslam/errors.h"
 #include "playback_clock.h"
+#include "plugslam/errors.h"
 #include "plugslam/statistics.h"
 #include "plugslam/timings.h"
 #include "run_config.h"
@@ -138,8 +138,5 @@ std::string scoreLine(const RunReport& report, const std::string& reference);
 
 /// run.json's content.
 std::string runReportJson(const RunReport& report);
-
-/// Writes `content` to `path` atomically (temp file in the same folder, then rename).
-void writeTextFileAtomic(const std::string& path, const std::string& content);
 
 }  // namespace plugslam::runtime

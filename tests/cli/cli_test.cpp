@@ -194,7 +194,7 @@ TEST_F(Cli, ValidateReportsEveryError) {
 // Each error names where (the file's line and column, or the --set), the key path and a
 // did-you-mean.
 TEST_F(Cli, ValidateChecksTheEntryWiring) {
-  const std::string shipped = plugslam::testing::sourceDir() + "/configs/default.yaml";
+  const std::string shipped = plugslam::testing::sourceDir() + "/configs/sim2d_double_laser.yaml";
   auto r = run("validate " + shipped + " --set pipeline.tracker.aligner.slices[0].measurement=frnt");
   EXPECT_EQ(r.code, 2) << r.out;
   expectHas(r.out,

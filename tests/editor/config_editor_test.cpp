@@ -34,7 +34,7 @@ std::string slurp(const fs::path& p) {
 
 std::string program() { return plugslam::testing::buildDir() + "/bin/plugslam"; }
 std::string defaultConfig() {
-  return slurp(fs::path(plugslam::testing::sourceDir()) / "configs" / "default.yaml");
+  return slurp(fs::path(plugslam::testing::sourceDir()) / "configs" / "sim2d_double_laser.yaml");
 }
 
 // The module at a path of slot keys and item indexes, e.g. {"pipeline", 0, "tracker", 0}.

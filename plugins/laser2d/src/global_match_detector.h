@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "correlative_validator.h"
+#include "correlative_matcher.h"
 #include "plugslam/graph_slam.h"
 
 namespace plugslam {

@@ -10,9 +10,9 @@
 #include "commands/commands.h"
 #include "commands/introspection.h"
 #include "config_builder.h"
+#include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
 #include "plugslam/registry.h"
-#include "runner.h"
 
 namespace plugslam::runtime {
 
@@ -92,7 +92,7 @@ void addReferenceCommand(CLI::App& root, int& exit_code) {
     if (out_file.empty())
       std::cout << md;
     else
-      writeTextFileAtomic(out_file, md);
+      writeFileAtomically(out_file, md);
     exit_code = kOk;
   });
 }

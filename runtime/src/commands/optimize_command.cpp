@@ -10,9 +10,9 @@
 
 #include "cli.h"
 #include "commands/commands.h"
+#include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
 #include "plugslam/solver/optimize_graph_file.h"
-#include "runner.h"
 
 namespace plugslam::runtime {
 
@@ -207,10 +207,8 @@ void addOptimizeCommand(CLI::App& root, int& exit_code) {
     if (summary.empty() && !a.output.empty()) summary = a.output + ".json";
     if (!summary.empty()) {
       try {
-        writeTextFileAtomic(summary, summaryJson(a, r, time_total));
-      } catch (const InputError&) {
-        throw;
-      } catch (const Error& e) {
+        writeFileAtomically(summary, summaryJson(a, r, time_total));
+      } catch (const InputError& e) {
         // An unwritable summary path is a bad argument, like an unwritable -o.
         throw InputError(std::string("--summary: ") + e.what());
       }

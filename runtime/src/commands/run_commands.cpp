@@ -229,7 +229,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
   cmd->add_option("--do", actions,
                   "after the run, run a module action: MODULE.ACTION[:ARG,...] (repeatable; "
                   "checked before the first frame)");
-  addViewerOptions(*cmd, viewer_options);
+  addViewerOptions(*cmd, viewer_options, /*run_options=*/true);
   cmd->callback([&exit_code] {
     if (localize && session_dir.empty()) throw InputError("--localize needs --session DIR");
     std::optional<SessionManifest> manifest;
@@ -259,8 +259,8 @@ void addRunCommand(CLI::App& root, int& exit_code) {
     }
     RunOptions options;
     options.out_dir = out_dir;
-    options.rate = rate;
     StatusLine& status = StatusLine::console();
+    options.rate = rate;
     std::string config_yaml = YAML::Dump(doc.root) + "\n";  // a viewer's settings update it
     Pipeline* pipeline = run->pipeline.get();
     const std::string checkpoint_dir = (boost::filesystem::path(out_dir) / "checkpoint").string();
@@ -311,7 +311,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
             SessionSummary s = writeCheckpoint(dir, control->configYaml(), *run->pipeline);
             return fmt::format("saved session {}: {} local maps, {} edges", dir, s.maps, s.edges);
           },
-          [] { return g_interrupted.load(); }, &config_yaml);
+          [] { return g_interrupted.load(); }, &config_yaml, viewer_options.paused);
       options.observer = control.get();
       viewer.serve(control.get());
     }
@@ -320,6 +320,12 @@ void addRunCommand(CLI::App& root, int& exit_code) {
     {
       InterruptGuard guard;
       report = runPipeline(*run, options);
+    }
+    if (viewer.server() && viewer_options.keep_serving && report.stopped_by != "interrupted") {
+      std::cerr << "run finished; still serving " << viewer.server()->url()
+                << " (Ctrl-C to quit)" << std::endl;
+      InterruptGuard guard;
+      while (!g_interrupted.load()) ::usleep(100000);
     }
     if (control) control->shutdown();
     viewer.stop();

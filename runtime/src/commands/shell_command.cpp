@@ -43,6 +43,13 @@ void addShellCommand(CLI::App& root, int& exit_code) {
       options.on_state = [c = control.get()](const std::string& s) { c->stateChanged(s); };
     }
     Shell shell(std::cout, options);
+    // The control's thread uses the shell: it stops before the shell goes, also on an error.
+    struct StopFirst {
+      ShellControl* control;
+      ~StopFirst() {
+        if (control) control->shutdown();
+      }
+    } stop_first{control.get()};
     if (control) control->attach(shell);
     if (!config.empty()) shell.execute("load " + config);
     viewer.serve(control.get());

@@ -174,7 +174,7 @@ function serveMissing() {
 // slow or busy one (plugins loading, SwiftShader drawing) decides the outcome.
 test("live: the page follows a simulator run, pauses it, and edits its config", { skip: serveMissing() || false, timeout: 540000 }, async () => {
   const dir = mkdtempSync(join(tmpdir(), "plugslam-page-"));
-  const host = spawn(plugslam, ["run", join(sourceDir, "configs", "default.yaml"), "-o", join(dir, "out"),
+  const host = spawn(plugslam, ["run", join(sourceDir, "configs", "sim2d_double_laser.yaml"), "-o", join(dir, "out"),
     "--serve", "127.0.0.1:0", "--rate", "1", "--set", "source.session=stage-3"], { cwd: dir, stdio: ["ignore", "pipe", "pipe"] });
   let log = "";
   host.stdout.on("data", (d) => (log += d));

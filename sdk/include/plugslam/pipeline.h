@@ -45,6 +45,9 @@ class Pipeline : public Configurable {
   virtual RunResult result() const;
   /// Time spent per module so far.
   Timings& timings() { return timings_; }
+  /// Local map `id` as the pipeline holds it (its scene, its current origin), or nullptr when no
+  /// such map exists yet. Read it only between frames.
+  std::shared_ptr<const LocalMap> localMap(int64_t id) const;
   /// Restores a saved session before the first frame: the local maps (ids 0..n-1) and the graph
   /// edges. Mapping (`localize` false) appends new maps after them, joined by loops; localization
   /// tracks against them frozen and adds nothing to the graph. Throws InputError.

@@ -88,6 +88,11 @@ RunResult Pipeline::result() const {
   return r;
 }
 
+std::shared_ptr<const LocalMap> Pipeline::localMap(int64_t id) const {
+  auto it = local_maps_.find(id);
+  return it == local_maps_.end() ? nullptr : it->second;
+}
+
 void Pipeline::throwModuleError(const Configurable& m, const std::string& what) {
   throw ModuleError(m.name(), m.typeName(), what);
 }

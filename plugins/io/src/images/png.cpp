@@ -6,7 +6,10 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <new>
+#include <string>
 
+#include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
 #include "plugslam/png.h"
 
@@ -32,16 +35,12 @@ void onError(png_structp png, png_const_charp message) {
 }
 void onWarning(png_structp, png_const_charp) {}
 
-// Image sequences have thousands of frames: zlib level 1 (fast), libpng's row filters.
+// Image sequences have thousands of frames: zlib level 1 (fast), libpng's row filters. Encoded in
+// memory, then written atomically: a crash mid-sequence leaves no truncated image.
 void writeEncoded(const std::string& path, const PngPixels& pixels) {
   PngOptions fast;
   fast.level = 1;
-  const std::string bytes = encodePng(pixels, fast);
-  FilePtr file(std::fopen(path.c_str(), "wb"));
-  if (!file) throw InputError("cannot write PNG '" + path + "'");
-  if (std::fwrite(bytes.data(), 1, bytes.size(), file.get()) != bytes.size() ||
-      std::fflush(file.get()) != 0)
-    throw InputError("cannot write PNG '" + path + "' (disk full?)");
+  writeFileAtomically(path, encodePng(pixels, fast));
 }
 
 // Reading: each function that calls setjmp below takes only pointers and creates no C++ object

@@ -1,7 +1,6 @@
 #pragma once
-// PNG files of images: 8-bit grey / RGB and 16-bit grey depth images, written by the image
-// sequence writers through the SDK's encoder (plugslam/png.h), decoded through libpng by the
-// camera dataset sources.
+// PNG files of image sequences and camera datasets: 8-bit grey / RGB images and 16-bit grey depth
+// images, written with the SDK's encoder (plugslam/png.h), read through libpng.
 #include <cstdint>
 #include <string>
 #include <vector>
