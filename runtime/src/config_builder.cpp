@@ -318,8 +318,10 @@ std::shared_ptr<Configurable> ConfigBuilder::create(const SlotBase& slot, const 
   YAML::Node params;
   bool has_params = false;
   YAML::Node type_node = node;
+  // A list's items name their type; its defaults are whole items (fillSlot).
+  const std::string default_type = slot.isList() ? std::string() : slot.defaultType();
   if (!node || node.IsNull()) {
-    type = slot.defaultType();
+    type = default_type;
   } else if (node.IsScalar()) {
     type = node.Scalar();
   } else if (node.IsMap()) {
@@ -331,7 +333,7 @@ std::shared_ptr<Configurable> ConfigBuilder::create(const SlotBase& slot, const 
       if (!type_node.IsScalar()) fail(type_node, join(path, "type"), "expected a type name");
       type = type_node.Scalar();
     } else {
-      type = slot.defaultType();
+      type = default_type;
     }
   } else {
     fail(node, path,
@@ -350,7 +352,13 @@ std::shared_ptr<Configurable> ConfigBuilder::create(const SlotBase& slot, const 
 void ConfigBuilder::fillSlot(SlotBase& slot, const YAML::Node& node, const std::string& path) {
   slot.clear();
   if (slot.isList()) {
-    if (!node || node.IsNull()) return;
+    if (!node || node.IsNull()) {
+      // The key omitted: the list's default items, if it has some.
+      const std::vector<std::string> types = slot.defaultTypes();
+      for (size_t i = 0; i < types.size(); ++i)
+        slot.assign(create(slot, YAML::Node(types[i]), path + "[" + std::to_string(i) + "]"));
+      return;
+    }
     if (!node.IsSequence()) fail(node, path, "expected a list of " + slot.kind() + " modules");
     for (size_t i = 0; i < node.size(); ++i) {
       std::string p = path + "[" + std::to_string(i) + "]";

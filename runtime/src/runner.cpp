@@ -66,6 +66,7 @@ std::string runReportJson(const RunReport& r) {
                 {"loop_candidates", g.candidates},
                 {"loops_accepted", g.loops_accepted},
                 {"loops_rejected", g.loops_rejected},
+                {"loops_restored", g.loops_restored},
                 {"optimizations", g.optimizations},
                 {"optimization_time_s", decimals(g.optimization_time, 6)},
                 {"loop_detection_time_s", decimals(g.detection_time, 6)},
@@ -92,6 +93,13 @@ std::string scoreLine(const RunReport& r, const std::string& reference) {
                                  *r.ate_rmse, r.ate_max.value_or(NAN));
   if (r.rpe_rmse) return line + fmt::format("RPE(1 m) rmse {:.4f} m\n", *r.rpe_rmse);
   return line + "no RPE(1 m): " + r.rpe_unavailable + "\n";
+}
+
+std::string loopsClosedText(const GraphStats& g) {
+  std::string text = fmt::format("{} loops closed", g.loops_accepted);
+  if (g.loops_restored > 0)
+    text += fmt::format(" ({} more restored with the session)", g.loops_restored);
+  return text;
 }
 
 // Runs one call into a source or sink (plugin code) so that whatever it throws names the module:
@@ -217,6 +225,7 @@ bool Execution::step() {
     skipped(seq, e);
     processed = false;  // the sinks never see a frame the pipeline did not finish
   }
+  if (processed && frame.estimate.valid && frame.estimate.frozen) ++frozen_frames_;
   for (auto& sink : run_.outputs) {
     if (!processed) break;
     ScopedTimer t(io_timings_, sink->name());
@@ -289,6 +298,12 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
     report.local_maps = pipeline.tracker->stats().local_maps;
     report.tracking_failures = pipeline.tracker->stats().failed;
   }
+  // In localization a failed frame is one no saved map explains: when that is most of them the
+  // poses are mostly predictions, and the session is probably of another place (or sensor).
+  if (frozen_frames_ > 0 && 2 * report.tracking_failures > frozen_frames_)
+    spdlog::warn("localization: {} of {} frames did not align with any saved map; the session "
+                 "is probably of another place, or the sensors or config differ from its run",
+                 report.tracking_failures, frozen_frames_);
   scoreAgainstGroundTruth(result, pipeline.tracker ? pipeline.tracker->dimension() : 3, report);
   if (!result.reference.empty())
     writeTumTrajectory(result.reference,

@@ -124,6 +124,7 @@ class Execution {
   int64_t total_ = -1;
   std::chrono::steady_clock::time_point start_;
   bool exhausted_ = false, finished_ = false;
+  uint64_t frozen_frames_ = 0;  // frames tracked in frozen maps (localization)
 };
 
 /// Runs source -> pipeline -> sinks to the end of the data (or max_frames, or until
@@ -138,5 +139,8 @@ std::string scoreLine(const RunReport& report, const std::string& reference);
 
 /// run.json's content.
 std::string runReportJson(const RunReport& report);
+
+/// "N loops closed", plus the restored session's loops kept when there are any.
+std::string loopsClosedText(const GraphStats& graph);
 
 }  // namespace plugslam::runtime

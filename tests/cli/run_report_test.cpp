@@ -52,7 +52,7 @@ TEST(RunReportJson, KeysInOrderAndFiguresWithTheirDecimals) {
   EXPECT_EQ(
       keys(j["graph"]),
       (std::vector<std::string>{"nodes", "edges", "loop_candidates", "loops_accepted",
-                                "loops_rejected", "optimizations", "optimization_time_s",
+                                "loops_rejected", "loops_restored", "optimizations", "optimization_time_s",
                                 "loop_detection_time_s", "loop_validation_time_s", "final_chi2"}));
   EXPECT_EQ(keys(j["modules"]), (std::vector<std::string>{"source", "pipeline.tracker"}));
   EXPECT_EQ(j["frames"].get<uint64_t>(), 996u);

@@ -172,4 +172,27 @@ function hostPath() {
   return p;
 }
 
-module.exports = { SKIP, skip, fail, check, tempDir, startHost, exited, until, connect, hostPath, requireClient };
+// A whole run of the mixed world (laser, odometry, an RGB-D camera) with a graph back-end and a
+// grid writer, so every kind of drawable goes out, watched by one client subscribed to every channel from the first
+// frame (the run starts paused, the client resumes it). Resolves with the client's record once
+// the server has closed.
+async function watchMixedWorld(plugslam, { name, frames, protocol = "foxglove.websocket.v1" }) {
+  const config = path.join(__dirname, "..", "..", "configs", "sim_mixed.yaml");
+  const host = await startHost(plugslam, [
+    "run", config, "--serve", "127.0.0.1:0", "--paused", "-o", tempDir(name),
+    "--set", `max_frames=${frames}`,
+    "--set", "outputs=[{type: laser2d.OccupancyMapWriter}]",
+    "--set", "pipeline.graph={type: sdk.GraphSlam2D, deterministic: true}",
+  ]);
+  const s = connect(host.url, protocol);
+  await until(() => s.serverInfo && s.services.size > 0, "serverInfo");
+  s.subscribeAll();
+  const r = await s.call("resume");
+  check(r.ok, "resume");
+  check((await exited(host.child)) === 0, "the run ended normally");
+  await until(() => s.closed, "the server to close");
+  return s;
+}
+
+module.exports = { SKIP, skip, fail, check, tempDir, startHost, exited, until, connect, hostPath, requireClient,
+                   watchMixedWorld };

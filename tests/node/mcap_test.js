@@ -41,6 +41,12 @@ async function main() {
   check(reader.statistics && Number(reader.statistics.messageCount) === recorded,
         `statistics count ${reader.statistics && reader.statistics.messageCount} messages`);
   check(reader.channelsById.size >= 8, `${reader.channelsById.size} channels in the summary`);
+  // What Foxglove and Lichtblick read to decode: no ROS profile, JSON messages with JSON schemas.
+  check(reader.header.profile === "" && /^plugslam /.test(reader.header.library),
+        `header: profile "${reader.header.profile}", library "${reader.header.library}"`);
+  check([...reader.channelsById.values()].every((c) => c.messageEncoding === "json" &&
+          reader.schemasById.get(c.schemaId) && reader.schemasById.get(c.schemaId).encoding === "jsonschema"),
+        "every channel: json messages, a jsonschema schema");
 
   const decoder = new TextDecoder();
   const perChannel = new Map();

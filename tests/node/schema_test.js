@@ -1,29 +1,12 @@
 // Every channel's messages validate against @foxglove/schemas: a live run of the mixed world
 // (laser, odometry, an RGB-D camera) with a client subscribed to every channel.
 "use strict";
-const path = require("path");
-const { check, fail, tempDir, startHost, exited, until, connect, hostPath } = require("./lib");
+const { check, fail, hostPath, watchMixedWorld } = require("./lib");
 const { validators } = require("./schemas");
 
 async function main() {
   const validatorFor = validators();
-  const plugslam = hostPath();
-  const out = tempDir("schemas");
-  const config = path.join(__dirname, "..", "..", "configs", "sim_mixed.yaml");
-  // The mixed world's camera and a grid writer: every kind of drawable goes out.
-  const host = await startHost(plugslam, [
-    "run", config, "--serve", "127.0.0.1:0", "--paused", "-o", out,
-    "--set", "max_frames=40",
-    "--set", "outputs=[{type: laser2d.OccupancyMapWriter}]",
-    "--set", "pipeline.graph={type: sdk.GraphSlam2D, deterministic: true}",
-  ]);
-  const s = connect(host.url);
-  await until(() => s.serverInfo && s.services.size > 0, "serverInfo");
-  s.subscribeAll();
-  const r = await s.call("resume");
-  check(r.ok, "resume");
-  check((await exited(host.child)) === 0, "the run ended normally");
-  await until(() => s.closed, "the server to close");
+  const s = await watchMixedWorld(hostPath(), { name: "schemas", frames: 40 });
   const kinds = new Set();
   let count = 0;
   for (const channel of s.channels.values()) {

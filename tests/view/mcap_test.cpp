@@ -11,6 +11,7 @@
 
 #include "plugslam/errors.h"
 #include "plugslam/mcap/writer.h"
+#include "temp_dir.h"
 
 namespace plugslam::mcap {
 namespace {
@@ -45,15 +46,12 @@ std::vector<Record> records(const std::string& b, size_t from, size_t to) {
 
 class McapWriterTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / fs::unique_path("plugslam-mcap-%%%%%%%%");
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  void SetUp() override { dir_ = tmp_.path().string(); }
   std::string read(const fs::path& p) {
     std::ifstream in(p.string(), std::ios::binary);
     return std::string(std::istreambuf_iterator<char>(in), {});
   }
+  plugslam::testing::TempDir tmp_{"plugslam_mcap"};  // fresh, of this test's own, removed after
   fs::path dir_;
 };
 

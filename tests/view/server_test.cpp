@@ -11,6 +11,7 @@
 #include <fstream>
 
 #include "plugslam/errors.h"
+#include "temp_dir.h"
 #include "view/foxglove_server.h"
 
 namespace plugslam::runtime {
@@ -56,14 +57,13 @@ std::string get(uint16_t port, const std::string& target) {
 class ServerTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    root_ = fs::temp_directory_path() / fs::unique_path("plugslam-web-%%%%%%%%");
-    fs::create_directories(root_ / "web" / "js");
-    std::ofstream(root_ / "web" / "index.html") << "<html>page</html>";
-    std::ofstream(root_ / "web" / "js" / "app.js") << "console.log(1)";
-    std::ofstream(root_ / "secret.txt") << "secret";
+    root_ = tmp_.path().string();
+    tmp_.write("web/index.html", "<html>page</html>");  // checked writes
+    tmp_.write("web/js/app.js", "console.log(1)");
+    tmp_.write("secret.txt", "secret");
     fs::create_symlink(root_ / "secret.txt", root_ / "web" / "link.txt");
   }
-  void TearDown() override { fs::remove_all(root_); }
+  plugslam::testing::TempDir tmp_{"plugslam_web"};  // fresh, of this test's own, removed after
   fs::path root_;
   ViewHub hub_;
 };

@@ -13,30 +13,22 @@
 #include <string>
 #include <vector>
 
+#include "temp_dir.h"
+
 namespace plugslam::io::testing {
 
-/// A fresh folder for one test, removed by its destructor.
+/// A fresh folder for one test (tests/support/temp_dir.h), removed by its destructor.
 class TempFolder {
  public:
-  TempFolder() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = std::filesystem::path(::testing::TempDir()) /
-            ("plugslam_" + std::to_string(::getpid()) + "_" + info->test_suite_name() + "_" +
-             info->name());
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~TempFolder() {
-    std::error_code ec;
-    std::filesystem::remove_all(path_, ec);
-  }
   /// The folder.
-  const std::filesystem::path& path() const { return path_; }
+  const std::filesystem::path& path() const { return dir_.path(); }
   /// path() / relative, as a string.
-  std::string operator/(const std::string& relative) const { return (path_ / relative).string(); }
+  std::string operator/(const std::string& relative) const {
+    return (dir_.path() / relative).string();
+  }
 
  private:
-  std::filesystem::path path_;
+  ::plugslam::testing::TempDir dir_{"plugslam_camera"};
 };
 
 /// Writes text, creating the folders on the way.

@@ -5,7 +5,8 @@
 
 #include "correlative_matcher.h"
 #include "plugslam/entry.h"
-#include "plugslam/graph_slam.h"
+#include "plugslam/geometry.h"
+#include "plugslam/loop_closure.h"
 #include "point_cloud2d.h"
 
 namespace plugslam {

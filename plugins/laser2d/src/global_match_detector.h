@@ -12,7 +12,10 @@
 #include <vector>
 
 #include "correlative_matcher.h"
-#include "plugslam/graph_slam.h"
+#include "plugslam/drift_gate.h"
+#include "plugslam/entry.h"
+#include "plugslam/loop_closure.h"
+#include "point_cloud2d.h"
 
 namespace plugslam {
 namespace laser2d {

@@ -85,8 +85,9 @@ TEST(RgbdPreprocessor, KeypointDepthIsConsistentWithTheRenderedDepth) {
   size_t with_depth = 0;
   for (size_t i = 0; i < f.size(); ++i) with_depth += f.hasDepth(i);
   // A room 1-5 m deep ranges almost everywhere; keypoints on occlusion edges get none.
-  // Measured 1,023 of 1,190 keypoints with depth.
-  EXPECT_GT(f.size(), 800u);
+  // Measured on the rendered room (sim at c5d58bc): 587 keypoints of the 1,200 asked for (its
+  // untextured surfaces give no corners), and more than 3/4 of them with depth.
+  EXPECT_GT(f.size(), 400u);
   EXPECT_GT(with_depth, f.size() * 3 / 4);
   ASSERT_GT(errors.size(), 300u);
   // The simulator draws Nguyen et al.'s noise and quantises to Kinect disparity steps: a
@@ -126,9 +127,10 @@ TEST(RgbdPreprocessor, DepthFromASeparateDepthCameraIsRegisteredToColour) {
   const FeatureSet& f = frame.measurement.get<FeatureSet>("features");
   const auto truth = exactDepth(sim, sim.camera(), pose);
   const auto errors = normalizedErrors(f, truth, f.pixels);
-  // Exact depth moved half a pixel at most: the error is well within the sensor's sigma.
-  // Measured 941 keypoints with depth, median |error| / sigma 0.05, 99.5 % within 3 sigma.
-  ASSERT_GT(errors.size(), 600u);
+  // Exact depth moved half a pixel at most: the error is well within the sensor's sigma. The
+  // depth camera's narrower view covers about 82 % of the colour image: measured 477 of 587
+  // keypoints with depth there (a registration that loses pixels or misplaces them fails this).
+  ASSERT_GT(static_cast<double>(errors.size()), 0.7 * static_cast<double>(f.size()));
   EXPECT_LT(median(errors), 0.3);
   EXPECT_GT(fractionBelow(errors, 3.0), 0.97);
   // Without registration (the depth image taken as the colour camera's) it fails.

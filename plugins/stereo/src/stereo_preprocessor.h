@@ -8,15 +8,17 @@
 #include <opencv2/core.hpp>
 
 #include "keypoint_preprocessor.h"
+#include "rectifier.h"
 #include "plugslam/landmarks/feature_set.h"
 #include "plugslam/sensor_data.h"
+#include "plugslam/statistics.h"
 #include "stereo_matcher.h"
 
 namespace plugslam {
 namespace visual {
 
 /// Keypoints with stereo depth from a left/right image pair.
-class StereoPreprocessor final : public KeypointPreprocessor {
+class StereoPreprocessor final : public KeypointPreprocessor, public StatisticsSource {
  public:
   Param<std::string> left{this, "left", "left", "", "raw entry of the left image (Image)"};
   Param<std::string> right{this, "right", "right", "", "raw entry of the right image (Image)"};
@@ -42,15 +44,18 @@ class StereoPreprocessor final : public KeypointPreprocessor {
   void configure() override;
   bool process(Frame& frame) override;
 
-  /// Time spent extracting keypoints and matching the pair, summed over the run [s].
-  double extractionTime() const { return extraction_s_; }
-  double matchingTime() const { return matching_s_; }
+  /// frames, extraction_s, matching_s, per frame: keypoints (left image) and those with depth.
+  std::vector<Statistic> statistics() const override;
 
  private:
+  OrbExtractor right_extractor_;
+  StereoRectifier rectifier_;
+  cv::Mat rect_l_, rect_r_;
   std::vector<cv::KeyPoint> kl_, kr_;
   cv::Mat dl_, dr_;
   std::vector<double> disparity_;
   double extraction_s_ = 0, matching_s_ = 0;
+  uint64_t frames_ = 0, keypoints_ = 0, with_depth_ = 0;
 };
 
 }  // namespace visual

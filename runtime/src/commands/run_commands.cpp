@@ -336,7 +336,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
     if (tracker) summary += fmt::format("; pipeline alone {:.1f} Hz", report.pipeline_hz);
     summary += ")";
     if (run->pipeline->graph)
-      summary += fmt::format("; {} loops closed", report.graph.loops_accepted);
+      summary += "; " + loopsClosedText(report.graph);
     if (!tracker) summary += "; the pipeline has no tracker, so no pose was estimated";
     std::cout << summary << "; outputs in " << out_dir << "\n";
     std::cout << scoreLine(report, run->pipeline->reference());

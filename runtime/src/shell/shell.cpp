@@ -323,9 +323,8 @@ void Shell::workerLoop() {
 
 void Shell::printReport(const RunReport& r) {
   *out_ << fmt::format(
-      "run finished ({}): {} frames in {:.3f} s ({:.1f} Hz), {} local maps, {} loops closed; "
-      "outputs in {}\n",
-      r.stopped_by, r.frames, r.wall_s, r.hz, r.local_maps, r.graph.loops_accepted,
+      "run finished ({}): {} frames in {:.3f} s ({:.1f} Hz), {} local maps, {}; outputs in {}\n",
+      r.stopped_by, r.frames, r.wall_s, r.hz, r.local_maps, loopsClosedText(r.graph),
       options_.out_dir);
   if (r.ate_rmse)
     *out_ << scoreLine(r, run_ && run_->pipeline ? run_->pipeline->reference() : "");
@@ -492,6 +491,7 @@ void Shell::cmdStatus() {
     GraphStats g = p->graph->stats();
     line += fmt::format(", graph {} nodes {} edges, loops closed {}", g.nodes, g.edges,
                         g.loops_accepted);
+    if (g.loops_restored > 0) line += fmt::format(" (+{} restored)", g.loops_restored);
   }
   if (session_)
     line += fmt::format(", session {} ({})", session_->manifest.dir,

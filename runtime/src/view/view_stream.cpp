@@ -97,12 +97,20 @@ void ViewStream::frame(const Frame& frame, const Pipeline& pipeline, uint64_t fr
     cloud.frame = "base_link";
     if (drawers.draw(m, cloud)) channel.publish(std::move(cloud));
   }
-  // Camera images as the source gave them.
+  // Camera images as the source gave them. A source names its images (left/right, rgb/depth)
+  // apart from the one CameraInfo that calibrates them (raw["camera"]): the images are then drawn
+  // in that camera's frame, the one /tf places (a stereo pair's right image at the left camera's
+  // pose: the frame only anchors the image in the 3D view). Several CameraInfo entries: each
+  // image is in the frame of its own name.
+  std::string info_frame;
+  int infos = 0;
+  for (const auto& p : frame.raw)
+    if (p.type() == typeid(CameraInfo) && ++infos == 1) info_frame = "camera/" + p.name();
   for (const auto& p : frame.raw) {
     if (p.type() != typeid(Image)) continue;
     auto& channel = channelFor(images_, "/camera/" + p.name() + "/image", view::Latch::kNone);
     if (!channel.wanted()) continue;
-    channel.publish(view::CameraImage{"camera/" + p.name(),
+    channel.publish(view::CameraImage{infos == 1 ? info_frame : "camera/" + p.name(),
                                       static_cast<const Property<Image>&>(p).value()});
   }
 
@@ -120,7 +128,7 @@ void ViewStream::frame(const Frame& frame, const Pipeline& pipeline, uint64_t fr
         published_origins_.resize(i + 1, Eigen::Isometry3d::Identity());
         origin_published_.resize(i + 1, false);
       }
-      if (!maps_[i]) maps_[i] = pipeline.localMap(id);
+      if (!maps_[i]) maps_[i] = pipeline.findLocalMap(id);
       graph_dirty_ = true;
       last_current_map_ = Clock::now();
     } else if (elapsed(last_current_map_, kCurrentMapPeriod)) {

@@ -1,5 +1,6 @@
 #pragma once
-// MotionModel: predicts the robot's motion between two frames (e.g. from wheel odometry).
+// MotionModel: predicts the robot's motion between two frames (e.g. from wheel odometry), and
+// the prediction a tracker makes from it.
 #include <optional>
 
 #include "plugslam/configurable.h"
@@ -22,6 +23,32 @@ class MotionModel : public Configurable {
   virtual std::optional<Pose> predict(const Frame& frame) = 0;
   /// Forgets the previous reading.
   virtual void reset() {}
+};
+
+/// The pose a tracker predicts before aligning: the motion model's delta when it has one for the
+/// frame, else the last motion again (constant velocity) or none.
+template <class S>
+struct MotionPrediction {
+  using Pose = typename S::Pose;
+  Pose last_motion = Pose::Identity();  ///< the motion of the last frame (constant velocity)
+  /// The motion model's measured motion for the last frame (empty: the prediction did not come
+  /// from it); the aligner's slices get it in their AlignContext.
+  std::optional<Pose> model_motion;
+
+  /// The pose predicted for `frame` from the robot's pose `from`.
+  Pose predict(MotionModel<S>* model, bool constant_velocity, const Frame& frame,
+               const Pose& from) {
+    model_motion.reset();
+    if (model) model_motion = model->predict(frame);
+    const Pose delta =
+        model_motion ? *model_motion : constant_velocity ? last_motion : Pose::Identity();
+    return S::normalized(from * delta);
+  }
+  /// Forgets the motion history.
+  void reset() {
+    last_motion = Pose::Identity();
+    model_motion.reset();
+  }
 };
 
 extern template class MotionModel<Space2D>;

@@ -111,7 +111,7 @@ struct CameraImage {
   Image image;        ///< pixels and stamp
 };
 
-/// A camera's intrinsics (foxglove.CameraCalibration, pinhole without distortion).
+/// A camera's intrinsics and lens distortion (foxglove.CameraCalibration).
 struct CameraCalibration {
   double stamp = 0;   ///< seconds
   std::string frame;  ///< the camera's frame
