@@ -8,6 +8,7 @@
 // ignored /tf/maps and drew every local map at the world origin; the check below also measures
 // what that costs.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -27,6 +28,7 @@
 #include "runner.h"
 #include "temp_dir.h"
 #include "test_paths.h"
+#include "view/view_json.h"
 #include "view/view_stream.h"
 
 using namespace plugslam;
@@ -185,6 +187,155 @@ TEST(StreamFrames, ComposedLikeAViewerTheScanLiesOnTheMapsAndTheTrajectoryEndsWh
   const Eigen::Isometry3d end = world_of[stretch.frame] * stretch.poses.back();
   const Eigen::Isometry3d expected = observer.result.trajectory.poses().back().pose;
   EXPECT_LT((end.translation() - expected.translation()).norm(), 1e-6);
+}
+
+// A stereo rig as a source gives it (KITTI-like: a rectified pair 0.537 m apart, images 1241 px
+// wide, shrunk 2x for viewers): raw "left", "right" (Images, the first camera's first) and
+// "camera" (the CameraInfo, with its `second` camera). Composed like a viewer, the right image
+// sits at the right camera's pose, and each camera has its calibration for the image as sent.
+CameraInfo kittiLikeRig() {
+  CameraInfo c;
+  c.setIntrinsics(CameraIntrinsics{718.856, 718.856, 607.1928, 185.2157, 1241, 376, Distortion{}});
+  c.baseline = 0.537;
+  // Optical frame (x right, y down, z forward) on a robot (x forward, z up), 1.65 m up.
+  Eigen::Matrix3d r;
+  r << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  c.mount.linear() = r;
+  c.mount.translation() = Eigen::Vector3d(0.2, 0, 1.65);
+  c.second = c.intrinsics();
+  c.second_pose = Eigen::Translation3d(0.537, 0, 0);
+  return c;
+}
+
+Image grey(int w, int h) {
+  Image im;
+  im.resize(w, h, 1);
+  return im;
+}
+
+// The recorded frames: frame transforms by child, images by topic, calibrations by topic.
+struct CameraFrames {
+  std::map<std::string, view::FrameTransform> tf;
+  std::map<std::string, view::CameraImage> images;
+  std::map<std::string, view::CameraCalibration> calibrations;
+  // `child` in `root` through the parents /tf gives.
+  Eigen::Isometry3d in(const std::string& root, std::string child) const {
+    Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+    while (child != root) {
+      const auto it = tf.find(child);
+      if (it == tf.end()) {
+        ADD_FAILURE() << "/tf does not place " << child;
+        return out;
+      }
+      out = it->second.transform * out;
+      child = it->second.parent;
+    }
+    return out;
+  }
+};
+
+CameraFrames streamCameraFrame(const CameraInfo& info, int images) {
+  Recorder recorder;
+  view::installPublisher(&recorder);
+  {
+    ViewStream stream;
+    Pipeline pipeline;
+    Frame frame;
+    frame.stamp = 1.5;
+    const char* names[] = {"left", "right"};
+    for (int i = 0; i < images; ++i)
+      frame.raw.set<Image>(names[i], grey(i == 0 ? info.width : info.second->width,
+                                           i == 0 ? info.height : info.second->height));
+    frame.raw.set<CameraInfo>("camera", info);
+    stream.frame(frame, pipeline, 1, -1);
+  }
+  view::installPublisher(nullptr);
+  CameraFrames out;
+  for (const auto& [key, message] : recorder.of<view::FrameTransforms>("/tf"))
+    for (const auto& t : message.transforms) out.tf[t.child] = t;
+  for (const char* topic : {"/camera/left/image", "/camera/right/image"})
+    for (const auto& [key, m] : recorder.of<view::CameraImage>(topic)) out.images[topic] = m;
+  for (const char* topic : {"/camera/camera/calibration", "/camera/camera/second/calibration"})
+    for (const auto& [key, m] : recorder.of<view::CameraCalibration>(topic))
+      out.calibrations[topic] = m;
+  return out;
+}
+
+TEST(StreamFrames, AStereoPairsRightImageIsAtTheRightCameraAndEachCameraIsCalibrated) {
+  const CameraInfo rig = kittiLikeRig();
+  const CameraFrames f = streamCameraFrame(rig, 2);
+  ASSERT_EQ(f.images.size(), 2u);
+  ASSERT_EQ(f.calibrations.size(), 2u);
+  const auto& left = f.images.at("/camera/left/image");
+  const auto& right = f.images.at("/camera/right/image");
+  EXPECT_NE(left.frame, right.frame);
+  // Composed from base_link: the left image at the mount, the right one at the mount moved by
+  // the baseline along the left camera's x axis (to the robot's right, -y), both looking ahead.
+  const Eigen::Isometry3d l = f.in("base_link", left.frame), r = f.in("base_link", right.frame);
+  EXPECT_TRUE(l.isApprox(rig.mount, 1e-12));
+  EXPECT_TRUE(r.isApprox(rig.mount * rig.second_pose, 1e-12));
+  EXPECT_TRUE((r.translation() - Eigen::Vector3d(0.2, -0.537, 1.65)).isZero(1e-12));
+  EXPECT_TRUE(r.linear().isApprox(l.linear(), 1e-12));
+
+  // One calibration per camera, each in its image's frame and for the image as sent (1241 px
+  // averaged 2x: 620 px; pixel x' is the mean of source pixels 2x' and 2x' + 1).
+  const auto& first = f.calibrations.at("/camera/camera/calibration");
+  const auto& second = f.calibrations.at("/camera/camera/second/calibration");
+  EXPECT_EQ(first.frame, left.frame);
+  EXPECT_EQ(second.frame, right.frame);
+  for (const auto* c : {&first, &second}) {
+    EXPECT_EQ(c->info.width, 620);
+    EXPECT_EQ(c->info.height, 188);
+    EXPECT_DOUBLE_EQ(c->info.fx, 718.856 / 2);
+    EXPECT_DOUBLE_EQ(c->info.cx, (607.1928 - 0.5) / 2);
+  }
+  // On the wire (ROS's and Foxglove's convention): the right camera of a rectified pair has
+  // P's Tx = -fx baseline, the left one 0.
+  const auto p = [](const view::CameraCalibration& c) {
+    return nlohmann::json::parse(encodeJson(view::Drawable{c})).at("P");
+  };
+  EXPECT_DOUBLE_EQ(p(first)[3].get<double>(), 0.0);
+  EXPECT_NEAR(p(second)[3].get<double>(), -718.856 / 2 * 0.537, 1e-9);
+}
+
+TEST(StreamFrames, AnUnrectifiedPairsSecondCameraHasItsOwnLensAndPose) {
+  // EuRoC-like: the second camera has its own pinhole and distortion and sits 11 cm to the right,
+  // a little turned; no rectified baseline.
+  CameraInfo rig = kittiLikeRig();
+  rig.width = 752;
+  rig.height = 480;
+  rig.baseline = 0;
+  rig.distortion = Distortion{Distortion::Model::kRadialTangential, {-0.28, 0.07, 2e-4, 2e-5}};
+  rig.second = CameraIntrinsics{457.6, 456.1, 379.9, 255.2, 752, 480,
+                                Distortion{Distortion::Model::kRadialTangential,
+                                           {-0.28, 0.07, -1e-4, -2e-5}}};
+  rig.second_pose = Eigen::Translation3d(0.11, 0, 0) * Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitY());
+  const CameraFrames f = streamCameraFrame(rig, 2);
+  ASSERT_EQ(f.images.size(), 2u);
+  ASSERT_EQ(f.calibrations.size(), 2u);
+  EXPECT_TRUE(f.in("base_link", f.images.at("/camera/right/image").frame)
+                  .isApprox(rig.mount * rig.second_pose, 1e-12));
+  const auto& second = f.calibrations.at("/camera/camera/second/calibration");
+  // 752 px: shrunk 2x.
+  EXPECT_DOUBLE_EQ(second.info.fx, 457.6 / 2);
+  EXPECT_EQ(second.info.distortion.coefficients, rig.second->distortion.coefficients);
+  const auto wire = nlohmann::json::parse(encodeJson(view::Drawable{second}));
+  EXPECT_EQ(wire.at("distortion_model").get<std::string>(), "plumb_bob");
+  EXPECT_DOUBLE_EQ(wire.at("P")[3].get<double>(), 0.0);  // not rectified: no stereo term
+}
+
+TEST(StreamFrames, AMonoCameraHasOneFrameAndOneCalibration) {
+  CameraInfo mono = kittiLikeRig();
+  mono.baseline = 0;
+  mono.second.reset();
+  mono.width = 640;
+  mono.height = 480;
+  const CameraFrames f = streamCameraFrame(mono, 1);
+  ASSERT_EQ(f.images.size(), 1u);
+  EXPECT_EQ(f.images.begin()->second.frame, "camera/camera");
+  ASSERT_EQ(f.calibrations.size(), 1u);
+  EXPECT_EQ(f.calibrations.begin()->second.info.width, 640);  // not shrunk
+  EXPECT_EQ(f.tf.count("camera/camera/second"), 0u);
 }
 
 }  // namespace
