@@ -172,9 +172,11 @@ TEST(StreamFrames, ComposedLikeAViewerTheScanLiesOnTheMapsAndTheTrajectoryEndsWh
   std::printf("last scan on the earlier maps: %.1f %% composed, %.1f %% without /tf/maps\n",
               100 * fraction, 100 * unplaced_fraction);
   // Within 0.1-0.2 m (one cell and its neighbours): the simulator's range noise and the maps'
-  // 5 cm voxels stay well inside. BOUNDS
-  EXPECT_GE(fraction, 0.8);
-  EXPECT_LT(unplaced_fraction, 0.5);
+  // 5 cm voxels stay well inside. Measured 82.4 % composed, 9.4 % without /tf/maps (2026-12-02);
+  // the bounds leave ~12 points either way for the loop closer's timing, and still tell the two
+  // apart by far.
+  EXPECT_GE(fraction, 0.7);
+  EXPECT_LT(unplaced_fraction, 0.3);
 
   // The trajectory's last stretch, in its map's frame, ends where the run's corrected trajectory
   // ends.
