@@ -1,12 +1,17 @@
 #!/usr/bin/env bash
-# The viewer stream's targets (issue 19), written into docs/benchmarks.md (section viewer):
-#   cost      the viewer's time on the run's thread per frame, against the pipeline's frame time,
-#             on the default demo: without a viewer, with --serve and no client, with one client;
-#   bandwidth what one client subscribed to every channel receives at default settings, per second
-#             of wall time and per second of data, on the intel log and the simulated stereo street;
-#   stalled   a client that stops reading: the run's rate, and its messages dropped and counted.
+# The viewer stream's targets (issue 19), written into docs/benchmarks.md (section viewer), on the
+# intel log (configs/laser2d_carmen.yaml: one laser + odometry, real data) and the simulated
+# stereo street (configs/sim3d_stereo.yaml: two 1241x376 images per frame, landmark tracking):
+#   cost      the viewer's time on the run's thread per frame against the pipeline's frame time,
+#             and the pipeline's own frame time: without a viewer, with --serve and no client,
+#             with one client subscribed to every channel;
+#   bandwidth what that client receives at default settings, per second of wall time (the run
+#             replays as fast as it can) and, for the street, live (--rate 1, the data's pace);
+#   stalled   a client that stops reading: the run's rate, its messages dropped and counted.
 # Needs Node and tests/node's packages (scripts/install-web-deps.sh). Run scripts/build.sh first.
 #   scripts/bench/viewer.sh [REPEATS]     (default 3; the median is reported)
+#   PLUGSLAM_VIEWER_CASES="intel street live stall" (default all): run only some, in pieces
+#   (each piece keeps its outputs; the table is written from whatever is there)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
 bin="$root/build/bin/plugslam"
@@ -18,7 +23,6 @@ command -v node > /dev/null || { echo "viewer.sh needs Node (scripts/install-web
 export PLUGSLAM_DATA
 repeats="${1:-3}"
 out="${PLUGSLAM_BENCH_OUT:-$root/out/bench/viewer}"
-rm -rf "$out"
 mkdir -p "$out"
 client="$root/scripts/bench/viewer_client.js"
 
@@ -52,14 +56,31 @@ host() {
   fi
 }
 
-for i in $(seq "$repeats"); do
-  host "$out/demo-none-$i" none
-  "$bin" run --serve 127.0.0.1:0 -o "$out/demo-serve-$i" > "$out/demo-serve-$i.stdout" 2> "$out/demo-serve-$i.stderr"
-  host "$out/demo-client-$i" client
-  host "$out/demo-stall-$i" stall
+intel=("$root/configs/laser2d_carmen.yaml")
+# 300 frames: 30 s of data, two images each; the street's loop needs no more to be typical.
+street=("$root/configs/sim3d_stereo.yaml" --set max_frames=300)
+cases="${PLUGSLAM_VIEWER_CASES:-intel street live stall}"
+for name in intel street; do
+  [[ " $cases " == *" $name "* ]] || continue
+  declare -n args="$name"
+  rm -rf "$out/$name"-{none,serve,client}-*
+  for i in $(seq "$repeats"); do
+    host "$out/$name-none-$i" none "${args[@]}"
+    mkdir -p "$out/$name-serve-$i"
+    "$bin" run --serve 127.0.0.1:0 -o "$out/$name-serve-$i" "${args[@]}" \
+      > "$out/$name-serve-$i/stdout" 2> "$out/$name-serve-$i/stderr"
+    host "$out/$name-client-$i" client "${args[@]}"
+  done
+  unset -n args
 done
-host "$out/intel" client "$root/configs/laser2d_carmen.yaml"
-host "$out/street" client "$root/configs/sim3d_stereo.yaml" --set max_frames=300
+if [[ " $cases " == *" live "* ]]; then
+  rm -rf "$out/street-live"
+  host "$out/street-live" client "${street[@]}" --rate 1
+fi
+if [[ " $cases " == *" stall "* ]]; then
+  rm -rf "$out/street-stall"
+  host "$out/street-stall" stall "${street[@]}"
+fi
 
 python3 - "$out" "$repeats" > "$out/section.md" <<'PY'
 import json, re, statistics, sys, pathlib
@@ -67,36 +88,16 @@ out, repeats = pathlib.Path(sys.argv[1]), int(sys.argv[2])
 
 def run(d):
     r = json.load(open(d / "run.json"))
-    mods = {m: v["total_s"] for m, v in r["modules"].items()}
-    return r, mods
+    return r, {m: v["total_s"] for m, v in r["modules"].items()}
 
-def median(values):
-    return statistics.median(values)
-
-rows = []
-def case(label, dirs):
-    frames, pipe, viewer, hz, thread = [], [], [], [], []
+def case(dirs):
+    pipe, viewer, hz = [], [], []
     for d in dirs:
         r, mods = run(d)
-        frames.append(r["frames"])
         pipe.append(1e3 * r["pipeline_time_s"] / r["frames"])
         viewer.append(1e3 * mods.get("viewer", 0.0) / r["frames"])
         hz.append(r["hz"])
-    return frames, pipe, viewer, hz
-
-base = case("none", [out / f"demo-none-{i}" for i in range(1, repeats + 1)])
-serve = case("serve", [out / f"demo-serve-{i}" for i in range(1, repeats + 1)])
-client = case("client", [out / f"demo-client-{i}" for i in range(1, repeats + 1)])
-stall = case("stall", [out / f"demo-stall-{i}" for i in range(1, repeats + 1)])
-frame_ms = median(base[1])
-def line(name, c):
-    v = median(c[2])
-    return (f"| {name} | {median(c[1]):.3f} | {v:.4f} | {100 * v / frame_ms:.2f} % | {median(c[3]):.0f} |")
-
-drops = []
-for i in range(1, repeats + 1):
-    m = re.search(r"(\d+) stream messages dropped", (out / f"demo-stall-{i}" / "stderr").read_text())
-    drops.append(int(m.group(1)) if m else -1)
+    return statistics.median(pipe), statistics.median(viewer), statistics.median(hz), r["frames"]
 
 def bandwidth(d):
     c = json.load(open(d / "client.json"))
@@ -107,30 +108,48 @@ def bandwidth(d):
             f"{c['bytes'] / 1e6 / c['seconds']:.3f} | "
             f"{(c['bytes'] / 1e6 / data) if data > 0 else float('nan'):.3f} | {top}")
 
-print("Cost on the default demo (`plugslam run`, simulated office, 1689 frames), median of "
-      f"{repeats} runs. The viewer's time is the `viewer` module of run.json: the stream's work on "
-      "the run's thread after each frame (the hub's encoding and the server run on their own "
-      "threads). The share is that time over the pipeline's own frame time without a viewer.")
+runs = {"intel": "intel log (laser2d_carmen.yaml)",
+        "street": "stereo street (sim3d_stereo.yaml, 300 frames)"}
+print(f"Cost: median of {repeats} runs each. *viewer* is the `viewer` module of run.json: the "
+      "stream's work on the run's thread after each frame (the hub's encoding, JPEG included, and "
+      "the server run on their own threads); its share is over the pipeline's frame time without "
+      "a viewer. *pipeline* is the pipeline's own time per frame, so the other threads' share of "
+      "the 2 cores shows there.")
 print()
-print("| case | pipeline ms / frame | viewer ms / frame | viewer / frame time | wall Hz |")
-print("|---|---|---|---|---|")
-print(f"| no viewer | {median(base[1]):.3f} | 0 | 0 % | {median(base[3]):.0f} |")
-print(line("`--serve`, no client", serve))
-print(line("`--serve`, one client on every channel", client))
-print(line("`--serve`, one client that stops reading", stall))
-print()
-print(f"Stalled client: the run's wall rate is {median(stall[3]):.0f} Hz against {median(client[3]):.0f} Hz "
-      f"with a client that reads; its stream messages dropped (and counted on /status): "
-      f"{', '.join(map(str, drops))} in the {repeats} runs.")
+print("| run | case | pipeline ms / frame | viewer ms / frame | viewer / frame time | pipeline vs no viewer | wall Hz |")
+print("|---|---|---|---|---|---|---|")
+for key, label in runs.items():
+    dirs = lambda c: [out / f"{key}-{c}-{i}" for i in range(1, repeats + 1)]
+    if not all((d / "run.json").exists() for d in dirs("none") + dirs("serve") + dirs("client")):
+        continue
+    base = case(dirs("none"))
+    print(f"| {label} | no viewer | {base[0]:.3f} | 0 | 0 % | 0 % | {base[2]:.0f} |")
+    for c, name in (("serve", "`--serve`, no client"), ("client", "`--serve`, one client on every channel")):
+        v = case(dirs(c))
+        print(f"| | {name} | {v[0]:.3f} | {v[1]:.4f} | {100 * v[1] / base[0]:.2f} % | "
+              f"{100 * (v[0] - base[0]) / base[0]:+.1f} % | {v[2]:.0f} |")
 print()
 print("Bandwidth of one client subscribed to every channel, default settings (`--view-rate 10`). "
-      "The run replays as fast as it can, so per wall second is the worst case; per second of data "
-      "is what a robot streaming live sends.")
+      "Replayed as fast as the run goes, per wall second is the worst case; live (`--rate 1`) is "
+      "what a robot streaming as it records sends.")
 print()
 print("| run | frames | wall s | MB | MB / wall s | MB / data s | largest topics [MB] |")
 print("|---|---|---|---|---|---|---|")
-print(f"| intel (laser2d_carmen.yaml) | {bandwidth(out / 'intel')} |")
-print(f"| stereo street (sim3d_stereo.yaml, 300 frames; no tracker yet: images and status only) | {bandwidth(out / 'street')} |")
+for key, label in runs.items():
+    d = out / f"{key}-client-1"
+    if (d / "client.json").exists():
+        print(f"| {label} | {bandwidth(d)} |")
+if (out / "street-live" / "client.json").exists():
+    print(f"| stereo street live (`--rate 1`) | {bandwidth(out / 'street-live')} |")
+stall = out / "street-stall"
+if (stall / "run.json").exists():
+    r, _ = run(stall)
+    m = re.search(r"(\d+) stream messages dropped", (stall / "stderr").read_text())
+    base = case([out / f"street-none-{i}" for i in range(1, repeats + 1)]) if (out / "street-none-1").exists() else None
+    print()
+    print(f"Stalled client (stops reading after subscribing, on the stereo street): the run went at "
+          f"{r['hz']:.1f} Hz{f' against {base[2]:.1f} Hz without a viewer' if base else ''}; "
+          f"stream messages dropped and counted on /status: {m.group(1) if m else 'none reported'}.")
 PY
 {
   echo "## Viewer stream: cost, bandwidth, stalled client (\`scripts/bench/viewer.sh\`)"

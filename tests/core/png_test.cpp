@@ -1,7 +1,8 @@
 // The SDK's PNG encoder: what it writes decodes (libpng) to the same samples for every layout
 // (grey, grey + alpha, RGB, RGBA; 8 and 16 bit; padded rows), the options do what they say, bad
 // input is refused, and the unfiltered one-chunk form is byte for byte the PNG laser2d's maps
-// were before the encoder was shared (zlib compress2 of unfiltered rows in one IDAT).
+// were before the encoder was shared (zlib compress2 of unfiltered rows in one IDAT), as are
+// render's pictures (libpng's simplified writer) and io's image sequences (libpng at level 1).
 #include "plugslam/png.h"
 
 #include <gtest/gtest.h>
@@ -189,6 +190,73 @@ TEST(Png, UnfilteredOneChunkIsLaser2dsMapPngByteForByte) {
       flat.idat_bytes = 0;
       EXPECT_EQ(encodePng(PngPixels{pixels.data(), w, h, 1, 8, 0}, flat), laser2dPng(pixels, w, h))
           << w << " x " << h;
+    }
+  }
+}
+
+// render's pictures before the shared encoder: libpng's simplified writer (8-bit sRGB RGB).
+std::string simplifiedRgbPng(const std::vector<uint8_t>& rgb, int w, int h) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = static_cast<png_uint_32>(w);
+  image.height = static_cast<png_uint_32>(h);
+  image.format = PNG_FORMAT_RGB;
+  png_alloc_size_t size = 0;
+  EXPECT_TRUE(png_image_write_to_memory(&image, nullptr, &size, 0, rgb.data(), w * 3, nullptr));
+  std::string out(size, '\0');
+  EXPECT_TRUE(png_image_write_to_memory(&image, out.data(), &size, 0, rgb.data(), w * 3, nullptr));
+  out.resize(size);
+  return out;
+}
+
+// io's image sequences before the shared encoder: libpng's writer at zlib level 1, its default
+// filters and IDAT size (grey or RGB 8-bit, grey 16-bit given in host order).
+std::string sequencePng(const uint8_t* data, int w, int h, int channels, int bits) {
+  std::string out;
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png_create_info_struct(png);
+  png_set_write_fn(
+      png, &out,
+      [](png_structp p, png_bytep d, png_size_t n) {
+        static_cast<std::string*>(png_get_io_ptr(p))->append(reinterpret_cast<const char*>(d), n);
+      },
+      [](png_structp) {});
+  png_set_compression_level(png, 1);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(w), static_cast<png_uint_32>(h), bits,
+               channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  if (bits == 16) png_set_swap(png);
+  const size_t row = static_cast<size_t>(w) * channels * (bits / 8);
+  std::vector<png_bytep> rows(static_cast<size_t>(h));
+  for (size_t y = 0; y < rows.size(); ++y) rows[y] = const_cast<png_bytep>(data + y * row);
+  png_write_rows(png, rows.data(), static_cast<png_uint_32>(h));
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return out;
+}
+
+TEST(Png, PicturesAndSequencesAreByteForByteWhatTheirWritersProducedBefore) {
+  // A plot-like picture (flat background, lines) and noise, small and large.
+  for (const auto& [w, h] : {std::pair{31, 17}, std::pair{640, 480}}) {
+    std::vector<uint8_t> plot(static_cast<size_t>(w) * h * 3, 0xff);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        if (x == y || x % 50 == 0) plot[(static_cast<size_t>(y) * w + x) * 3] = 0x20;
+    for (const auto& rgb : {plot, noise(plot.size(), 11)}) {
+      PngOptions picture;
+      picture.srgb = true;  // what render's canvas asks for
+      EXPECT_EQ(encodePng(PngPixels{rgb.data(), w, h, 3, 8, 0}, picture),
+                simplifiedRgbPng(rgb, w, h))
+          << w << " x " << h;
+      PngOptions fast;
+      fast.level = 1;  // what io's sequence writer asks for
+      EXPECT_EQ(encodePng(PngPixels{rgb.data(), w, h, 3, 8, 0}, fast),
+                sequencePng(rgb.data(), w, h, 3, 8));
+      EXPECT_EQ(encodePng(PngPixels{rgb.data(), w, h, 1, 8, 0}, fast),
+                sequencePng(rgb.data(), w, h, 1, 8));
+      EXPECT_EQ(encodePng(PngPixels{rgb.data(), w / 2, h, 1, 16, 0}, fast),
+                sequencePng(rgb.data(), w / 2, h, 1, 16));
     }
   }
 }

@@ -5,11 +5,34 @@
 #include <jpeglib.h>
 // clang-format on
 
+#include <algorithm>
 #include <vector>
 
 #include "plugslam/errors.h"
 
 namespace plugslam::runtime {
+
+int viewShrinkFactor(int width) {
+  int factor = 1;
+  while (width / factor > kViewImageMaxWidth) ++factor;
+  return factor;
+}
+
+CameraInfo viewCalibration(const CameraInfo& info) {
+  const int f = viewShrinkFactor(info.width);
+  if (f == 1) return info;
+  // Pixel x' of the shrunk image averages source pixels f x' .. f x' + f - 1, so its centre is
+  // source pixel f x' + (f - 1) / 2; the lens model (normalised coordinates) does not change.
+  CameraInfo out = info;
+  const double shift = 0.5 * (f - 1);
+  out.fx = info.fx / f;
+  out.fy = info.fy / f;
+  out.cx = (info.cx - shift) / f;
+  out.cy = (info.cy - shift) / f;
+  out.width = info.width / f;
+  out.height = std::max(1, info.height / f);
+  return out;
+}
 
 std::string encodeJpeg(const Image& image, int quality) {
   const int c = image.channels;
@@ -19,8 +42,7 @@ std::string encodeJpeg(const Image& image, int quality) {
     throw Error("an image of " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                 "x" + std::to_string(c) + " with stride " + std::to_string(image.stride) +
                 " and " + std::to_string(image.data.size()) + " bytes cannot be encoded");
-  int factor = 1;
-  while (image.width / factor > kViewImageMaxWidth) ++factor;
+  const int factor = viewShrinkFactor(image.width);
   const int w = image.width / factor, h = std::max(1, image.height / factor);
   std::vector<uint8_t> pixels(static_cast<size_t>(w) * h * c);
   for (int y = 0; y < h; ++y)

@@ -10,6 +10,12 @@ namespace plugslam::runtime {
 /// smaller image costs a quarter of the bytes per halving.
 constexpr int kViewImageMaxWidth = 640;
 
+/// The whole factor an image `width` px wide is averaged down by for viewers (1 = as it is).
+int viewShrinkFactor(int width);
+
+/// A camera's calibration for its image as viewers get it (shrunk by viewShrinkFactor).
+CameraInfo viewCalibration(const CameraInfo& info);
+
 /// The image as JPEG, averaged down by a whole factor until at most kViewImageMaxWidth wide;
 /// 1 channel stays grey, 3 channels are RGB. Throws plugslam::Error on an inconsistent image.
 std::string encodeJpeg(const Image& image, int quality = 80);

@@ -182,7 +182,9 @@ json encode(const view::CameraCalibration& m) {
               {"D", std::move(coefficients)},
               {"K", {c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1}},
               {"R", {1, 0, 0, 0, 1, 0, 0, 0, 1}},
-              {"P", {c.fx, 0, c.cx, 0, 0, c.fy, c.cy, 0, 0, 0, 1, 0}}};  // the left (or only) camera: no baseline term
+              // ROS's convention, which Foxglove follows: the right camera of a rectified pair
+              // (baseline > 0) has Tx = -fx baseline; the left or only camera none.
+              {"P", {c.fx, 0, c.cx, -c.fx * c.baseline, 0, c.fy, c.cy, 0, 0, 0, 1, 0}}};
 }
 
 json encode(const view::Status& m) {

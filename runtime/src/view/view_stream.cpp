@@ -1,6 +1,10 @@
 #include "view/view_stream.h"
 
+#include <optional>
+#include <utility>
+
 #include "plugslam/view/drawers.h"
+#include "view/jpeg.h"
 
 namespace plugslam::runtime {
 
@@ -33,6 +37,33 @@ view::Channel<T>& channelFor(std::map<std::string, view::Channel<T>>& channels,
 
 view::Color rgba(float r, float g, float b, float a = 1) { return view::Color{r, g, b, a}; }
 
+// The frame of a CameraInfo entry's first camera, and of its rig's second camera.
+std::string cameraFrame(const std::string& entry) { return "camera/" + entry; }
+std::string secondFrame(const std::string& entry) { return "camera/" + entry + "/second"; }
+
+// The first camera's calibration: its own pinhole and lens, no stereo term in P.
+CameraInfo firstCamera(const CameraInfo& info) {
+  CameraInfo c;
+  c.setIntrinsics(info.intrinsics());
+  c.mount = info.mount;
+  return c;
+}
+
+// The rig's second camera (stereo's right, RGB-D's depth) as a calibration of its own, with its
+// pose in the first camera's optical frame: `second` when the source gave it, else, for a
+// rectified pair given by its baseline alone, the first camera's pinhole at (baseline, 0, 0).
+// A rectified pair's second camera keeps the baseline: P's Tx = -fx baseline (ROS, Foxglove).
+std::optional<std::pair<CameraInfo, Eigen::Isometry3d>> secondCamera(const CameraInfo& info) {
+  if (!info.second && !(info.baseline > 0)) return std::nullopt;
+  CameraInfo c;
+  c.setIntrinsics(info.second ? *info.second : info.intrinsics());
+  c.baseline = info.baseline;
+  Eigen::Isometry3d pose = info.second_pose;
+  if (!info.second) pose = Eigen::Translation3d(info.baseline, 0, 0);
+  c.mount = info.mount * pose;
+  return std::make_pair(c, pose);
+}
+
 }  // namespace
 
 ViewStream::ViewStream(uint64_t run) {
@@ -58,15 +89,25 @@ void ViewStream::frame(const Frame& frame, const Pipeline& pipeline, uint64_t fr
     tf.transforms.push_back(view::FrameTransform{frame.stamp, "world", "base_link",
                                                  frame.estimate.world});
   }
+  // Each camera: the first one placed on the robot by its mount, a rig's second one on the
+  // first; each calibration once (latched), for the image as viewers get it (shrunk).
   for (const auto& p : frame.raw) {
     if (p.type() != typeid(CameraInfo)) continue;
     const auto& info = static_cast<const Property<CameraInfo>&>(p).value();
-    const std::string cam = "camera/" + p.name();
+    const std::string cam = cameraFrame(p.name());
     tf.transforms.push_back(view::FrameTransform{frame.stamp, "base_link", cam, info.mount});
+    const auto second = secondCamera(info);
+    if (second)
+      tf.transforms.push_back(
+          view::FrameTransform{frame.stamp, cam, secondFrame(p.name()), second->second});
     if (!calibrated_[p.name()]) {
-      auto& channel = channelFor(calibrations_, "/camera/" + p.name() + "/calibration",
-                                 view::Latch::kLast);
-      channel.publish(view::CameraCalibration{frame.stamp, cam, info});
+      channelFor(calibrations_, "/camera/" + p.name() + "/calibration", view::Latch::kLast)
+          .publish(view::CameraCalibration{frame.stamp, cam, viewCalibration(firstCamera(info))});
+      if (second)
+        channelFor(calibrations_, "/camera/" + p.name() + "/second/calibration",
+                   view::Latch::kLast)
+            .publish(view::CameraCalibration{frame.stamp, secondFrame(p.name()),
+                                             viewCalibration(second->first)});
       calibrated_[p.name()] = true;
     }
   }
@@ -98,20 +139,30 @@ void ViewStream::frame(const Frame& frame, const Pipeline& pipeline, uint64_t fr
     if (drawers.draw(m, cloud)) channel.publish(std::move(cloud));
   }
   // Camera images as the source gave them. A source names its images (left/right, rgb/depth)
-  // apart from the one CameraInfo that calibrates them (raw["camera"]): the images are then drawn
-  // in that camera's frame, the one /tf places (a stereo pair's right image at the left camera's
-  // pose: the frame only anchors the image in the 3D view). Several CameraInfo entries: each
+  // apart from the one CameraInfo that calibrates them (raw["camera"]), and writes the first
+  // camera's image before the second's: with one CameraInfo, the first image is drawn in the
+  // first camera's frame and, when the rig has a second camera, the next one in the second's
+  // (a stereo pair's right image at the right camera's pose). Several CameraInfo entries: each
   // image is in the frame of its own name.
-  std::string info_frame;
+  const CameraInfo* info = nullptr;
+  std::string info_name;
   int infos = 0;
   for (const auto& p : frame.raw)
-    if (p.type() == typeid(CameraInfo) && ++infos == 1) info_frame = "camera/" + p.name();
+    if (p.type() == typeid(CameraInfo) && ++infos == 1) {
+      info = &static_cast<const Property<CameraInfo>&>(p).value();
+      info_name = p.name();
+    }
+  const bool has_second = infos == 1 && secondCamera(*info).has_value();
+  int images = 0;
   for (const auto& p : frame.raw) {
     if (p.type() != typeid(Image)) continue;
+    const int index = images++;
     auto& channel = channelFor(images_, "/camera/" + p.name() + "/image", view::Latch::kNone);
     if (!channel.wanted()) continue;
-    channel.publish(view::CameraImage{infos == 1 ? info_frame : "camera/" + p.name(),
-                                      static_cast<const Property<Image>&>(p).value()});
+    const std::string in = infos != 1                    ? cameraFrame(p.name())
+                           : (index == 1 && has_second) ? secondFrame(info_name)
+                                                        : cameraFrame(info_name);
+    channel.publish(view::CameraImage{in, static_cast<const Property<Image>&>(p).value()});
   }
 
   // Local maps: a frame in a new map closes the previous one, which goes out whole, once.

@@ -1,8 +1,8 @@
 // The 2D/3D view of a Session with three.js. Everything of the local maps (their points, their
-// occupied cells, the trajectory, the graph) is merged into a handful of world-frame buffers, so a
-// session of thousands of local maps still costs a few draw calls per frame; the buffers are
-// rebuilt only when the session changed (a new map, a corrected map origin), at most a few times
-// a second.
+// occupied cells, the trajectory) is merged into world-frame buffers cut into square tiles, so a
+// session of thousands of local maps costs a few draw calls per frame and draws only the tiles in
+// view (three.js culls the others by their bounding spheres); the buffers are rebuilt only when
+// the session changed (a new map, a corrected map origin), at most a few times a second.
 import * as THREE from "three";
 import { OrbitControls } from "three/examples/jsm/controls/OrbitControls.js";
 import { apply, yawOf } from "./session.js";
@@ -26,6 +26,66 @@ function linesObject(color, opacity = 1) {
 function setPositions(obj, array) {
   obj.geometry.setAttribute("position", new THREE.BufferAttribute(array, 3));
   obj.geometry.computeBoundingSphere();
+}
+
+// Side of a tile [m]: about a third of the default 30 m view, so a followed robot's screen covers
+// a dozen tiles and a large session's far tiles are skipped whole; larger tiles would draw more
+// off-screen points, smaller ones add draw calls (each costs about as much as a few thousand
+// points in software GL).
+const kTileMetres = 10;
+
+// A tiled layer: a group of point or line objects sharing one material, one per tile of
+// kTileMetres in x-y (columns in z). `group.userData.kind` says which; line segments stay whole.
+function tiledLayer(kind, material) {
+  const g = new THREE.Group();
+  g.userData = { kind, material };
+  return g;
+}
+
+function setTiles(group, array) {
+  for (const c of group.children) c.geometry.dispose();
+  group.clear();
+  const per = group.userData.kind === "lines" ? 6 : 3; // floats per item (a segment: two points)
+  const items = Math.floor(array.length / per);
+  const tileOf = new Int32Array(items), index = new Map(), sizes = [];
+  for (let i = 0; i < items; ++i) {
+    const x = Math.floor(array[per * i] / kTileMetres), y = Math.floor(array[per * i + 1] / kTileMetres);
+    const key = (x + 0x8000) * 0x10000 + (y + 0x8000);
+    let t = index.get(key);
+    if (t === undefined) {
+      t = sizes.length;
+      index.set(key, t);
+      sizes.push(0);
+    }
+    tileOf[i] = t;
+    sizes[t] += per;
+  }
+  const tiles = sizes.map((n) => new Float32Array(n)), fill = new Int32Array(sizes.length);
+  for (let i = 0; i < items; ++i) {
+    const t = tileOf[i], out = tiles[t];
+    for (let k = 0; k < per; ++k) out[fill[t] + k] = array[per * i + k];
+    fill[t] += per;
+  }
+  for (const a of tiles) {
+    const g = new THREE.BufferGeometry();
+    g.setAttribute("position", new THREE.BufferAttribute(a, 3));
+    g.computeBoundingSphere();
+    const Obj = group.userData.kind === "lines" ? THREE.LineSegments : THREE.Points;
+    group.add(new Obj(g, group.userData.material));
+  }
+}
+
+// Every position of a layer (a tiled group or one object), tile after tile.
+function layerPositions(obj) {
+  const parts = obj.isGroup ? obj.children : [obj];
+  const arrays = parts.map((o) => o.geometry.getAttribute("position")).filter(Boolean).map((a) => a.array);
+  const out = new Float32Array(arrays.reduce((n, a) => n + a.length, 0));
+  let at = 0;
+  for (const a of arrays) {
+    out.set(a, at);
+    at += a.length;
+  }
+  return out;
 }
 
 // One point per cell of `cell` metres (the first seen), exact keys for |coordinate| < 2^20 cells.
@@ -58,9 +118,9 @@ export class SceneView {
     this.renderer.setClearColor(0xf4f4f4);
     this.scene = new THREE.Scene();
     this.layers = {
-      map: pointsObject(0x202020, 2),
-      grid: pointsObject(0x505050, 2),
-      trajectory: linesObject(0x1f77b4),
+      map: tiledLayer("points", new THREE.PointsMaterial({ color: 0x202020, size: 2, sizeAttenuation: false })),
+      grid: tiledLayer("points", new THREE.PointsMaterial({ color: 0x505050, size: 2, sizeAttenuation: false })),
+      trajectory: tiledLayer("lines", new THREE.LineBasicMaterial({ color: 0x1f77b4 })),
       odometry: linesObject(0x7f7f7f, 0.6),
       loops: linesObject(0xd62728, 0.35),
       nodes: pointsObject(0x173c6e, 4),
@@ -211,7 +271,7 @@ export class SceneView {
       }
       if (layer === "map") this.sourcePoints = out.length / 3;
       if (layer !== "trajectory") out = thin(out, cell);
-      setPositions(this.layers[layer], out);
+      setTiles(this.layers[layer], out);
     }
     this.builtCell = cell;
     setPositions(this.layers.odometry, new Float32Array(s.graph.odometry.flat()));
@@ -283,9 +343,15 @@ export class SceneView {
     return t.length > 1 ? ((t.length - 1) * 1000) / (t[t.length - 1] - t[0]) : 0;
   }
 
+  /** Every position of layer `name` ("map", "scan", ...) in world coordinates (tests). */
+  positions(name) {
+    return layerPositions(this.layers[name]);
+  }
+
   /** Counts of what is drawn (for tests and the status panel). */
   counts() {
-    const n = (o) => (o.geometry.getAttribute("position") ? o.geometry.getAttribute("position").count : 0);
+    const n = (o) =>
+      (o.isGroup ? o.children : [o]).reduce((k, c) => k + (c.geometry.getAttribute("position")?.count || 0), 0);
     return {
       localMaps: this.session.localMaps(),
       mapPoints: n(this.layers.map),
@@ -294,6 +360,7 @@ export class SceneView {
       trajectoryVertices: n(this.layers.trajectory),
       loopVertices: n(this.layers.loops),
       scanPoints: n(this.layers.scan),
+      mapTiles: this.layers.map.children.length,
       drawCalls: this.renderer.info.render.calls,
     };
   }

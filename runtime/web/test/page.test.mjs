@@ -17,15 +17,22 @@ const artifacts = join(buildDir, "test-artifacts");
 const plugslam = join(buildDir, "bin", "plugslam");
 const missing = browserMissing();
 
+// The bundle served statically, pointed at a port nobody serves (the test feeds the messages);
+// `errors` collects the page's uncaught errors.
+async function offlinePage(browser, server) {
+  const page = await browser.newPage({ viewport: { width: 1100, height: 700 } });
+  const errors = [];
+  page.on("pageerror", (e) => errors.push(String(e)));
+  await page.goto(`${server.url}/?ws=ws://127.0.0.1:9`);
+  await page.waitForFunction(() => window.plugslamView);
+  return { page, errors };
+}
+
 test("the page draws a session fed to it", { skip: missing || false }, async () => {
   const server = await serveStatic(webDir);
   const browser = await launchChromium();
   try {
-    const page = await browser.newPage({ viewport: { width: 1100, height: 700 } });
-    const errors = [];
-    page.on("pageerror", (e) => errors.push(String(e)));
-    await page.goto(`${server.url}/?ws=ws://127.0.0.1:9`);
-    await page.waitForFunction(() => window.plugslamView);
+    const { page, errors } = await offlinePage(browser, server);
     const maps = 60, points = 200;
     await page.evaluate((msgs) => msgs.forEach(([t, m]) => window.plugslamView.ingest(t, m)),
       syntheticSession({ maps, points }));
@@ -86,11 +93,7 @@ test("a local map's point lands at its world position and screen pixel", { skip:
   const server = await serveStatic(webDir);
   const browser = await launchChromium();
   try {
-    const page = await browser.newPage({ viewport: { width: 1100, height: 700 } });
-    const errors = [];
-    page.on("pageerror", (e) => errors.push(String(e)));
-    await page.goto(`${server.url}/?ws=ws://127.0.0.1:9`);
-    await page.waitForFunction(() => window.plugslamView);
+    const { page, errors } = await offlinePage(browser, server);
     const q = (yaw) => ({ x: 0, y: 0, z: Math.sin(yaw / 2), w: Math.cos(yaw / 2) });
     const xyz = { point_stride: 12, fields: [{ name: "x", offset: 0, type: 7 }, { name: "y", offset: 4, type: 7 }, { name: "z", offset: 8, type: 7 }] };
     const b64 = (values) => Buffer.from(new Float32Array(values).buffer).toString("base64");
@@ -105,7 +108,7 @@ test("a local map's point lands at its world position and screen pixel", { skip:
       window.plugslamView.view.grid.visible = false;
     }, msgs);
     await page.waitForFunction(() => window.plugslamView.counts().mapPoints === 1);
-    const world = await page.evaluate(() => [...window.plugslamView.view.layers.map.geometry.getAttribute("position").array]);
+    const world = await page.evaluate(() => [...window.plugslamView.view.positions("map")]);
     assert.ok(Math.abs(world[0] - 10) < 1e-5 && Math.abs(world[1] - 7) < 1e-5 && Math.abs(world[2]) < 1e-5, `drawn at ${world}`);
     await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
     // The pixel, from the orthographic top view's own numbers (not three.js's projection): the
@@ -204,20 +207,20 @@ test("live: the page follows a simulator run, pauses it, and edits its config", 
     // maps already hold (0.2 m: twice the simulator's range noise plus the current map's lag of
     // up to 1 s of new wall; a map misplaced by its origin puts almost none there).
     const onMap = () => {
-      const { layers } = window.plugslamView.view;
-      const map = layers.map.geometry.getAttribute("position"), scan = layers.scan.geometry.getAttribute("position");
-      if (!map || !scan || scan.count === 0) return 0;
+      const { view } = window.plugslamView;
+      const map = view.positions("map"), scan = view.positions("scan");
+      if (map.length === 0 || scan.length === 0) return 0;
       const cell = 0.2, key = (x, y) => `${Math.floor(x / cell)},${Math.floor(y / cell)}`, cells = new Set();
-      for (let i = 0; i < map.count; ++i) cells.add(key(map.getX(i), map.getY(i)));
+      for (let i = 0; i < map.length; i += 3) cells.add(key(map[i], map[i + 1]));
       let near = 0;
-      for (let i = 0; i < scan.count; ++i) {
-        const x = scan.getX(i), y = scan.getY(i);
+      for (let i = 0; i < scan.length; i += 3) {
+        const x = scan[i], y = scan[i + 1];
         let hit = false;
         for (let dx = -1; dx <= 1 && !hit; ++dx)
           for (let dy = -1; dy <= 1 && !hit; ++dy) hit = cells.has(key(x + dx * cell, y + dy * cell));
         if (hit) ++near;
       }
-      return near / scan.count;
+      return near / (scan.length / 3);
     };
     const minOnMap = 0.5;
     await page.waitForFunction(`(${onMap})() >= ${minOnMap}`, null, { timeout: 30000 }).catch(() => {});

@@ -115,7 +115,7 @@ struct CameraImage {
 struct CameraCalibration {
   double stamp = 0;   ///< seconds
   std::string frame;  ///< the camera's frame
-  CameraInfo info;    ///< intrinsics and size
+  CameraInfo info;    ///< of the image as sent; baseline > 0: a rectified pair's right camera
 };
 
 /// The run's progress (plugslam.Status); the runtime adds each receiver's dropped messages.
