@@ -97,6 +97,9 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
   const bool lost = !aligned.valid;
   pose_ = lost ? guess : aligned.pose;
   prediction_.last_motion = S::normalized(previous.inverse() * pose_);
+  motion_residual_.reset();
+  if (!lost && prediction_.model_motion)
+    motion_residual_ = S::normalized(prediction_.model_motion->inverse() * prediction_.last_motion);
   count(frame, aligned);
   merge(frame);
   if (lost)
@@ -111,7 +114,8 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
 template <class S>
 AlignResult<S> MultiTracker<S>::align(const Frame& frame, const Pose& previous,
                                       const Pose& guess) {
-  const AlignContext<S> context{previous, guess, prediction_.model_motion};
+  AlignContext<S> context{previous, guess, prediction_.model_motion};
+  context.motion_residual = motion_residual_;
   AlignResult<S> aligned = aligner->align(frame, map_->scene, context);
   // A solution from a seed stands on the aligner's search around the prediction: the gate is
   // for solves that may have slid from the prediction itself.
@@ -218,6 +222,7 @@ void MultiTracker<S>::reset() {
   map_.reset();
   pose_ = Pose::Identity();
   prediction_.reset();
+  motion_residual_.reset();
   frames_in_map_ = 0;
   if (motion) motion->reset();
 }
