@@ -2,7 +2,9 @@
 // motion predicted from biased odometry increments.
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <optional>
+#include <utility>
 
 #include "plugslam/multi_tracker.h"
 #include "plugslam/pipeline.h"
@@ -53,65 +55,12 @@ std::vector<SE2> lap() {
   return poses;
 }
 
-TEST(MultiTracker2D, RecoversASyntheticTrajectory) {
-  for (const char* association : {"kdtree", "projective"}) {
-    MultiTracker<Space2D> tracker;
-    auto aligner = std::make_shared<MultiAligner<Space2D>>();
-    auto slice = std::make_shared<PointToLineSlice>();
-    slice->association = association;
-    slice->configure();
-    aligner->slices.assign(slice);
-    tracker.aligner.assign(aligner);
-    tracker.slices.assign(std::make_shared<PointMapSlice>());
-    tracker.splitter.assign(std::make_shared<DistanceSplitter>());
-    tracker.motion.assign(std::make_shared<OdometryIncrement>());
-    tracker.configure();
-    Pipeline pipeline;  // places the local maps and composes the world pose
-    pipeline.tracker.assign(std::shared_ptr<Tracker>(std::shared_ptr<Tracker>(), &tracker));
-    ScanPreprocessor pre;
-    pre.configure();
-
-    const auto world = office();
-    const auto truth = lap();
-    test::ScanSpec spec;
-    spec.beams = 180;
-    spec.fov = M_PI;
-    spec.noise = 0.01;
-    double worst = 0, worst_angle = 0;
-    for (size_t k = 0; k < truth.size(); ++k) {
-      spec.seed = static_cast<uint32_t>(k + 1);
-      Frame frame;
-      frame.seq = k;
-      frame.stamp = 0.1 * k;
-      frame.raw.set("front_laser", test::castScan(world, truth[k], spec));
-      // Odometry with a 2% scale error and a small heading bias.
-      if (k > 0) {
-        const Eigen::Vector3d d = toVector(truth[k - 1].inverse() * truth[k]);
-        frame.raw.set("odom_delta", se2(1.02 * d.x(), 1.02 * d.y(), d.z() + 0.002));
-      }
-      ASSERT_TRUE(pre.process(frame));
-      pipeline.process(frame);
-      ASSERT_TRUE(frame.estimate.valid);
-      const SE2 expected = truth.front().inverse() * truth[k];
-      const SE2 error = expected.inverse() * Space2D::from3D(frame.estimate.world);
-      worst = std::max(worst, error.translation().norm());
-      worst_angle = std::max(worst_angle, std::abs(angleOf(error.linear())));
-    }
-    std::printf("%s: %zu frames, worst error %.4f m, %.3f deg; %lu aligned, %lu local maps\n",
-                association, truth.size(), worst, worst_angle * 180 / M_PI,
-                static_cast<unsigned long>(tracker.stats().aligned),
-                static_cast<unsigned long>(tracker.stats().local_maps));
-    EXPECT_EQ(tracker.stats().failed, 0u) << association;
-    EXPECT_LT(worst, 0.05) << association;
-    EXPECT_LT(worst_angle, 0.75 * M_PI / 180) << association;
-    EXPECT_GT(tracker.stats().local_maps, 5u);
-  }
-}
-
-// Tracks the lap with exact odometry except at frame `bad`, whose increment is off by 1 m
-// (0.6, 0.8) and 30 deg; returns the worst world-pose error over the lap (m, rad).
-std::pair<double, double> lapWithOnePoorPrediction(MultiTracker<Space2D>& tracker, size_t bad) {
-  Pipeline pipeline;
+// Tracks the lap around the office with odometry increments odometry(k, true increment) and
+// returns the worst world-pose error over it (m, rad).
+std::pair<double, double> trackLap(
+    MultiTracker<Space2D>& tracker,
+    const std::function<SE2(size_t, const Eigen::Vector3d&)>& odometry) {
+  Pipeline pipeline;  // places the local maps and composes the world pose
   pipeline.tracker.assign(std::shared_ptr<Tracker>(std::shared_ptr<Tracker>(), &tracker));
   ScanPreprocessor pre;
   pre.configure();
@@ -128,19 +77,53 @@ std::pair<double, double> lapWithOnePoorPrediction(MultiTracker<Space2D>& tracke
     frame.seq = k;
     frame.stamp = 0.1 * k;
     frame.raw.set("front_laser", test::castScan(world, truth[k], spec));
-    if (k > 0) {
-      const Eigen::Vector3d d = toVector(truth[k - 1].inverse() * truth[k]);
-      frame.raw.set("odom_delta", k == bad ? se2(d.x() + 0.6, d.y() + 0.8, d.z() + M_PI / 6)
-                                           : se2(d.x(), d.y(), d.z()));
-    }
+    if (k > 0)
+      frame.raw.set("odom_delta", odometry(k, toVector(truth[k - 1].inverse() * truth[k])));
     EXPECT_TRUE(pre.process(frame));
     pipeline.process(frame);
-    const SE2 error = (truth.front().inverse() * truth[k]).inverse() *
-                      Space2D::from3D(frame.estimate.world);
+    EXPECT_TRUE(frame.estimate.valid);
+    const SE2 expected = truth.front().inverse() * truth[k];
+    const SE2 error = expected.inverse() * Space2D::from3D(frame.estimate.world);
     worst = std::max(worst, error.translation().norm());
     worst_angle = std::max(worst_angle, std::abs(angleOf(error.linear())));
   }
   return {worst, worst_angle};
+}
+
+TEST(MultiTracker2D, RecoversASyntheticTrajectory) {
+  for (const char* association : {"kdtree", "projective"}) {
+    MultiTracker<Space2D> tracker;
+    auto aligner = std::make_shared<MultiAligner<Space2D>>();
+    auto slice = std::make_shared<PointToLineSlice>();
+    slice->association = association;
+    slice->configure();
+    aligner->slices.assign(slice);
+    tracker.aligner.assign(aligner);
+    tracker.slices.assign(std::make_shared<PointMapSlice>());
+    tracker.splitter.assign(std::make_shared<DistanceSplitter>());
+    tracker.motion.assign(std::make_shared<OdometryIncrement>());
+    tracker.configure();
+    // Odometry with a 2% scale error and a small heading bias.
+    const auto [worst, worst_angle] = trackLap(tracker, [](size_t, const Eigen::Vector3d& d) {
+      return se2(1.02 * d.x(), 1.02 * d.y(), d.z() + 0.002);
+    });
+    std::printf("%s: %zu frames, worst error %.4f m, %.3f deg; %lu aligned, %lu local maps\n",
+                association, lap().size(), worst, worst_angle * 180 / M_PI,
+                static_cast<unsigned long>(tracker.stats().aligned),
+                static_cast<unsigned long>(tracker.stats().local_maps));
+    EXPECT_EQ(tracker.stats().failed, 0u) << association;
+    EXPECT_LT(worst, 0.05) << association;
+    EXPECT_LT(worst_angle, 0.75 * M_PI / 180) << association;
+    EXPECT_GT(tracker.stats().local_maps, 5u);
+  }
+}
+
+// The lap with exact odometry except at frame `bad`, whose increment is off by 1 m (0.6, 0.8)
+// and 30 deg.
+std::pair<double, double> lapWithOnePoorPrediction(MultiTracker<Space2D>& tracker, size_t bad) {
+  return trackLap(tracker, [bad](size_t k, const Eigen::Vector3d& d) {
+    return k == bad ? se2(d.x() + 0.6, d.y() + 0.8, d.z() + M_PI / 6) : se2(d.x(), d.y(), d.z());
+  });
 }
 
 void build(MultiTracker<Space2D>& tracker, bool seeded) {
