@@ -71,8 +71,9 @@ TEST_P(DegradedIntel, StaysAMapLikeTheReference) {
   r = plugslamCli("run configs/laser2d_carmen.yaml -q -o " + out.string() +
                   " --set source.path=" + vlog.string());
   ASSERT_EQ(r.code, 0) << r.out;
-  if (variant == "no_odom")  // the same config runs laser only, and says so once
+  if (variant == "no_odom") {  // the same config runs laser only, and says so once
     EXPECT_NE(r.out.find("tracking without odometry"), std::string::npos) << r.out;
+  }
 
   const nlohmann::json run = readJson(out / "run.json");
   ASSERT_TRUE(run.is_object());
