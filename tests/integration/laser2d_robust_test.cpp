@@ -68,7 +68,7 @@ TEST_P(DegradedIntel, StaysAMapLikeTheReference) {
   ASSERT_TRUE(fs::exists(vlog));
   const fs::path out = tmp.path() / "run";
   // The shipped threaded back-end, as users run it (the targets hold in every run).
-  r = plugslamCli("run configs/laser2d_carmen.yaml -q -o " + out.string() +
+  r = plugslamCli("run configs/laser2d_carmen.yaml -o " + out.string() +
                   " --set source.path=" + vlog.string());
   ASSERT_EQ(r.code, 0) << r.out;
   if (variant == "no_odom") {  // the same config runs laser only, and says so once
