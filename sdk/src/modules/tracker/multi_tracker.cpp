@@ -141,23 +141,6 @@ AlignResult<S> MultiTracker<S>::align(const Frame& frame, const Pose& previous,
       }
     }
   }
-  // Without a measured motion the prediction is the last motion again, and no gate can tell a
-  // solve that slid into the wrong minimum near it (a turn that stopped, a step that started):
-  // the seeder's search around the prediction checks every such frame, and its solve wins when
-  // the two disagree and it explains more of the scan.
-  if (aligned.valid && !aligned.seeded && !prediction_.model_motion && aligner->seeder) {
-    AlignResult<S> checked = aligner->recover(frame, map_->scene, context);
-    const Pose apart = S::normalized(aligned.pose.inverse() * checked.pose);
-    if (checked.valid && checked.inliers > aligned.inliers &&
-        (S::distance(apart) > aligner->seed_tolerance()[0] ||
-         S::angle(apart) > aligner->seed_tolerance()[1])) {
-      spdlog::debug("frame {}: without measured motion the alignment landed {:.3f} m, {:.3f} rad "
-                    "from the seeder's, which explains more ({} vs {} inliers): taken",
-                    frame.seq, S::distance(apart), S::angle(apart), checked.inliers,
-                    aligned.inliers);
-      aligned = checked;
-    }
-  }
   if (aligned.valid && aligned.seeded) ++stats_.recovered;
   return aligned;
 }
