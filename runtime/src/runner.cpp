@@ -56,6 +56,10 @@ std::string runReportJson(const RunReport& r) {
   j["tracked_frames"] = r.tracked;
   j["local_maps"] = r.local_maps;
   j["tracking_failures"] = r.tracking_failures;
+  nlohmann::ordered_json reasons = nlohmann::ordered_json::object();
+  for (const auto& [reason, n] : r.tracking_failure_reasons) reasons[reason] = n;
+  j["tracking_failure_reasons"] = reasons;
+  j["tracking_recovered"] = r.tracking_recovered;
   j["module_errors"] = r.module_errors;
   j["reference"] = {{"ate_rmse_m", optionalFigure(r.ate_rmse)},
                     {"ate_max_m", optionalFigure(r.ate_max)},
@@ -296,7 +300,22 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
   report.tracked = result.trajectory.size();
   if (pipeline.tracker) {
     report.local_maps = pipeline.tracker->stats().local_maps;
-    report.tracking_failures = pipeline.tracker->stats().failed;
+    const TrackerStats& stats = pipeline.tracker->stats();
+    report.tracking_failures = stats.failed;
+    report.tracking_recovered = stats.recovered;
+    for (std::size_t i = 1; i < kAlignFailures; ++i)
+      report.tracking_failure_reasons.emplace_back(toString(static_cast<AlignFailure>(i)),
+                                                   stats.failures[i]);
+  }
+  // Past 5 % the map is mostly stitched from predictions and weak edges: say so, with why.
+  if (frozen_frames_ == 0 && report.frames > 0 && 20 * report.tracking_failures > report.frames) {
+    std::string why;
+    for (const auto& [reason, n] : report.tracking_failure_reasons)
+      if (n) why += (why.empty() ? "" : ", ") + reason + " " + std::to_string(n);
+    spdlog::warn("tracking failed on {} of {} frames ({:.1f} %): {}; each failure starts a new "
+                 "local map joined by a weak edge (the debug log, -v, names every frame's reason)",
+                 report.tracking_failures, report.frames,
+                 100.0 * report.tracking_failures / report.frames, why);
   }
   // In localization a failed frame is one no saved map explains: when that is most of them the
   // poses are mostly predictions, and the session is probably of another place (or sensor).

@@ -26,6 +26,9 @@ struct RunReport {
   uint64_t tracked = 0;    ///< frames with a pose estimate
   uint64_t local_maps = 0;
   uint64_t tracking_failures = 0;
+  /// The failures by reason (run.json's keys, see AlignFailure), each reason once, in enum order.
+  std::vector<std::pair<std::string, uint64_t>> tracking_failure_reasons;
+  uint64_t tracking_recovered = 0;  ///< frames aligned from a seeder's search (poor prediction)
   uint64_t module_errors = 0;  ///< frames a module failed on, skipped (on_module_error: skip)
   std::string error;           ///< the error that stopped the run, if one did
   GraphStats graph;  ///< loops accepted/rejected, optimization time

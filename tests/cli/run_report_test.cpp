@@ -25,6 +25,8 @@ RunReport sampleReport() {
   r.stopped_by = "end of data";
   r.tracked = 996;
   r.local_maps = 52;
+  r.tracking_failures = 3;
+  r.tracking_failure_reasons = {{"no_data", 0}, {"too_few_inliers", 2}, {"degenerate", 1}};
   r.modules = {{"source", 0.3387041, 997}, {"pipeline.tracker", 0.5451601, 996}};
   r.graph.nodes = 52;
   r.graph.loops_accepted = 64;
@@ -45,8 +47,13 @@ TEST(RunReportJson, KeysInOrderAndFiguresWithTheirDecimals) {
   EXPECT_EQ(keys(j), (std::vector<std::string>{"frames", "wall_time_s", "hz", "pipeline_time_s",
                                                "pipeline_hz", "stopped_by", "error",
                                                "tracked_frames", "local_maps", "tracking_failures",
-                                               "module_errors", "reference", "graph", "modules",
-                                               "statistics"}));
+                                               "tracking_failure_reasons", "tracking_recovered",
+                                               "module_errors",
+                                               "reference", "graph", "modules", "statistics"}));
+  // Every reason is a key, in the tracker's order, a zero count included (issue 20).
+  EXPECT_EQ(keys(j["tracking_failure_reasons"]),
+            (std::vector<std::string>{"no_data", "too_few_inliers", "degenerate"}));
+  EXPECT_EQ(j["tracking_failure_reasons"]["too_few_inliers"], 2);
   EXPECT_EQ(keys(j["reference"]),
             (std::vector<std::string>{"ate_rmse_m", "ate_max_m", "rpe_1m_rmse_m"}));
   EXPECT_EQ(

@@ -111,6 +111,35 @@ TEST(CrispnessTest, ThreadCountDoesNotChangeTheResult) {
   EXPECT_EQ(a.matched_points, b.matched_points);
 }
 
+TEST(CrispnessTest, CoverageOfAHandComputedCase) {
+  // Three scans, gap 2: only scans 0 and 2 are partners; scan 1 (its points on top of scan 0's)
+  // has none. Scan 2 is placed 2 m along x, so its points land at x = 0.1, 1.2 and 9.
+  //   scan 0 (0, 0): nearest partner point 0.1 m away -> matched
+  //   scan 0 (1, 0): 0.2 m -> matched;   scan 0 (5, 0): 4 m -> not
+  //   scan 1: no partner scan -> 2 points not matched
+  //   scan 2 (0.1, 0): 0.1 m, (1.2, 0): 0.2 m -> matched; (9, 0): 4 m -> not
+  // coverage = 4 / 8 = 0.5, mean = (0.1 + 0.2 + 0.1 + 0.2) / 4 = 0.15. At radius 0.15 only the
+  // two 0.1 m pairs remain: coverage 2 / 8, mean 0.1.
+  std::vector<PosedScan> scans(3);
+  scans[0].points = {{0, 0}, {1, 0}, {5, 0}};
+  scans[1].points = {{0, 0.05}, {1, 0.05}};
+  scans[2].points = {{-1.9, 0}, {-0.8, 0}, {7, 0}};
+  scans[2].pose = pose2(2.0, 0.0, 0.0);
+  CrispnessOptions o;
+  o.min_index_gap = 2;
+  CrispnessResult r = computeCrispness(scans, o);
+  EXPECT_EQ(r.points, 8u);
+  EXPECT_EQ(r.matched_points, 4u);
+  EXPECT_DOUBLE_EQ(r.coverage(), 0.5);
+  EXPECT_NEAR(r.mean, 0.15, 1e-12);
+  o.radius = 0.15;
+  r = computeCrispness(scans, o);
+  EXPECT_EQ(r.matched_points, 2u);
+  EXPECT_DOUBLE_EQ(r.coverage(), 0.25);
+  EXPECT_NEAR(r.mean, 0.1, 1e-12);
+  EXPECT_EQ(CrispnessResult{}.coverage(), 0.0);  // no points: no coverage, not a division by 0
+}
+
 TEST(CrispnessTest, RejectsBadInput) {
   auto scans = squareRoom(60, [](int) { return Eigen::Isometry2d::Identity(); });
   CrispnessOptions o;

@@ -52,7 +52,9 @@ TEST(ReportTest, RpeRelationsAndCrispnessRender) {
   const YAML::Node k = YAML::Load(toJson(c));
   EXPECT_DOUBLE_EQ(k["mean_m"].as<double>(), 0.0174);
   EXPECT_EQ(k["matched_points"].as<int>(), 7);
+  EXPECT_DOUBLE_EQ(k["coverage"].as<double>(), 0.7);
   EXPECT_NE(toMarkdown(c).find("| mean nearest distance (m) | 0.017400 |"), std::string::npos);
+  EXPECT_NE(toMarkdown(c).find("| coverage | 0.700000 |"), std::string::npos);
 }
 
 }  // namespace

@@ -73,6 +73,46 @@ TEST(MultiAligner, RecoversAKnownOffsetWithOneSlice) {
   EXPECT_GT(r.H.determinant(), 0);
 }
 
+TEST(MultiAligner, NamesWhyAnAlignmentFailed) {
+  // Issue 20: every invalid alignment says why (the tracker counts and logs it).
+  registerLandmarkCue();
+  MultiAligner<Space2D> aligner;
+  aligner.slices.assign(Registry::instance().create("lmtest.LandmarkSlice"));
+  const AlignContext<Space2D> at_origin{Eigen::Isometry2d::Identity(),
+                                        Eigen::Isometry2d::Identity()};
+  const Landmarks world = grid(2.0, 8.0);
+  PropertyContainer scene;
+  scene.set<Landmarks>("landmarks", world);
+  Frame good;
+  good.measurement.set<Landmarks>("landmarks", observe(world, Eigen::Isometry2d::Identity(), 6.0));
+  AlignResult<Space2D> r = aligner.align(good, scene, at_origin);
+  EXPECT_TRUE(r.valid);
+  EXPECT_EQ(r.failure, AlignFailure::none);
+
+  Frame empty;  // no landmark entry: no slice binds
+  r = aligner.align(empty, scene, at_origin);
+  EXPECT_FALSE(r.valid);
+  EXPECT_EQ(r.failure, AlignFailure::no_data);
+  EXPECT_STREQ(toString(r.failure), "no_data");
+
+  aligner.min_inliers = 100000;
+  r = aligner.align(good, scene, at_origin);
+  EXPECT_FALSE(r.valid);
+  EXPECT_EQ(r.failure, AlignFailure::too_few_inliers);
+
+  // One landmark at the robot's position fixes x and y but not the heading: degenerate, and
+  // the weakest direction is the rotation.
+  aligner.min_inliers = 1;
+  PropertyContainer one;
+  one.set<Landmarks>("landmarks", Landmarks{Eigen::Vector2d(0, 0)});
+  Frame single;
+  single.measurement.set<Landmarks>("landmarks", Landmarks{Eigen::Vector2d(0, 0)});
+  r = aligner.align(single, one, at_origin);
+  EXPECT_FALSE(r.valid);
+  EXPECT_EQ(r.failure, AlignFailure::degenerate);
+  EXPECT_NEAR(std::abs(r.weakest(2)), 1.0, 1e-9);
+}
+
 TEST(MultiAligner, CountsFactorsInliersAndCandidatesPerSlice) {
   // Two slices on two landmark cues: the result's totals are the sums of the per-slice counts,
   // and each slice's are its own cue's (every landmark seen is a candidate; the ones the map
@@ -387,6 +427,7 @@ TEST(MultiTracker, MaxCorrectionKeepsThePredictionWhenTheAlignmentMovesItTooFar)
   limited->configure();
   estimates = driveWithABadPrediction(limited);
   EXPECT_EQ(limited->stats().failed, 1u);
+  EXPECT_EQ(limited->stats().failures[static_cast<size_t>(AlignFailure::gate)], 1u);
   EXPECT_NEAR(estimates[15].translation().x(), 2.0, 1e-6);
   // Tracking goes on from the kept prediction, 0.5 m off from there on.
   EXPECT_NEAR(estimates[29].translation().x(), 2.9 + 0.5, 1e-6);

@@ -123,6 +123,23 @@ std::vector<Eigen::Vector2d> voxelFilter(const std::vector<Eigen::Vector2d>& poi
   return out;
 }
 
+std::vector<Eigen::Vector2d> correlativeQuery(const std::vector<Eigen::Vector2d>& points,
+                                              double max_range, double resolution) {
+  std::vector<Eigen::Vector2d> near;
+  near.reserve(points.size());
+  for (const auto& p : points)
+    if (p.squaredNorm() <= max_range * max_range) near.push_back(p);
+  return voxelFilter(near, resolution);
+}
+
+int correlativeLevels(double window, double resolution, int max_levels) {
+  int levels = 0;
+  while ((1 << levels) < 2 * static_cast<int>(std::ceil(window / resolution)) + 1 &&
+         levels < max_levels)
+    ++levels;
+  return levels;
+}
+
 namespace {
 
 struct Candidate {

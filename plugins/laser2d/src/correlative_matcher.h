@@ -95,5 +95,14 @@ CorrelativeMatch matchCorrelative(const CorrelativeGrid& grid,
 std::vector<Eigen::Vector2d> voxelFilter(const std::vector<Eigen::Vector2d>& points,
                                          double resolution);
 
+/// A query for matchCorrelative: the points within `max_range` of the origin, one per
+/// `resolution` cell.
+std::vector<Eigen::Vector2d> correlativeQuery(const std::vector<Eigen::Vector2d>& points,
+                                              double max_range, double resolution);
+
+/// Pooled levels for a search of +-`window` at `resolution`: the top level covers the window
+/// (branch and bound starts there), at most `max_levels`.
+int correlativeLevels(double window, double resolution, int max_levels = 16);
+
 }  // namespace laser2d
 }  // namespace plugslam

@@ -18,11 +18,7 @@ bool CorrelativeValidator::validate(const LocalMap& candidate, const LocalMap& q
     return false;
   }
   const double r = resolution();
-  std::vector<Eigen::Vector2d> points;
-  points.reserve(query_cloud->size());
-  for (const auto& p : query_cloud->points)
-    if (p.norm() <= max_range()) points.push_back(p);
-  points = voxelFilter(points, r);
+  const std::vector<Eigen::Vector2d> points = correlativeQuery(query_cloud->points, max_range(), r);
   if (points.empty()) {
     reason = "no query point within max_range";
     return false;
@@ -40,8 +36,7 @@ bool CorrelativeValidator::validate(const LocalMap& candidate, const LocalMap& q
   // Only the part of the candidate the query can reach is rasterized.
   const SE2 g = Space2D::from3D(guess);
   const Eigen::Vector2d reach = Eigen::Vector2d::Constant(max_range() + search_window() + r);
-  int levels = 0;
-  while ((1 << levels) < 2 * static_cast<int>(std::ceil(search_window() / r)) + 1) ++levels;
+  const int levels = correlativeLevels(search_window(), r);
   const CorrelativeGrid grid(map_cloud->points, map_cloud->normals, point_extent(), r, levels,
                              g.translation() - reach, g.translation() + reach);
   const CorrelativeMatch m = matchCorrelative(grid, points, g, o);

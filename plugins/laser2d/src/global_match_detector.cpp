@@ -123,10 +123,7 @@ std::shared_ptr<const MatchGrid> GlobalMatchDetector::gridOf(const GraphView& vi
     clouds.push_back(std::move(placed));
   }
   const double r = resolution();
-  int levels = 0;
-  while ((1 << levels) < 2 * static_cast<int>(std::ceil(max_radius() / r)) + 1 &&
-         levels < kMaxLevels)
-    ++levels;
+  const int levels = correlativeLevels(max_radius(), r, kMaxLevels);
   auto grid = std::make_shared<const MatchGrid>(rasterizeClouds(
       clouds, r, levels, static_cast<uint8_t>(std::lround(255 * unknown_score()))));
   cache_.push_front(Cached{id, grid});
@@ -152,11 +149,7 @@ std::vector<LoopCandidate> GlobalMatchDetector::detect(const GraphView& view,
   last_query_ = here;
 
   const double r = resolution();
-  std::vector<Eigen::Vector2d> points;
-  const double range2 = max_range() * max_range();
-  for (const auto& p : query_cloud->points)
-    if (p.squaredNorm() <= range2) points.push_back(p);
-  points = voxelFilter(points, r);
+  const std::vector<Eigen::Vector2d> points = correlativeQuery(query_cloud->points, max_range(), r);
   if (points.empty()) return out;
 
   for (const auto& [distance, id] : chosen) {

@@ -2,6 +2,7 @@
 #include "plugslam/plugin.h"
 #include "plugslam/view/drawers.h"
 
+#include "correlative_seeder.h"
 #include "correlative_validator.h"
 #include "global_match_detector.h"
 #include "occupancy_map_writer.h"
@@ -28,6 +29,9 @@ PLUGSLAM_PLUGIN("laser2d", "1.0.0", "2D laser: scan preprocessing, ICP slices, p
                                "merges points into the local map with fusion and clipping");
   registrar.add<OccupancyMapWriter>("OccupancyMapWriter",
                                     "occupancy grid of the run: PGM + YAML (map_server), PNG");
+  registrar.add<CorrelativeSeeder>(
+      "CorrelativeSeeder",
+      "aligner seeder: correlative scan-to-map search around a poor prediction (recovery)");
   registrar.add<CorrelativeValidator>(
       "CorrelativeValidator",
       "loop validator: branch-and-bound correlative scan-to-map matching over a wide window");

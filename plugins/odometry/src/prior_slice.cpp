@@ -33,9 +33,12 @@ bool PriorSlice::prepare(const AlignContext<Space2D>& context) {
   const Odometry2D* odom = input.get();
   // Frames are told apart by sequence number and stamp, so callers that leave seq at 0 still
   // get one delta per frame.
-  if (!bound_ || bound_->first != context.seq || bound_->second != context.stamp) {
+  const bool new_frame =
+      !bound_ || bound_->first != context.seq || bound_->second != context.stamp;
+  if (new_frame) {
     before_bound_ = last_;
     bound_ = std::make_pair(context.seq, context.stamp);
+    observeDisagreement(context);
   }
   last_ = odom->pose;
   if (!before_bound_) return false;  // the first reading has nothing to be relative to
@@ -44,11 +47,33 @@ bool PriorSlice::prepare(const AlignContext<Space2D>& context) {
   prior_ = context.previous * delta;
   const double d = delta.translation().norm();
   const double a = std::abs(angleOf(delta.linear()));
-  const double st = std::max(min_sigma_translation(), sigma_translation_per_m() * d);
-  const double sr =
+  const double model_st = std::max(min_sigma_translation(), sigma_translation_per_m() * d);
+  const double model_sr =
       std::max(min_sigma_rotation(), sigma_rotation_per_rad() * a + sigma_rotation_per_m() * d);
+  if (new_frame) last_sigmas_ = Eigen::Vector2d(model_st, model_sr);
+  const double st = scale_.x() * model_st, sr = scale_.y() * model_sr;
   information_ = Eigen::Vector3d(1 / (st * st), 1 / (st * st), 1 / (sr * sr)).asDiagonal();
   return true;
+}
+
+void PriorSlice::observeDisagreement(const AlignContext<Space2D>& context) {
+  const int n = disagreement_frames();
+  if (n == 0) {
+    scale_.setOnes();
+    return;
+  }
+  // The previous frame's residual, in units of the sigmas its prior had; a running mean of the
+  // squares over about n frames (an exponential window), so one slip weighs for a while and
+  // then fades. The scale is its root, never below 1: odometry as good as its model keeps it.
+  if (context.motion_residual && last_sigmas_) {
+    const Eigen::Vector3d e = toVector(*context.motion_residual);
+    const Eigen::Vector2d z(e.head<2>().norm() / last_sigmas_->x(),
+                            std::abs(e.z()) / last_sigmas_->y());
+    const double alpha = 1.0 / n;
+    mean_square_ = (1 - alpha) * mean_square_ + alpha * z.cwiseProduct(z);
+  }
+  last_sigmas_.reset();
+  scale_ = mean_square_.cwiseSqrt().cwiseMax(1.0);
 }
 
 Eigen::Vector3d PriorSlice::error(const Eigen::Isometry2d& t, Eigen::Matrix3d* jacobian) const {

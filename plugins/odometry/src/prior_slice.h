@@ -49,6 +49,14 @@ class PriorSlice : public AlignerSlice<Space2D> {
                                       "m",  "translation noise floor", Range{1e-9, 1e6}};
   Param<double> min_sigma_rotation{this,  "min_sigma_rotation",   0.005,
                                    "rad", "rotation noise floor", Range{1e-9, 1e6}};
+  // Odometry that disagrees with the other cues (wheel slip, a wrong scale, a kidnap) must not
+  // hold the solve: the prior's sigmas grow with the disagreement observed on the last frames,
+  // relative to the noise model above (never below it).
+  Param<int> disagreement_frames{
+      this, "disagreement_frames", 10, "frames",
+      "memory of the observed disagreement (the solved motion against the odometry, in units of "
+      "the model's sigmas) that scales the sigmas up when above 1; 0: the model's sigmas only",
+      Range{0, 100000}};
 
   void configure() override;
   void linearize(const Eigen::Isometry2d& t, NormalEquations<Space2D>& eq) const override;
@@ -57,6 +65,9 @@ class PriorSlice : public AlignerSlice<Space2D> {
   const Eigen::Isometry2d& prior() const { return prior_; }
   /// The information matrix of the bound frame's factor.
   const Eigen::Matrix3d& information() const { return information_; }
+  /// The factor by which the bound frame's translation and rotation sigmas are scaled up for
+  /// the observed disagreement (1: none).
+  const Eigen::Vector2d& disagreementScale() const { return scale_; }
   /// The error e(T) and its Jacobian w.r.t. the right perturbation of T.
   Eigen::Vector3d error(const Eigen::Isometry2d& t, Eigen::Matrix3d* jacobian = nullptr) const;
 
@@ -64,6 +75,9 @@ class PriorSlice : public AlignerSlice<Space2D> {
   bool prepare(const AlignContext<Space2D>& context) override;
 
  private:
+  // Folds the previous frame's residual (context.motion_residual) into the running mean and
+  // sets scale_ for this frame.
+  void observeDisagreement(const AlignContext<Space2D>& context);
   // Reading of the last frame seen, and the one before the frame being bound (so binding the
   // same frame twice gives the same delta).
   std::optional<Eigen::Isometry2d> last_;
@@ -71,6 +85,11 @@ class PriorSlice : public AlignerSlice<Space2D> {
   std::optional<std::pair<uint64_t, double>> bound_;  // (seq, stamp) of the bound frame
   Eigen::Isometry2d prior_ = Eigen::Isometry2d::Identity();
   Eigen::Matrix3d information_ = Eigen::Matrix3d::Identity();
+  // The model's sigmas (translation, rotation) of the last bound frame, to normalize its
+  // residual when the next frame brings it.
+  std::optional<Eigen::Vector2d> last_sigmas_;
+  Eigen::Vector2d mean_square_ = Eigen::Vector2d::Zero();  // running, normalized residuals
+  Eigen::Vector2d scale_ = Eigen::Vector2d::Ones();
 };
 
 }  // namespace odometry

@@ -21,7 +21,10 @@ class WheelOdometry : public MotionModel<Space2D> {
   void reset() override;
 
  private:
+  static constexpr int kSayLaserOnlyAfter = 10;  // frames without a reading
   std::optional<Eigen::Isometry2d> last_;
+  bool seen_ = false;       // a reading arrived once
+  int frames_without_ = 0;  // before the first reading
 };
 
 }  // namespace odometry

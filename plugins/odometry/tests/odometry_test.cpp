@@ -216,3 +216,44 @@ TEST(PriorSlice, FramesWithoutSequenceNumbersAreToldApartByStamp) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(PriorSlice, ObservedDisagreementWeighsTheOdometryDown) {
+  // Issue 20: 1 m steps straight ahead, model sigmas 0.05 m (0.05 per m) and 0.02 rad (0.02 per
+  // m). One frame whose solved motion was 0.5 m longer than the odometry said (a slip) is a
+  // residual of 10 sigmas: the running mean of squares over 10 frames becomes 0.1 x 100 = 10,
+  // so the next prior's translation sigma grows by sqrt(10); its rotation is untouched. It fades
+  // as 0.9^k: after 25 agreeing frames the mean is 0.72 and the model's sigma is back.
+  PriorSlice slice;
+  slice.configure();
+  PropertyContainer scene;
+  AlignContext<Space2D> ctx{se2(0, 0, 0), se2(0, 0, 0)};
+  slice.bind(odomFrame(0, se2(0, 0, 0)), scene, ctx);
+  ASSERT_TRUE(slice.bind(odomFrame(1, se2(1, 0, 0)), scene, ctx));
+  EXPECT_NEAR(slice.information()(0, 0), 1 / (0.05 * 0.05), 1e-9);
+
+  ctx.motion_residual = se2(0.5, 0, 0);
+  ASSERT_TRUE(slice.bind(odomFrame(2, se2(2, 0, 0)), scene, ctx));
+  EXPECT_NEAR(slice.disagreementScale().x(), std::sqrt(10.0), 1e-9);
+  EXPECT_NEAR(slice.disagreementScale().y(), 1.0, 1e-12);
+  EXPECT_NEAR(slice.information()(0, 0), 1 / (10.0 * 0.05 * 0.05), 1e-9);
+  EXPECT_NEAR(slice.information()(2, 2), 1 / (0.02 * 0.02), 1e-9);
+  // Rebinding the same frame (the aligner's recovery does) does not count the residual twice.
+  ASSERT_TRUE(slice.bind(odomFrame(2, se2(2, 0, 0)), scene, ctx));
+  EXPECT_NEAR(slice.disagreementScale().x(), std::sqrt(10.0), 1e-9);
+
+  ctx.motion_residual = se2(0, 0, 0);
+  for (uint64_t k = 3; k < 28; ++k)
+    ASSERT_TRUE(slice.bind(odomFrame(k, se2(static_cast<double>(k), 0, 0)), scene, ctx));
+  EXPECT_DOUBLE_EQ(slice.disagreementScale().x(), 1.0);
+  EXPECT_NEAR(slice.information()(0, 0), 1 / (0.05 * 0.05), 1e-9);
+
+  // Off: the model's sigmas whatever the residual.
+  slice.disagreement_frames = 0;
+  ctx.motion_residual = se2(5, 0, 1);
+  ASSERT_TRUE(slice.bind(odomFrame(28, se2(28, 0, 0)), scene, ctx));
+  EXPECT_NEAR(slice.information()(0, 0), 1 / (0.05 * 0.05), 1e-9);
+}
+
+}  // namespace

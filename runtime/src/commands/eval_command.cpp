@@ -161,7 +161,8 @@ void addEvalCommand(CLI::App& root, int& exit_code) {
 
   auto* cr = eval->add_subcommand(
       "crispness", "Map crispness: mean distance of each scan point to points of scans taken "
-                   "at least --min-gap scans apart, within --radius (no ground truth needed)");
+                   "at least --min-gap scans apart, within --radius, and coverage: the share of points "
+                   "that have such a neighbour (no ground truth needed)");
   cr->add_option("LOG", a.log, "the log the trajectory was estimated from (CARMEN or ROS bag)")->required();
   cr->add_option("TRAJECTORY", a.estimate, "trajectory to place the scans with")->required();
   cr->add_option("--laser", a.laser, "raw laser entry of the source")->capture_default_str();

@@ -43,6 +43,10 @@ struct AlignContext {
   std::optional<typename S::Pose> motion;
   uint64_t seq = 0;  ///< the frame's index in the run (set by bind from the frame)
   double stamp = 0;  ///< the frame's time [s] (set by bind from the frame)
+  /// How the last aligned frame's solved motion differed from the motion model's measurement
+  /// (measured^-1 * solved, in the robot frame); empty when that frame had no measurement or
+  /// failed. A motion prior weighs itself by it (slip, bad scale, a kidnap: issue 20).
+  std::optional<typename S::Pose> motion_residual;
 };
 
 /// One cue's contribution to the Multi-Aligner.

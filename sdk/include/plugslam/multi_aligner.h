@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "plugslam/align_failure.h"
+#include "plugslam/align_seeder.h"
 #include "plugslam/aligner_slice.h"
 
 namespace plugslam {
@@ -39,6 +41,13 @@ struct AlignResult {
   bool converged = false;        ///< the step fell below the threshold
   bool valid = false;            ///< enough constraints for a well-posed solution
   std::vector<CueStats> cues;    ///< per slice that took part, in slice order
+  /// Why the result is not valid (none when it is); the aligner sets all but `gate`.
+  AlignFailure failure = AlignFailure::no_data;
+  /// With `degenerate`: the unit direction (tangent coordinates) the information constrains
+  /// least, e.g. along a corridor's axis.
+  typename S::Vector weakest = S::Vector::Zero();
+  /// The solve started from a seeder's pose (MultiAligner::seeder), not the prediction.
+  bool seeded = false;
   /// inliers / factors, 0 without factors.
   double inlierRatio() const { return factors ? double(inliers) / factors : 0.0; }
   /// How much of the measurement the scene explains: inliers over candidates, summed over the
@@ -84,12 +93,31 @@ class MultiAligner : public Configurable {
       "when the alignment from the prediction is invalid, retry from the prediction turned by "
       "each of these about the vertical axis; the valid result with the most inliers wins"};
 
+  // Recovery from a poor prediction (issue 20): a search over a wide window proposes where to
+  // start when the solve from the prediction fails (or, asked by the tracker, when it lands too
+  // far from the prediction).
+  Slot<AlignSeeder<S>> seeder{this, "seeder", "",
+                              "searches the scene for starting poses when the solve from the "
+                              "prediction fails (e.g. laser2d.CorrelativeSeeder; empty: none)"};
+  Param<std::vector<double>> seed_tolerance{
+      this, "seed_tolerance", {0.2, 0.1}, "m, rad",
+      "translation and rotation: a solve from a seed that ends farther than this from it slid "
+      "off what the search found and does not count"};
+
   void configure() override;
-  /// Aligns the frame's cues to the scene, starting from context.guess.
+  /// Aligns the frame's cues to the scene, starting from context.guess (then from the retry
+  /// headings, then from the seeder's poses, while the result is invalid).
   AlignResult<S> align(const Frame& frame, const PropertyContainer& scene,
                        const AlignContext<S>& context);
+  /// Aligns from the seeder's poses only (none: an invalid result); the valid solve with the
+  /// most inliers wins.
+  AlignResult<S> recover(const Frame& frame, const PropertyContainer& scene,
+                         const AlignContext<S>& context);
 
  private:
+  AlignResult<S> recoverBound(const Frame& frame, const PropertyContainer& scene,
+                              const AlignContext<S>& context,
+                              const std::vector<AlignerSlice<S>*>& active);
   // One solve from `guess` with the slices already bound.
   AlignResult<S> solve(const std::vector<AlignerSlice<S>*>& active, const Pose& guess);
 };

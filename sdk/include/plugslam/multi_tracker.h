@@ -84,6 +84,7 @@ class MultiTracker : public Tracker {
   std::vector<std::shared_ptr<LocalMap>> closed_;  // by reset(), reported by the next track()
   Pose pose_ = Pose::Identity();  // robot in the current local map
   MotionPrediction<S> prediction_;
+  std::optional<Pose> motion_residual_;  // AlignContext::motion_residual for the next frame
   size_t frames_in_map_ = 0;
   int64_t next_id_ = 0;
 };

@@ -5,6 +5,7 @@
 #include <memory>
 #include <vector>
 
+#include "plugslam/align_failure.h"
 #include "plugslam/configurable.h"
 #include "plugslam/frame.h"
 #include "plugslam/local_map.h"
@@ -17,8 +18,16 @@ struct TrackerStats {
   uint64_t frames = 0;          ///< frames tracked
   uint64_t aligned = 0;         ///< frames whose alignment was valid
   uint64_t failed = 0;          ///< frames where the aligner gave no valid or plausible solution
+  uint64_t recovered = 0;       ///< frames aligned from a seeder's pose (a poor prediction)
   uint64_t local_maps = 0;      ///< local maps created
   double inlier_ratio_sum = 0;  ///< for the mean inlier ratio
+  /// The failed frames by reason (index: AlignFailure); they sum to `failed`.
+  uint64_t failures[kAlignFailures] = {};
+  /// Counts one failed frame with its reason.
+  void countFailure(AlignFailure reason) {
+    ++failed;
+    ++failures[static_cast<std::size_t>(reason)];
+  }
 };
 
 /// What one track() did to the local maps, in the order the graph back-end takes it.

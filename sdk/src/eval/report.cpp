@@ -117,6 +117,7 @@ std::string toMarkdown(const CrispnessResult& r) {
   std::string s = "### Crispness\n\n| quantity | value |\n|---|---|\n";
   s += format("| mean nearest distance (m) | %.6f |\n", r.mean);
   s += format("| matched points | %zu of %zu |\n", r.matched_points, r.points);
+  s += format("| coverage | %.6f |\n", r.coverage());
   s += format("| scans | %zu |\n", r.scans);
   s += format("| min index gap | %d |\n", r.min_index_gap);
   if (r.max_index_gap > 0) s += format("| max index gap | %d |\n", r.max_index_gap);
@@ -158,7 +159,8 @@ std::string toJson(const RelationResult& r) {
 std::string toJson(const CrispnessResult& r) {
   JsonObject o;
   o.add("metric", std::string("crispness")).add("mean_m", r.mean);
-  o.add("points", r.points).add("matched_points", r.matched_points).add("scans", r.scans);
+  o.add("points", r.points).add("matched_points", r.matched_points).add("coverage", r.coverage());
+  o.add("scans", r.scans);
   o.add("min_index_gap", r.min_index_gap).add("max_index_gap", r.max_index_gap).add("radius_m", r.radius);
   return o.str();
 }

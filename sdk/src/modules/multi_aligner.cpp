@@ -11,6 +11,17 @@ inline namespace abi_v1 {
 
 FactorObserver::~FactorObserver() = default;
 
+const char* toString(AlignFailure failure) {
+  switch (failure) {
+    case AlignFailure::none: return "none";
+    case AlignFailure::no_data: return "no_data";
+    case AlignFailure::too_few_inliers: return "too_few_inliers";
+    case AlignFailure::degenerate: return "degenerate";
+    case AlignFailure::gate: return "correction_gate";
+  }
+  return "unknown";
+}
+
 std::string describeCues(const std::vector<CueStats>& cues) {
   std::string out;
   for (const CueStats& c : cues) {
@@ -23,24 +34,51 @@ std::string describeCues(const std::vector<CueStats>& cues) {
   return out;
 }
 
+namespace {
+
+// Binds a slice's or seeder's entries: raw and measurement ones to the frame, scene ones to the
+// scene. False when one is absent.
+bool bindEntries(const std::vector<EntryBase*>& entries, const Frame& frame,
+                 const PropertyContainer& scene) {
+  bool present = true;
+  for (EntryBase* entry : entries) {
+    const Container c = entry->container();
+    entry->bind(c == Container::scene ? &scene : c == Container::raw ? &frame.raw
+                                                                     : &frame.measurement);
+    present = present && entry->bound();
+  }
+  return present;
+}
+
+template <class S>
+AlignContext<S> ofFrame(const AlignContext<S>& context, const Frame& frame) {
+  AlignContext<S> frame_context = context;
+  frame_context.seq = frame.seq;
+  frame_context.stamp = frame.stamp;
+  return frame_context;
+}
+
+}  // namespace
+
 template <class S>
 AlignerSlice<S>::~AlignerSlice() = default;
 
 template <class S>
 bool AlignerSlice<S>::bind(const Frame& frame, const PropertyContainer& scene,
                            const AlignContext<S>& context) {
-  bool present = true;
-  for (EntryBase* entry : entries()) {
-    const Container c = entry->container();
-    entry->bind(c == Container::scene ? &scene : c == Container::raw ? &frame.raw
-                                                                     : &frame.measurement);
-    present = present && entry->bound();
-  }
-  if (!present) return false;
-  AlignContext<S> frame_context = context;
-  frame_context.seq = frame.seq;
-  frame_context.stamp = frame.stamp;
-  return prepare(frame_context);
+  if (!bindEntries(entries(), frame, scene)) return false;
+  return prepare(ofFrame(context, frame));
+}
+
+template <class S>
+AlignSeeder<S>::~AlignSeeder() = default;
+
+template <class S>
+std::vector<typename S::Pose> AlignSeeder<S>::seeds(const Frame& frame,
+                                                    const PropertyContainer& scene,
+                                                    const AlignContext<S>& context) {
+  if (!bindEntries(entries(), frame, scene)) return {};
+  return search(ofFrame(context, frame));
 }
 
 template <class S>
@@ -54,6 +92,11 @@ void MultiAligner<S>::configure() {
     if (!(std::abs(h) <= M_PI))
       throw ParamError("retry_headings",
                        "every value must be an angle in [-pi, pi] rad, got " + std::to_string(h));
+  if (seed_tolerance().size() != 2)
+    throw ParamError("seed_tolerance", "expected 2 values (translation m, rotation rad), got " +
+                                           std::to_string(seed_tolerance().size()));
+  for (double v : seed_tolerance())
+    if (!(v > 0)) throw ParamError("seed_tolerance", "every value must be > 0");
 }
 
 template <class S>
@@ -77,7 +120,47 @@ AlignResult<S> MultiAligner<S>::align(const Frame& frame, const PropertyContaine
     AlignResult<S> retry = solve(active, S::boxplus(context.guess, turn));
     if (retry.valid && (!result.valid || retry.inliers > result.inliers)) result = retry;
   }
-  return result;
+  if (result.valid || !seeder) return result;
+  AlignResult<S> seeded = recoverBound(frame, scene, context, active);
+  return seeded.valid ? seeded : result;
+}
+
+template <class S>
+AlignResult<S> MultiAligner<S>::recover(const Frame& frame, const PropertyContainer& scene,
+                                        const AlignContext<S>& context) {
+  AlignResult<S> none;
+  none.pose = context.guess;
+  none.H.setZero();
+  if (!seeder) return none;
+  std::vector<AlignerSlice<S>*> active;
+  for (auto& slice : slices)
+    if (slice->bind(frame, scene, context)) active.push_back(slice.get());
+  if (active.empty()) return none;
+  return recoverBound(frame, scene, context, active);
+}
+
+template <class S>
+AlignResult<S> MultiAligner<S>::recoverBound(const Frame& frame, const PropertyContainer& scene,
+                                             const AlignContext<S>& context,
+                                             const std::vector<AlignerSlice<S>*>& active) {
+  AlignResult<S> best;
+  best.pose = context.guess;
+  best.H.setZero();
+  // A solve that leaves its seed by more than the seeder's resolution slid off what the search
+  // found (along a corridor, onto a parallel wall): it does not count.
+  for (const Pose& seed : seeder->seeds(frame, scene, context)) {
+    AlignResult<S> r = solve(active, seed);
+    const Pose moved = S::normalized(seed.inverse() * r.pose);
+    r.seeded = true;
+    if (r.valid && (S::distance(moved) > seed_tolerance()[0] ||
+                    S::angle(moved) > seed_tolerance()[1])) {
+      r.valid = false;
+      r.failure = AlignFailure::gate;
+    }
+    if (r.valid && (!best.valid || r.inliers > best.inliers)) best = r;
+    if (!best.valid && !r.valid && r.failure != AlignFailure::no_data) best = r;
+  }
+  return best;
 }
 
 template <class S>
@@ -86,6 +169,14 @@ AlignResult<S> MultiAligner<S>::solve(const std::vector<AlignerSlice<S>*>& activ
   AlignResult<S> result;
   result.pose = guess;
   result.H.setZero();
+  // The direction the information constrains least (the eigenvector of its smallest
+  // eigenvalue), for a degenerate result's message.
+  const auto degenerate = [&result](const typename S::Matrix& h) {
+    Eigen::SelfAdjointEigenSolver<typename S::Matrix> eig(h);
+    result.failure = AlignFailure::degenerate;
+    result.weakest = eig.eigenvectors().col(0).normalized();
+    return result;
+  };
   // Each slice sums its own factors from zero (its counts are its cue's), then the slices' sums
   // are added in slice order. chi2 runs on through the slices: it sums in factor order.
   NormalEquations<S> eq;
@@ -111,13 +202,13 @@ AlignResult<S> MultiAligner<S>::solve(const std::vector<AlignerSlice<S>*>& activ
     bool step_converged = false;
     for (int inner = 0; inner < inner_iterations(); ++inner) {
       linearize(t);
-      if (eq.factors == 0) return result;
+      if (eq.factors == 0) return result;  // failure stays no_data
       typename S::Matrix h = eq.H;
       h.diagonal().array() += damping();
       Eigen::LDLT<typename S::Matrix> ldlt(h);
-      if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return result;
+      if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return degenerate(eq.H);
       typename S::Vector dx = ldlt.solve(-eq.b);
-      if (!dx.allFinite()) return result;
+      if (!dx.allFinite()) return degenerate(eq.H);
       t = S::boxplus(t, dx);
       ++result.iterations;
       if (dx.norm() < convergence()) {
@@ -146,13 +237,25 @@ AlignResult<S> MultiAligner<S>::solve(const std::vector<AlignerSlice<S>*>& activ
         CueStats{active[k]->name(), parts[k].factors, parts[k].inliers, parts[k].candidates});
   // A solution needs enough inliers and a full-rank information matrix.
   Eigen::SelfAdjointEigenSolver<typename S::Matrix> eig(eq.H);
-  result.valid = eq.inliers >= static_cast<size_t>(min_inliers()) &&
-                 eig.eigenvalues().minCoeff() > 1e-9 * std::max(1.0, eig.eigenvalues().maxCoeff());
+  if (eq.factors == 0) {
+    result.failure = AlignFailure::no_data;
+  } else if (eq.inliers < static_cast<size_t>(min_inliers())) {
+    result.failure = AlignFailure::too_few_inliers;
+  } else if (!(eig.eigenvalues().minCoeff() >
+               1e-9 * std::max(1.0, eig.eigenvalues().maxCoeff()))) {
+    result.failure = AlignFailure::degenerate;
+    result.weakest = eig.eigenvectors().col(0).normalized();
+  } else {
+    result.failure = AlignFailure::none;
+  }
+  result.valid = result.failure == AlignFailure::none;
   return result;
 }
 
 template class AlignerSlice<Space2D>;
 template class AlignerSlice<Space3D>;
+template class AlignSeeder<Space2D>;
+template class AlignSeeder<Space3D>;
 template class MultiAligner<Space2D>;
 template class MultiAligner<Space3D>;
 

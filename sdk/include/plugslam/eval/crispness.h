@@ -37,6 +37,9 @@ struct CrispnessResult {
   int min_index_gap = 50;
   int max_index_gap = 0;  ///< 0: no upper limit
   double radius = 0.3;
+  /// Share of points with a neighbour within the radius (matched_points / points; 0 without
+  /// points): a map in pieces can look crisp when few of its points match, coverage shows it.
+  double coverage() const { return points ? static_cast<double>(matched_points) / points : 0.0; }
 };
 
 /// For every point placed at its scan's pose, the distance to the nearest point of a scan at

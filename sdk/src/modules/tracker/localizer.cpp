@@ -101,6 +101,7 @@ TrackEvents Localizer<S>::track(Frame& frame) {
     double correction;  // translation [m] + rotation [rad] from the prediction
   };
   std::vector<Tried> valid;
+  AlignFailure fallback_failure = AlignFailure::no_data;  // no map near enough to try
   double best_ratio = 0;
   for (const auto& m : candidates) {
     const Eigen::Isometry3d to_map = m->origin.inverse();
@@ -109,7 +110,10 @@ TrackEvents Localizer<S>::track(Frame& frame) {
     if (m == fallback) fallback_guess = guess;
     AlignResult<S> r = aligner->align(
         frame, m->scene, AlignContext<S>{previous, guess, st.prediction.model_motion});
-    if (!r.valid) continue;
+    if (!r.valid) {
+      if (m == fallback) fallback_failure = r.failure;
+      continue;
+    }
     const Pose correction = S::normalized(guess.inverse() * r.pose);
     best_ratio = std::max(best_ratio, r.inlierRatio());
     valid.push_back({m, r, previous, S::distance(correction) + S::angle(correction)});
@@ -131,8 +135,10 @@ TrackEvents Localizer<S>::track(Frame& frame) {
     st.located = fallback;
     st.pose = fallback_guess;
     st.prediction.last_motion = S::normalized(previous.inverse() * st.pose);
-    ++stats_.failed;
-    spdlog::debug("frame {}: localization failed in maps near {}", frame.seq, fallback->id);
+    // No saved map explains the frame: the reason is the nearest map's.
+    stats_.countFailure(fallback_failure);
+    spdlog::debug("frame {}: localization failed in maps near {} ({})", frame.seq, fallback->id,
+                  toString(fallback_failure));
   }
   frame.estimate.valid = true;
   frame.estimate.local_map = st.located->id;

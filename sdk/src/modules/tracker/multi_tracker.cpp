@@ -1,5 +1,6 @@
 #include "plugslam/multi_tracker.h"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include "plugslam/errors.h"
@@ -7,6 +8,30 @@
 
 namespace plugslam {
 inline namespace abi_v1 {
+namespace {
+
+// "too few inliers (8 inliers of 30 factors: ...)", "degenerate information, weakest along
+// (0.99, 0.12, 0.00)", ...: the debug log's reason for a failed frame.
+template <class S>
+std::string describeFailure(const AlignResult<S>& r) {
+  std::string why;
+  switch (r.failure) {
+    case AlignFailure::none: why = "valid"; break;
+    case AlignFailure::no_data: why = "no data"; break;
+    case AlignFailure::too_few_inliers: why = "too few inliers"; break;
+    case AlignFailure::gate: why = "correction gate"; break;
+    case AlignFailure::degenerate: {
+      why = "degenerate information, weakest along (";
+      for (int i = 0; i < S::kDof; ++i) why += fmt::format("{}{:.2f}", i ? ", " : "", r.weakest(i));
+      why += ")";
+      break;
+    }
+  }
+  return why + " (" + std::to_string(r.inliers) + " inliers of " + std::to_string(r.factors) +
+         " factors" + (r.cues.empty() ? std::string() : ": " + describeCues(r.cues)) + ")";
+}
+
+}  // namespace
 
 template <class S>
 MultiTracker<S>::MultiTracker() {
@@ -72,6 +97,9 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
   const bool lost = !aligned.valid;
   pose_ = lost ? guess : aligned.pose;
   prediction_.last_motion = S::normalized(previous.inverse() * pose_);
+  motion_residual_.reset();
+  if (!lost && prediction_.model_motion)
+    motion_residual_ = S::normalized(prediction_.model_motion->inverse() * prediction_.last_motion);
   count(frame, aligned);
   merge(frame);
   if (lost)
@@ -86,17 +114,34 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
 template <class S>
 AlignResult<S> MultiTracker<S>::align(const Frame& frame, const Pose& previous,
                                       const Pose& guess) {
-  AlignResult<S> aligned = aligner->align(
-      frame, map_->scene, AlignContext<S>{previous, guess, prediction_.model_motion});
-  if (aligned.valid && prediction_.model_motion && !max_correction().empty()) {
+  AlignContext<S> context{previous, guess, prediction_.model_motion};
+  context.motion_residual = motion_residual_;
+  AlignResult<S> aligned = aligner->align(frame, map_->scene, context);
+  // A solution from a seed stands on the aligner's search around the prediction: the gate is
+  // for solves that may have slid from the prediction itself.
+  if (aligned.valid && !aligned.seeded && prediction_.model_motion && !max_correction().empty()) {
     const Pose correction = S::normalized(guess.inverse() * aligned.pose);
     if (S::distance(correction) > max_correction()[0] ||
         S::angle(correction) > max_correction()[1]) {
-      spdlog::debug("frame {}: alignment moved the prediction by {:.3f} m, {:.3f} rad; rejected",
-                    frame.seq, S::distance(correction), S::angle(correction));
-      aligned.valid = false;
+      // Either the prediction is poor (slip, bad odometry) or the solve slid (a corridor): the
+      // seeder's search around the prediction decides; without one the prediction is kept.
+      AlignResult<S> recovered = aligner->recover(frame, map_->scene, context);
+      if (recovered.valid) {
+        const Pose moved = S::normalized(guess.inverse() * recovered.pose);
+        spdlog::debug("frame {}: alignment moved the prediction by {:.3f} m, {:.3f} rad; the "
+                      "seeder's search puts it {:.3f} m, {:.3f} rad from it",
+                      frame.seq, S::distance(correction), S::angle(correction),
+                      S::distance(moved), S::angle(moved));
+        aligned = recovered;
+      } else {
+        spdlog::debug("frame {}: alignment moved the prediction by {:.3f} m, {:.3f} rad; "
+                      "rejected", frame.seq, S::distance(correction), S::angle(correction));
+        aligned.valid = false;
+        aligned.failure = AlignFailure::gate;
+      }
     }
   }
+  if (aligned.valid && aligned.seeded) ++stats_.recovered;
   return aligned;
 }
 
@@ -106,9 +151,9 @@ void MultiTracker<S>::count(const Frame& frame, const AlignResult<S>& aligned) {
     ++stats_.aligned;
     stats_.inlier_ratio_sum += aligned.inlierRatio();
   } else {
-    ++stats_.failed;
-    spdlog::debug("frame {}: alignment failed ({} inliers of {} factors: {}); new local map",
-                  frame.seq, aligned.inliers, aligned.factors, describeCues(aligned.cues));
+    stats_.countFailure(aligned.failure);
+    spdlog::debug("frame {}: alignment failed: {}; new local map", frame.seq,
+                  describeFailure(aligned));
   }
 }
 
@@ -177,6 +222,7 @@ void MultiTracker<S>::reset() {
   map_.reset();
   pose_ = Pose::Identity();
   prediction_.reset();
+  motion_residual_.reset();
   frames_in_map_ = 0;
   if (motion) motion->reset();
 }

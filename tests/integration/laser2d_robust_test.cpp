@@ -1,0 +1,128 @@
+// Issue 20: the shipped 2D laser config, unchanged, on degraded variants of one shared log
+// (intel): one case per kind of degradation. The variants are written from the original into
+// this test's temporary folder by scripts/bench/laser2d_variants.py (the bench's own generator),
+// never stored. Each case must stay a map like the reference's: relations against GMapping's
+// poses <= 0.15 m and <= 1 deg (the issue's broken-map bound), at least as crisp, with >= 0.9x its
+// coverage, and the run says why frames failed.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "plugslam/eval/relations.h"
+#include "plugslam/trajectory.h"
+#include "temp_dir.h"
+#include "test_paths.h"
+
+namespace fs = std::filesystem;
+using namespace plugslam;
+
+namespace {
+
+struct Result {
+  int code;
+  std::string out;
+};
+
+Result shell(const std::string& cmd) {
+  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
+  std::string out;
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  const int status = pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+Result plugslamCli(const std::string& args) {
+  return shell("cd " + plugslam::testing::sourceDir() + " && " + plugslam::testing::buildDir() +
+               "/bin/plugslam " + args);
+}
+
+nlohmann::json readJson(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return nlohmann::json::parse(ss.str(), nullptr, false);
+}
+
+class DegradedIntel : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(DegradedIntel, StaysAMapLikeTheReference) {
+  const std::string log =
+      plugslam::testing::dataDir() + "/laser2d/intel-gfs-corrected/intel-corrected.log.gz";
+  if (!fs::exists(log)) GTEST_SKIP() << "intel log not found at " << log << " (set PLUGSLAM_DATA)";
+  if (shell("python3 --version").code != 0) GTEST_SKIP() << "python3 not found (writes the variant)";
+  const plugslam::testing::TempDir tmp("plugslam_robust");
+  const std::string variant = GetParam();
+  const fs::path vlog = tmp.path() / (variant + ".log.gz");
+  Result r = shell("python3 " + plugslam::testing::sourceDir() +
+                   "/scripts/bench/laser2d_variants.py " + log + " " + tmp.path().string() + " " +
+                   variant);
+  ASSERT_EQ(r.code, 0) << r.out;
+  ASSERT_TRUE(fs::exists(vlog));
+  const fs::path out = tmp.path() / "run";
+  // The shipped threaded back-end, as users run it (the targets hold in every run).
+  r = plugslamCli("run configs/laser2d_carmen.yaml -o " + out.string() +
+                  " --set source.path=" + vlog.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  if (variant == "no_odom") {  // the same config runs laser only, and says so once
+    EXPECT_NE(r.out.find("tracking without odometry"), std::string::npos) << r.out;
+  }
+
+  const nlohmann::json run = readJson(out / "run.json");
+  ASSERT_TRUE(run.is_object());
+  uint64_t reasons = 0;
+  for (const auto& [k, v] : run["tracking_failure_reasons"].items()) reasons += v.get<uint64_t>();
+  EXPECT_EQ(reasons, run["tracking_failures"].get<uint64_t>()) << "every failure has a reason";
+
+  const Trajectory est = readTrajectory((out / "trajectory.tum").string());
+  const Trajectory ref = readTrajectory((out / "reference.tum").string());
+  const RelationResult rel = evaluateRelations(est, relationsFromTrajectory(ref, 2.0));
+  // Issue 20's bound for a map that did not break (the reference's own noise is 3-7 cm).
+  EXPECT_LE(rel.translation.mean, 0.15) << variant;
+  EXPECT_LE(rel.rotation_deg.mean, 1.0) << variant;
+
+  nlohmann::json crisp[2];
+  const char* files[2] = {"trajectory.tum", "reference.tum"};
+  for (int i = 0; i < 2; ++i) {
+    const fs::path json = tmp.path() / (std::string("crisp_") + std::to_string(i) + ".json");
+    r = plugslamCli("eval crispness " + vlog.string() + " " + (out / files[i]).string() +
+                    " --format json -o " + json.string());
+    ASSERT_EQ(r.code, 0) << r.out;
+    crisp[i] = readJson(json);
+  }
+  std::printf("%s: %s failures, relations %.4f m %.3f deg, crispness %.4f / %.4f, coverage "
+              "%.3f / %.3f\n",
+              variant.c_str(), run["tracking_failures"].dump().c_str(), rel.translation.mean,
+              rel.rotation_deg.mean, crisp[0]["mean_m"].get<double>(),
+              crisp[1]["mean_m"].get<double>(), crisp[0]["coverage"].get<double>(),
+              crisp[1]["coverage"].get<double>());
+  // Issue 20: at least as crisp as GMapping's map, with at least 0.9x its coverage.
+  EXPECT_LE(crisp[0]["mean_m"].get<double>(), crisp[1]["mean_m"].get<double>()) << variant;
+  EXPECT_GE(crisp[0]["coverage"].get<double>(), 0.9 * crisp[1]["coverage"].get<double>())
+      << variant;
+}
+
+std::string variantName(const ::testing::TestParamInfo<std::string>& info) { return info.param; }
+
+// Measured at 0f3f7fc (scripts/bench/laser2d_robust.sh, one threaded run each): relations
+// 0.043-0.046 m and 0.56-0.70 deg, crispness 0.0215-0.0222 against the reference's 0.0229,
+// coverage 0.943-0.945 against 0.945, at most 1 failure (the correction gate).
+INSTANTIATE_TEST_SUITE_P(Issue20, DegradedIntel,
+                         ::testing::Values("scale_up", "scale_down", "drift", "sparse"),
+                         variantName);
+// Issue 20's open targets, disabled until the front-end meets them (same bounds; measured at
+// 0f3f7fc): laser only 15.6 m / 71.5 deg (a solve accepted in a wrong minimum near the
+// constant-velocity prediction, then every frame lost); decimated x3 0.88 m / 6.5 deg and x5
+// 13.6 m / 59.4 deg (the fixed max_correction gate trips on the longer steps' right corrections).
+// Run them with --gtest_also_run_disabled_tests.
+INSTANTIATE_TEST_SUITE_P(DISABLED_Issue20Open, DegradedIntel,
+                         ::testing::Values("no_odom", "decimate3", "decimate5"), variantName);
+
+}  // namespace
