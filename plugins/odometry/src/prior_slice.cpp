@@ -38,9 +38,16 @@ bool PriorSlice::prepare(const AlignContext<Space2D>& context) {
     bound_ = std::make_pair(context.seq, context.stamp);
   }
   last_ = odom->pose;
-  if (!before_bound_) return false;  // the first reading has nothing to be relative to
-
-  const Eigen::Isometry2d delta = before_bound_->inverse() * odom->pose;
+  // The tracker's motion model read this same odometry: its delta is the one to use (computed
+  // once, and known from the first frame on). Otherwise (no motion model, another entry, a
+  // validator's alignment) the slice's own reading gives it.
+  Eigen::Isometry2d delta;
+  if (context.motion && context.motion_entry == input.name())
+    delta = *context.motion;
+  else if (before_bound_)
+    delta = before_bound_->inverse() * odom->pose;
+  else
+    return false;  // the first reading has nothing to be relative to
   prior_ = context.previous * delta;
   const double d = delta.translation().norm();
   const double a = std::abs(angleOf(delta.linear()));

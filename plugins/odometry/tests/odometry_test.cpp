@@ -8,6 +8,7 @@
 #include "plugslam/errors.h"
 #include "plugslam/geometry.h"
 #include "plugslam/multi_aligner.h"
+#include "plugslam/multi_tracker.h"
 #include "plugslam/slice_check.h"
 #include "prior_slice.h"
 #include "wheel_odometry.h"
@@ -213,6 +214,57 @@ TEST(PriorSlice, FramesWithoutSequenceNumbersAreToldApartByStamp) {
   expectPose(se2(1, 0, 0), slice.prior(), 1e-12);
   ASSERT_TRUE(slice.bind(c, scene, ctx));
   expectPose(se2(2, 0, 0), slice.prior(), 1e-12);
+}
+
+// Item 18.3: the odometry delta is computed once. In a tracker, the motion model measures it and
+// the prior takes it from the AlignContext, but only when the model read the same entry.
+TEST(PriorSlice, TakesTheMotionModelsDeltaWhenItReadTheSameEntry) {
+  PropertyContainer scene;
+  AlignContext<Space2D> ctx{se2(1.0, 1.0, 0.2), se2(0, 0, 0), se2(0.5, 0.0, 0.1)};
+  ctx.motion_entry = "odom";
+  {
+    PriorSlice slice;
+    slice.configure();
+    // The first reading the slice sees already has a delta: the model's.
+    ASSERT_TRUE(slice.bind(odomFrame(0, se2(7, 7, 1)), scene, ctx));
+    expectPose(se2(1.0, 1.0, 0.2) * se2(0.5, 0.0, 0.1), slice.prior(), 1e-12);
+  }
+  {
+    PriorSlice slice;  // reads "wheels": the model's motion is not its odometry
+    slice.input = std::string("wheels");
+    slice.configure();
+    EXPECT_FALSE(slice.bind(odomFrame(0, se2(0, 0, 0), "wheels"), scene, ctx));
+    ASSERT_TRUE(slice.bind(odomFrame(1, se2(2, 0, 0), "wheels"), scene, ctx));
+    expectPose(se2(1.0, 1.0, 0.2) * se2(2, 0, 0), slice.prior(), 1e-12);
+  }
+}
+
+// With wheel odometry as the motion model and the prior as the only cue, every frame after the
+// first is constrained, the second included (before the delta was shared, the prior had no
+// reading before the first aligned frame, which therefore failed), and the poses follow the
+// odometry exactly.
+TEST(PriorSlice, InATrackerEveryFrameAfterTheFirstIsConstrained) {
+  plugslam::MultiTracker<Space2D> tracker;
+  tracker.motion.assign(std::make_shared<WheelOdometry>());
+  auto aligner = std::make_shared<plugslam::MultiAligner<Space2D>>();
+  aligner->slices.assign(std::make_shared<PriorSlice>());
+  aligner->min_inliers = 1;
+  tracker.aligner.assign(aligner);
+  for (auto* m : std::initializer_list<plugslam::Configurable*>{
+           tracker.motion.get(), &aligner->slices[0], aligner.get(), &tracker})
+    m->configure();
+  const Eigen::Isometry2d start = se2(3.0, -2.0, 0.7);
+  Eigen::Isometry2d odom = start;
+  for (uint64_t i = 0; i < 6; ++i) {
+    if (i > 0) odom = odom * se2(0.4, 0.05, 0.1);
+    Frame f = odomFrame(i, odom);
+    tracker.track(f);
+    ASSERT_TRUE(f.estimate.valid);
+    EXPECT_FALSE(f.estimate.lost) << "frame " << i;
+    expectPose(start.inverse() * odom, Space2D::from3D(f.estimate.in_map), 1e-9);
+  }
+  EXPECT_EQ(tracker.stats().failed, 0u);
+  EXPECT_EQ(tracker.stats().aligned, 5u);
 }
 
 }  // namespace

@@ -41,6 +41,9 @@ struct AlignContext {
   /// The motion since the previous frame as the tracker's motion model measured it (in the
   /// previous robot frame); empty without a motion model or a reading this frame.
   std::optional<typename S::Pose> motion;
+  /// The raw entry `motion` was measured from, when the motion model reads exactly one (a slice
+  /// that reads the same entry can take `motion` instead of computing it again); else empty.
+  std::string motion_entry;
   uint64_t seq = 0;  ///< the frame's index in the run (set by bind from the frame)
   double stamp = 0;  ///< the frame's time [s] (set by bind from the frame)
 };

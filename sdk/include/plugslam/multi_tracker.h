@@ -4,6 +4,7 @@
 // splitter. compute() reads like the seed: predict, align, merge, split.
 #include <memory>
 #include <optional>
+#include <string>
 
 #include "plugslam/motion_model.h"
 #include "plugslam/multi_aligner.h"
@@ -69,6 +70,8 @@ class MultiTracker : public Tracker {
 
  private:
   Pose predict(const Frame& frame);
+  // The aligner's context: the poses, and the motion model's measured motion with its entry.
+  AlignContext<S> alignContext(const Pose& previous, const Pose& guess) const;
   void merge(const Frame& frame);
   void writeEstimate(Frame& frame, bool lost) const;
   void startLocalMap(const Frame& frame, const typename S::Matrix& information);
@@ -82,6 +85,7 @@ class MultiTracker : public Tracker {
   // The motion model's measured motion this frame (empty: the prediction did not come from it);
   // the aligner's slices get it in their AlignContext.
   std::optional<Pose> model_motion_;
+  std::string model_motion_entry_;  // the raw entry it was measured from (see AlignContext)
   int64_t next_id_ = 0;
   // Localization mode: the frozen maps and the one the robot is in.
   std::vector<std::shared_ptr<const LocalMap>> frozen_;

@@ -150,7 +150,7 @@ void MultiTracker<S>::trackFrozen(Frame& frame) {
     const Pose guess = S::normalized(S::from3D(to_map * guess_world));
     if (m == fallback) fallback_guess = guess;
     AlignResult<S> r =
-        aligner->align(frame, m->scene, AlignContext<S>{previous, guess, model_motion_});
+        aligner->align(frame, m->scene, alignContext(previous, guess));
     if (!r.valid) continue;
     const Pose correction = S::normalized(guess.inverse() * r.pose);
     best_ratio = std::max(best_ratio, r.inlierRatio());
@@ -201,7 +201,7 @@ void MultiTracker<S>::track(Frame& frame) {
     startLocalMap(frame, information);
   } else {
     AlignResult<S> aligned =
-        aligner->align(frame, map_->scene, AlignContext<S>{previous, guess, model_motion_});
+        aligner->align(frame, map_->scene, alignContext(previous, guess));
     if (!aligned.valid && map_->scene.empty()) {
       // The map was started by a frame that brought no data: seed it again from this one.
       pose_ = guess;
@@ -267,10 +267,28 @@ void MultiTracker<S>::writeEstimate(Frame& frame, bool lost) const {
 template <class S>
 typename S::Pose MultiTracker<S>::predict(const Frame& frame) {
   model_motion_.reset();
-  if (motion) model_motion_ = motion->predict(frame);
+  model_motion_entry_.clear();
+  if (motion) {
+    model_motion_ = motion->predict(frame);
+    // Named only when the model reads one raw entry, so a slice can tell it read the same.
+    int raw_inputs = 0;
+    for (const EntryBase* e : motion->entries())
+      if (!e->writes() && e->container() == Container::raw) {
+        ++raw_inputs;
+        model_motion_entry_ = e->name();
+      }
+    if (raw_inputs != 1) model_motion_entry_.clear();
+  }
   const Pose delta =
       model_motion_ ? *model_motion_ : constant_velocity() ? last_motion_ : Pose::Identity();
   return S::normalized(pose_ * delta);
+}
+
+template <class S>
+AlignContext<S> MultiTracker<S>::alignContext(const Pose& previous, const Pose& guess) const {
+  AlignContext<S> context{previous, guess, model_motion_};
+  if (model_motion_) context.motion_entry = model_motion_entry_;
+  return context;
 }
 
 template <class S>
