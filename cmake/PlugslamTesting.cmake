@@ -1,10 +1,13 @@
 # plugslam_add_test(NAME SOURCES ... [LIBRARIES ...] [LABELS unit|integration|e2e])
 # One GoogleTest executable registered with CTest. Tests find real datasets through PLUGSLAM_DATA
 # (may be absent: they skip with a reason) and the build tree through tests/support/test_paths.h.
-if(DEFINED ENV{PLUGSLAM_DATA})
-  set(PLUGSLAM_DATA_DIR "$ENV{PLUGSLAM_DATA}")
-else()
-  get_filename_component(PLUGSLAM_DATA_DIR "${PROJECT_SOURCE_DIR}/../shared/data" ABSOLUTE)
+# The data folder is read when a test runs: $PLUGSLAM_DATA, else the PLUGSLAM_DATA this build was
+# configured with, else ../shared/data beside the source tree. The configure-time value reaches the
+# tests as PLUGSLAM_TEST_DATA_DEFAULT in their environment, so it never overrides the user's
+# PLUGSLAM_DATA and changing it recompiles nothing.
+set(PLUGSLAM_TEST_ENVIRONMENT "")
+if(DEFINED ENV{PLUGSLAM_DATA} AND NOT "$ENV{PLUGSLAM_DATA}" STREQUAL "")
+  set(PLUGSLAM_TEST_ENVIRONMENT "PLUGSLAM_TEST_DATA_DEFAULT=$ENV{PLUGSLAM_DATA}")
 endif()
 
 function(plugslam_add_test name)
@@ -19,14 +22,13 @@ function(plugslam_add_test name)
     set(ARG_LABELS unit)
   endif()
   # The build and source folders are compiled in (tests/support/test_paths.h); the data folder
-  # also comes from the environment, so a user can point PLUGSLAM_DATA elsewhere.
+  # is not (see above).
   target_include_directories(${name} PRIVATE "${PROJECT_SOURCE_DIR}/tests/support")
   target_compile_definitions(${name} PRIVATE
-    PLUGSLAM_TEST_DATA_DIR="${PLUGSLAM_DATA_DIR}"
     PLUGSLAM_TEST_BUILD_DIR="${CMAKE_BINARY_DIR}"
     PLUGSLAM_TEST_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   # gtest_discover_tests splits list-valued properties, so ENVIRONMENT carries one variable.
   gtest_discover_tests(${name}
-    PROPERTIES LABELS "${ARG_LABELS}" ENVIRONMENT "PLUGSLAM_DATA=${PLUGSLAM_DATA_DIR}"
+    PROPERTIES LABELS "${ARG_LABELS}" ENVIRONMENT "${PLUGSLAM_TEST_ENVIRONMENT}"
     DISCOVERY_TIMEOUT 60)
 endfunction()

@@ -14,7 +14,8 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 seconds="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(fuzz_config fuzz_carmen fuzz_rosbag fuzz_graph fuzz_archive fuzz_trajectory)
+[ ${#targets[@]} -eq 0 ] && targets=(fuzz_config fuzz_carmen fuzz_rosbag fuzz_graph fuzz_archive fuzz_trajectory fuzz_image
+  fuzz_camera_files fuzz_foxglove)
 build="${PLUGSLAM_FUZZ_DIR:-$root/build-fuzz}"
 lock=()
 [ -n "${PLUGSLAM_LOCK:-}" ] && lock=(flock "$PLUGSLAM_LOCK")
@@ -38,6 +39,10 @@ seed_files() {  # files seeding one target
     fuzz_archive) ls "$bad"/cases/archive_* "$bad"/base/good.plsb "$bad"/base/good_archive.yaml ;;
     fuzz_trajectory) ls "$bad"/cases/tum_*.tum "$bad"/cases/kitti_*.kitti "$bad"/cases/g2o_traj_*.g2o \
                         "$bad"/base/ref.tum "$bad"/base/ref.kitti ;;
+    fuzz_image) find "$bad"/cases -path '*/cam_*' \( -name '*.png' -o -name '*.jpg' \) | sort ;;
+    fuzz_camera_files) find "$bad"/cases -path '*/cam_*' \( -name '*.txt' -o -name '*.csv' \
+                         -o -name '*.yaml' \) | sort ;;
+    fuzz_foxglove) ls "$root"/tests/fuzz/seeds/foxglove/* ;;
   esac 2>/dev/null || true
 }
 
@@ -60,6 +65,18 @@ for t in "${targets[@]}"; do
       case "$f" in *.tum) b='\x00' ;; *.kitti) b='\x01' ;; *.g2o) b='\x02' ;; *) b='\x03' ;; esac
       { printf "$b"; cat "$f"; } > "$seeds/$i"
       { printf '\x03'; cat "$f"; } > "$seeds/$i.auto"
+    elif [ "$t" = fuzz_image ]; then
+      # The first byte picks the decoder (0 as stored, 3 depth).
+      case "$f" in */depth/*) b='\x03' ;; *) b='\x00' ;; esac
+      { printf "$b"; cat "$f"; } > "$seeds/$i"
+    elif [ "$t" = fuzz_camera_files ]; then
+      # The first byte picks the parser (see tests/fuzz/fuzz_camera_files.cpp).
+      case "$f" in
+        */calib*.txt) b='\x00' ;; */times.txt) b='\x01' ;; */timestamps.txt) b='\x02' ;;
+        */data.csv) b='\x03' ;; */sensor.yaml) b='\x04' ;; */camera-intrinsics.txt) b='\x07' ;;
+        */pose.txt) b='\x08' ;; *) b='\x06' ;;
+      esac
+      { printf "$b"; cat "$f"; } > "$seeds/$i"
     else
       cp "$f" "$seeds/$i"
     fi

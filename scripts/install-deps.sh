@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages plugslam needs to build and test. Idempotent: packages already
 # present are skipped, so a second run does not touch the network.
+# Needs root for apt-get: run as root, or as a user with sudo. Without either it installs nothing,
+# prints the one apt-get command to run as root, and fails (scripts/apt-install.sh).
 set -euo pipefail
 PACKAGES=(
   build-essential cmake ninja-build ccache pkg-config git
@@ -22,9 +24,5 @@ if [ ${#missing[@]} -eq 0 ]; then
   # The built-in page's Node packages (npm ci from runtime/web's lockfile).
   exec "$(dirname "$0")/install-web-deps.sh"
 fi
-SUDO=""
-if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-echo "install-deps: installing ${missing[*]}"
-$SUDO apt-get update -qq
-DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+"$(dirname "$0")/apt-install.sh" install-deps "${missing[@]}"
 "$(dirname "$0")/install-web-deps.sh"

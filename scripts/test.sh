@@ -5,7 +5,7 @@
 #   scripts/test.sh -L unit       extra arguments go to ctest (here: only unit tests)
 # PLUGSLAM_WERROR=ON (CI sets it, as does CI=true) builds with warnings as errors.
 # Tests that need real data read it from $PLUGSLAM_DATA (default ../shared/data) and skip,
-# saying why, when it is absent.
+# saying why, when it is absent; the end of the output counts the skipped tests and their reasons.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 cmake_args=()
@@ -24,10 +24,17 @@ for a in "$@"; do
   esac
 done
 "$root/scripts/install-deps.sh"
-# The page's browser tests: Debian's chromium and the page's npm packages.
+# Node, the page's and the viewer tests' npm packages (runtime/web, tests/node), and Debian's
+# chromium for the page's browser tests.
 "$root/scripts/install-web-deps.sh" --browser
 "$root/scripts/build.sh" "${cmake_args[@]}"
 : "${PLUGSLAM_DATA:=$root/../shared/data}"
 export PLUGSLAM_DATA
 cd "$PLUGSLAM_BUILD_DIR"
-ctest --output-on-failure -j 2 --timeout 900 "${ctest_args[@]}"
+junit="$PLUGSLAM_BUILD_DIR/Testing/results.xml"
+rm -f "$junit"
+rc=0
+ctest --output-on-failure -j 2 --timeout 900 --output-junit "$junit" "${ctest_args[@]}" || rc=$?
+# ctest counts skipped tests as passed and shows no reason: say how many, and why.
+if [ -f "$junit" ]; then python3 "$root/scripts/skipped_tests.py" "$junit" || true; fi
+exit "$rc"

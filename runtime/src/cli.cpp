@@ -1,7 +1,6 @@
 #include "cli.h"
 
 #include <spdlog/sinks/basic_file_sink.h>
-#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -11,6 +10,7 @@
 #include <sstream>
 
 #include "commands/commands.h"
+#include "console/status_line.h"
 #include "plugslam/errors.h"
 #include "plugslam/version.h"
 
@@ -18,19 +18,23 @@ namespace plugslam::runtime {
 
 std::string defaultConfigPath() {
   namespace fs = boost::filesystem;
-  const char* name = "default.yaml";
+  // The built-in default is a shipped config, named once, here.
+  const char* name = "sim2d_double_laser.yaml";
   fs::path exe = boost::dll::program_location();
   for (const fs::path& dir : {exe.parent_path().parent_path() / "share" / "plugslam" / "configs",
                               fs::path(PLUGSLAM_INSTALL_DATADIR) / "configs",
                               fs::path(PLUGSLAM_SOURCE_DIR) / "configs"}) {
     if (fs::exists(dir / name)) return (dir / name).string();
   }
-  throw InputError("no config given and the default config (configs/default.yaml) is not installed");
+  throw InputError(std::string("no config given and the default config (configs/") + name +
+                   ") is not installed");
 }
 
 int runCli(int argc, char** argv) {
   CLI::App app{"plugslam: plug-and-play multi-sensor graph SLAM.\n"
-               "Pipelines are YAML files; sensors, sources and outputs come from plugins."};
+               "Pipelines are YAML files; sensors, sources and outputs come from plugins.\n"
+               "With no command, runs the built-in default pipeline (the simulated office)\n"
+               "into out/, as `plugslam run` does."};
   app.require_subcommand(0, 1);
   // Global options (-v, -q, --log-file) may also follow the subcommand.
   app.fallthrough();
@@ -57,8 +61,9 @@ int runCli(int argc, char** argv) {
   addViewCommand(app, exit_code);
 
   app.parse_complete_callback([&] {
-    auto console = spdlog::stderr_color_mt("plugslam");
-    std::vector<spdlog::sink_ptr> sinks{console->sinks().front()};
+    // A sink, not a registered logger: runCli may run again in one process (no command, tests).
+    // Its log lines go above a run's progress line, never onto it.
+    std::vector<spdlog::sink_ptr> sinks{makeConsoleSink()};
     if (!log_file.empty())
       sinks.push_back(std::make_shared<spdlog::sinks::basic_file_sink_mt>(log_file, true));
     auto logger = std::make_shared<spdlog::logger>("plugslam", sinks.begin(), sinks.end());
@@ -74,8 +79,9 @@ int runCli(int argc, char** argv) {
   try {
     app.parse(argc, argv);
     if (app.get_subcommands().empty()) {
-      // No command: the demo run on the built-in default config.
+      // No command: the demo run on the built-in default config, with the global options given.
       std::vector<std::string> args{argv[0], "run"};
+      for (int i = 1; i < argc; ++i) args.emplace_back(argv[i]);
       std::vector<char*> ptrs;
       for (auto& a : args) ptrs.push_back(a.data());
       return runCli(static_cast<int>(ptrs.size()), ptrs.data());

@@ -1,6 +1,7 @@
 #include "config_builder.h"
 
 #include <boost/filesystem.hpp>
+#include <cstdlib>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -65,6 +66,46 @@ std::vector<std::string> splitPath(const std::string& path) {
   return parts;
 }
 
+std::string dataFolder() {
+  const char* env = std::getenv("PLUGSLAM_DATA");
+  if (env && *env) return env;
+  return (boost::filesystem::path(PLUGSLAM_SOURCE_DIR) / ".." / "shared" / "data")
+      .lexically_normal()
+      .string();
+}
+
+void expandVariables(YAML::Node node, const std::string& file) {
+  if (node.IsMap()) {
+    for (auto it = node.begin(); it != node.end(); ++it) expandVariables(it->second, file);
+    return;
+  }
+  if (node.IsSequence()) {
+    for (auto it = node.begin(); it != node.end(); ++it) expandVariables(*it, file);
+    return;
+  }
+  if (!node.IsScalar() || node.Scalar().find("${") == std::string::npos) return;
+  const std::string& text = node.Scalar();
+  const auto error = [&](const std::string& message) {
+    throw ConfigError(file, node.Mark().line + 1, node.Mark().column + 1, "", message);
+  };
+  std::string out;
+  for (size_t at = 0;;) {
+    const size_t open = text.find("${", at);
+    if (open == std::string::npos) {
+      out += text.substr(at);
+      break;
+    }
+    const size_t close = text.find('}', open);
+    if (close == std::string::npos) error("unterminated '${' in '" + text + "'");
+    const std::string name = text.substr(open + 2, close - open - 2);
+    if (name != "PLUGSLAM_DATA")
+      error("unknown variable '${" + name + "}': a config knows ${PLUGSLAM_DATA}, the data folder");
+    out += text.substr(at, open - at) + dataFolder();
+    at = close + 1;
+  }
+  node = out;  // the node keeps its mark: later errors still point at this line
+}
+
 ConfigDocument loadConfigText(const std::string& text, const std::string& name) {
   ConfigDocument doc;
   doc.file = name;
@@ -77,6 +118,7 @@ ConfigDocument loadConfigText(const std::string& text, const std::string& name) 
   if (!doc.root.IsMap())
     throw ConfigError(name, doc.root.Mark().line + 1, doc.root.Mark().column + 1, "",
                       "expected a map of top-level keys (plugins, source, pipeline, outputs)");
+  expandVariables(doc.root, name);
   return doc;
 }
 
@@ -88,7 +130,9 @@ ConfigDocument loadConfigFile(const std::string& file) {
   return loadConfigText(ss.str(), file);
 }
 
-void applyOverride(ConfigDocument& doc, const std::string& assignment) {
+void applyOverride(ConfigDocument& doc, const std::string& assignment,
+                   const std::string& origin_text) {
+  const std::string origin = origin_text.empty() ? "--set " + assignment : origin_text;
   auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw InputError("--set expects PATH=VALUE (for example source.path=log.gz), got '" +
@@ -99,7 +143,12 @@ void applyOverride(ConfigDocument& doc, const std::string& assignment) {
   try {
     value = YAML::Load(text);
   } catch (const YAML::Exception& e) {
-    throw ConfigError("--set " + assignment, 0, 0, path, "invalid YAML value: " + e.msg);
+    throw ConfigError(origin, 0, 0, path, "invalid YAML value: " + e.msg);
+  }
+  try {
+    expandVariables(value, origin);
+  } catch (const ConfigError& e) {
+    throw ConfigError(origin, 0, 0, path, e.message());
   }
   auto parts = splitPath(path);
   YAML::Node cur = doc.root;
@@ -110,7 +159,7 @@ void applyOverride(ConfigDocument& doc, const std::string& assignment) {
     if (p[0] == '[') {
       size_t idx = std::stoul(p.substr(1, p.size() - 2));
       if (!cur.IsSequence() || idx >= cur.size())
-        throw ConfigError("--set " + assignment, 0, 0, walked,
+        throw ConfigError(origin, 0, 0, walked,
                           "no such list element (the list has " +
                               std::to_string(cur.IsSequence() ? cur.size() : 0) + " entries)");
       cur.reset(cur[idx]);
@@ -122,7 +171,7 @@ void applyOverride(ConfigDocument& doc, const std::string& assignment) {
         cur = m;
       }
       if (!cur.IsMap() && !cur.IsNull())
-        throw ConfigError("--set " + assignment, 0, 0, walked, "is not a map");
+        throw ConfigError(origin, 0, 0, walked, "is not a map");
       if (!cur[p]) cur[p] = YAML::Node(YAML::NodeType::Map);
       cur.reset(cur[p]);
     }
@@ -131,7 +180,7 @@ void applyOverride(ConfigDocument& doc, const std::string& assignment) {
   if (last[0] == '[') {
     size_t idx = std::stoul(last.substr(1, last.size() - 2));
     if (!cur.IsSequence() || idx >= cur.size())
-      throw ConfigError("--set " + assignment, 0, 0, path, "no such list element");
+      throw ConfigError(origin, 0, 0, path, "no such list element");
     cur[idx] = value;
   } else {
     if (cur.IsScalar()) {
@@ -141,7 +190,7 @@ void applyOverride(ConfigDocument& doc, const std::string& assignment) {
     }
     cur[last] = value;
   }
-  doc.overrides[path] = "--set " + assignment;
+  doc.overrides[path] = origin;
 }
 
 ConfigBuilder::ConfigBuilder(const ConfigDocument& doc, PluginManager& plugins, Registry& registry)
@@ -159,8 +208,7 @@ ConfigErrorList::ConfigErrorList(std::vector<ConfigError> errors)
       errors_(std::move(errors)) {
   for (const auto& e : errors_) text_ += std::string(e.what()) + "\n";
   text_ += std::to_string(errors_.size()) + " errors";
-  if (!errors_[0].file().empty() && errors_[0].file().rfind("--set", 0) != 0)
-    text_ += " in " + errors_[0].file();
+  if (!errors_[0].file().empty() && errors_[0].line() > 0) text_ += " in " + errors_[0].file();
 }
 
 ConfigError ConfigBuilder::locate(const YAML::Node& node, const std::string& path,
@@ -259,8 +307,8 @@ std::string ConfigBuilder::resolveType(const SlotBase& slot, const std::string& 
   }
   if (info->kind != slot.kind())
     fail(at, path,
-         "'" + type + "' is a " + info->kind + ", but '" + slot.name() + "' expects a " +
-             slot.kind() + " (" + kindList(registry_, slot.kind()) + ")");
+         "'" + type + "' is " + withArticle(info->kind) + ", but '" + slot.name() + "' expects " +
+             withArticle(slot.kind()) + " (" + kindList(registry_, slot.kind()) + ")");
   return type;
 }
 
@@ -270,8 +318,10 @@ std::shared_ptr<Configurable> ConfigBuilder::create(const SlotBase& slot, const 
   YAML::Node params;
   bool has_params = false;
   YAML::Node type_node = node;
+  // A list's items name their type; its defaults are whole items (fillSlot).
+  const std::string default_type = slot.isList() ? std::string() : slot.defaultType();
   if (!node || node.IsNull()) {
-    type = slot.defaultType();
+    type = default_type;
   } else if (node.IsScalar()) {
     type = node.Scalar();
   } else if (node.IsMap()) {
@@ -283,7 +333,7 @@ std::shared_ptr<Configurable> ConfigBuilder::create(const SlotBase& slot, const 
       if (!type_node.IsScalar()) fail(type_node, join(path, "type"), "expected a type name");
       type = type_node.Scalar();
     } else {
-      type = slot.defaultType();
+      type = default_type;
     }
   } else {
     fail(node, path,
@@ -291,7 +341,7 @@ std::shared_ptr<Configurable> ConfigBuilder::create(const SlotBase& slot, const 
   }
   if (type.empty())
     fail(node, path,
-         "missing 'type:'; '" + slot.name() + "' takes a " + slot.kind() + ": " +
+         "missing 'type:'; '" + slot.name() + "' takes " + withArticle(slot.kind()) + ": " +
              kindList(registry_, slot.kind()));
   resolveType(slot, type, type_node, has_params && node["type"] ? join(path, "type") : path);
   auto obj = registry_.create(type);
@@ -302,7 +352,13 @@ std::shared_ptr<Configurable> ConfigBuilder::create(const SlotBase& slot, const 
 void ConfigBuilder::fillSlot(SlotBase& slot, const YAML::Node& node, const std::string& path) {
   slot.clear();
   if (slot.isList()) {
-    if (!node || node.IsNull()) return;
+    if (!node || node.IsNull()) {
+      // The key omitted: the list's default items, if it has some.
+      const std::vector<std::string> types = slot.defaultTypes();
+      for (size_t i = 0; i < types.size(); ++i)
+        slot.assign(create(slot, YAML::Node(types[i]), path + "[" + std::to_string(i) + "]"));
+      return;
+    }
     if (!node.IsSequence()) fail(node, path, "expected a list of " + slot.kind() + " modules");
     for (size_t i = 0; i < node.size(); ++i) {
       std::string p = path + "[" + std::to_string(i) + "]";
@@ -439,6 +495,11 @@ void ConfigBuilder::configureRoot(Configurable& root, const std::vector<std::str
   }
   configureObject(root, filtered, "");
   check();
+}
+
+std::string withArticle(const std::string& noun) {
+  const bool vowel = !noun.empty() && std::string("AEIOUaeiou").find(noun[0]) != std::string::npos;
+  return (vowel ? "an " : "a ") + noun;
 }
 
 YAML::Node dumpConfig(const Configurable& obj, bool with_type) {

@@ -38,12 +38,21 @@ class ConfigErrorList : public ConfigError {
   std::string text_;
 };
 
-/// Reads a YAML file; syntax errors become ConfigError with line and column.
+/// What `${PLUGSLAM_DATA}` stands for in a config: $PLUGSLAM_DATA, else ../shared/data beside
+/// the source tree this host was built from.
+std::string dataFolder();
+/// Replaces `${PLUGSLAM_DATA}` in every scalar of `node`; any other `${...}` is a ConfigError at
+/// its line in `file`. (A config names no other variables, and runs no commands.)
+void expandVariables(YAML::Node node, const std::string& file);
+
+/// Reads a YAML file (variables expanded); syntax errors become ConfigError with line and column.
 ConfigDocument loadConfigFile(const std::string& file);
 /// Parses YAML text (tests, the shell); `name` is used as the file name in errors.
 ConfigDocument loadConfigText(const std::string& text, const std::string& name);
 /// Applies "path=value" (value parsed as YAML) to the document; the path must be well formed.
-void applyOverride(ConfigDocument& doc, const std::string& assignment);
+/// Errors in the value name `origin`, what the user typed (default "--set path=value").
+void applyOverride(ConfigDocument& doc, const std::string& assignment,
+                   const std::string& origin = "");
 /// Splits "a.b[2].c" into {"a", "b", "[2]", "c"}; throws InputError when malformed.
 std::vector<std::string> splitPath(const std::string& path);
 
@@ -95,6 +104,9 @@ class ConfigBuilder {
   std::vector<ConfigError> errors_;
   std::map<std::string, std::string> failed_plugins_;  // plugin -> where its load failed
 };
+
+/// "an AlignerSlice2D", "a Splitter": a kind or type name with its indefinite article.
+std::string withArticle(const std::string& noun);
 
 /// Dumps a configurable's current values (and nested modules) as YAML.
 YAML::Node dumpConfig(const Configurable& obj, bool with_type = true);

@@ -28,7 +28,7 @@ struct Use {
 // Back-end modules align local maps with each other: what a slice there calls its measurement
 // is the query map's scene.
 bool isBackendKind(const std::string& kind) {
-  return kind == "LoopDetector" || kind == "LoopValidator" || kind == "SceneMerger";
+  return kind == "LoopDetector" || kind == "LoopValidator";
 }
 
 bool isAlignerSliceKind(const std::string& kind) {

@@ -1,15 +1,18 @@
 #include "runner.h"
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
-#include <unistd.h>
 
 #include <boost/filesystem.hpp>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <thread>
 
+#include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
 #include "plugslam/eval/ate.h"
 #include "plugslam/eval/rpe.h"
@@ -21,80 +24,82 @@ namespace fs = boost::filesystem;
 
 RunObserver::~RunObserver() = default;
 
-void writeTextFileAtomic(const std::string& path, const std::string& content) {
-  fs::path target(path);
-  fs::path tmp = target.parent_path() / (target.filename().string() + ".tmp-" +
-                                         std::to_string(::getpid()));
-  {
-    std::ofstream out(tmp.string(), std::ios::binary | std::ios::trunc);
-    if (!out) throw Error("cannot write '" + tmp.string() + "'");
-    out << content;
-    out.flush();
-    if (!out) throw Error("write to '" + tmp.string() + "' failed (disk full?)");
-  }
-  boost::system::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw Error("cannot move '" + tmp.string() + "' to '" + path + "'");
-  }
-}
-
 namespace {
-std::string jsonNumber(const std::optional<double>& v) {
-  return v && std::isfinite(*v) ? fmt::format("{:.6f}", *v) : "null";
+// A figure with the decimals run.json has always printed it with (the timers resolve
+// microseconds, rates a thousandth), so its value is the same as before the JSON library wrote
+// it; a NaN or infinity stays as it is and is written as null.
+double decimals(double v, int places) {
+  if (!std::isfinite(v)) return v;
+  const std::string text = fmt::format("{:.{}f}", v, places);
+  double out = v;
+  std::from_chars(text.data(), text.data() + text.size(), out);  // locale-independent
+  return out;
 }
 
-// A JSON string literal: error messages quote file contents and names.
-std::string jsonString(const std::string& s) {
-  std::string out = "\"";
-  for (const char c : s) {
-    const auto u = static_cast<unsigned char>(c);
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (u < 0x20) {
-      out += fmt::format("\\u{:04x}", u);
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
+// A measured figure, or null when there is none.
+nlohmann::ordered_json optionalFigure(const std::optional<double>& v) {
+  if (!v || !std::isfinite(*v)) return nullptr;
+  return decimals(*v, 6);
 }
 }  // namespace
 
 std::string runReportJson(const RunReport& r) {
-  std::string modules;
+  // Keys in the order readers have always seen them.
+  nlohmann::ordered_json j;
+  j["frames"] = r.frames;
+  j["wall_time_s"] = decimals(r.wall_s, 6);
+  j["hz"] = decimals(r.hz, 3);
+  j["pipeline_time_s"] = decimals(r.pipeline_s, 6);
+  j["pipeline_hz"] = decimals(r.pipeline_hz, 3);
+  j["stopped_by"] = r.stopped_by;
+  j["error"] = r.error.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(r.error);
+  j["tracked_frames"] = r.tracked;
+  j["local_maps"] = r.local_maps;
+  j["tracking_failures"] = r.tracking_failures;
+  j["module_errors"] = r.module_errors;
+  j["reference"] = {{"ate_rmse_m", optionalFigure(r.ate_rmse)},
+                    {"ate_max_m", optionalFigure(r.ate_max)},
+                    {"rpe_1m_rmse_m", optionalFigure(r.rpe_rmse)}};
+  const GraphStats& g = r.graph;
+  j["graph"] = {{"nodes", g.nodes},
+                {"edges", g.edges},
+                {"loop_candidates", g.candidates},
+                {"loops_accepted", g.loops_accepted},
+                {"loops_rejected", g.loops_rejected},
+                {"loops_restored", g.loops_restored},
+                {"optimizations", g.optimizations},
+                {"optimization_time_s", decimals(g.optimization_time, 6)},
+                {"loop_detection_time_s", decimals(g.detection_time, 6)},
+                {"loop_validation_time_s", decimals(g.validation_time, 6)},
+                {"final_chi2", decimals(g.final_chi2, 6)}};
+  nlohmann::ordered_json& modules = j["modules"] = nlohmann::ordered_json::object();
   for (const auto& m : r.modules) {
-    modules += fmt::format("{}\n    \"{}\": {{\"total_s\": {:.6f}, \"calls\": {}, \"mean_ms\": {:.4f}}}",
-                           modules.empty() ? "" : ",", m.module, m.total_s, m.calls,
-                           m.calls ? 1e3 * m.total_s / m.calls : 0.0);
+    modules[m.module] = {{"total_s", decimals(m.total_s, 6)},
+                         {"calls", m.calls},
+                         {"mean_ms", decimals(m.calls ? 1e3 * m.total_s / m.calls : 0.0, 4)}};
   }
-  std::string statistics;
+  nlohmann::ordered_json& statistics = j["statistics"] = nlohmann::ordered_json::object();
   for (const auto& [module, figures] : r.statistics) {
-    std::string fields;
-    for (const auto& f : figures)
-      fields += fmt::format("{}{}: {}", fields.empty() ? "" : ", ", jsonString(f.name),
-                            jsonNumber(f.value));
-    statistics += fmt::format("{}\n    {}: {{{}}}", statistics.empty() ? "" : ",",
-                              jsonString(module), fields);
+    nlohmann::ordered_json& fields = statistics[module] = nlohmann::ordered_json::object();
+    for (const auto& f : figures) fields[f.name] = optionalFigure(f.value);
   }
-  return fmt::format(
-      "{{\n  \"frames\": {},\n  \"wall_time_s\": {:.6f},\n  \"hz\": {:.3f},\n  \"pipeline_time_s\": {:.6f},\n  \"pipeline_hz\": {:.3f},\n  \"stopped_by\": "
-      "\"{}\",\n  \"error\": {},\n  \"tracked_frames\": {},\n  \"local_maps\": {},\n  \"tracking_failures\": {},\n"
-      "  \"module_errors\": {},\n"
-      "  \"reference\": {{\"ate_rmse_m\": {}, \"ate_max_m\": {}, \"rpe_1m_rmse_m\": {}}},\n"
-      "  \"graph\": {{\"nodes\": {}, \"edges\": {}, \"loop_candidates\": {}, \"loops_accepted\": {}, "
-      "\"loops_rejected\": {}, \"optimizations\": {}, \"optimization_time_s\": {:.6f}, "
-      "\"loop_detection_time_s\": {:.6f}, \"loop_validation_time_s\": {:.6f}, "
-      "\"final_chi2\": {:.6f}}},\n"
-      "  \"modules\": {{{}\n  }},\n  \"statistics\": {{{}\n  }}\n}}\n",
-      r.frames, r.wall_s, r.hz, r.pipeline_s, r.pipeline_hz, r.stopped_by, r.error.empty() ? "null" : jsonString(r.error), r.tracked,
-      r.local_maps, r.tracking_failures, r.module_errors,
-      jsonNumber(r.ate_rmse), jsonNumber(r.ate_max), jsonNumber(r.rpe_rmse), r.graph.nodes,
-      r.graph.edges, r.graph.candidates, r.graph.loops_accepted, r.graph.loops_rejected,
-      r.graph.optimizations, r.graph.optimization_time, r.graph.detection_time,
-      r.graph.validation_time, r.graph.final_chi2, modules, statistics);
+  // An error message may quote a file's bytes: invalid UTF-8 is replaced, never a throw.
+  return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
+}
+
+std::string scoreLine(const RunReport& r, const std::string& reference) {
+  if (!r.ate_rmse) return "";
+  std::string line = fmt::format("against '{}': ATE rmse {:.4f} m (max {:.4f} m), ", reference,
+                                 *r.ate_rmse, r.ate_max.value_or(NAN));
+  if (r.rpe_rmse) return line + fmt::format("RPE(1 m) rmse {:.4f} m\n", *r.rpe_rmse);
+  return line + "no RPE(1 m): " + r.rpe_unavailable + "\n";
+}
+
+std::string loopsClosedText(const GraphStats& g) {
+  std::string text = fmt::format("{} loops closed", g.loops_accepted);
+  if (g.loops_restored > 0)
+    text += fmt::format(" ({} more restored with the session)", g.loops_restored);
+  return text;
 }
 
 // Runs one call into a source or sink (plugin code) so that whatever it throws names the module:
@@ -123,17 +128,31 @@ static void scoreAgainstGroundTruth(const RunResult& result, int dimension, RunR
     AteResult a = computeAte(result.reference, result.trajectory, ate);
     report.ate_rmse = a.translation.rmse;
     report.ate_max = a.translation.max;
-    RpeOptions rpe;
-    rpe.unit = RpeUnit::Meters;
-    rpe.delta = 1.0;
-    report.rpe_rmse = computeRpe(result.reference, result.trajectory, rpe).translation.rmse;
   } catch (const InputError& e) {
     spdlog::warn("cannot score against ground truth: {}", e.what());
+    return;
+  }
+  RpeOptions rpe;
+  rpe.unit = RpeUnit::Meters;
+  rpe.delta = 1.0;
+  double path = 0;
+  for (size_t i = 1; i < result.reference.size(); ++i)
+    path += (result.reference[i].pose.translation() - result.reference[i - 1].pose.translation())
+                .norm();
+  if (path < rpe.delta) {
+    report.rpe_unavailable = fmt::format(
+        "the run is too short for it (the reference path is {:.2f} m)", path);
+    return;
+  }
+  try {
+    report.rpe_rmse = computeRpe(result.reference, result.trajectory, rpe).translation.rmse;
+  } catch (const InputError& e) {
+    report.rpe_unavailable = e.what();
   }
 }
 
 Execution::Execution(RunConfig& run, RunOptions options)
-    : run_(run), options_(std::move(options)) {
+    : run_(run), options_(std::move(options)), clock_(options_.rate) {
   boost::system::error_code ec;
   fs::create_directories(options_.out_dir, ec);
   if (ec)
@@ -142,6 +161,7 @@ Execution::Execution(RunConfig& run, RunOptions options)
   for (auto& sink : run_.outputs) asModule(*sink, [&] { sink->begin(options_.out_dir); });
   report_.stopped_by = "end of data";
   total_ = run_.source->sizeHint();
+  if (run_.max_frames() > 0 && (total_ < 0 || total_ > run_.max_frames())) total_ = run_.max_frames();
   start_ = std::chrono::steady_clock::now();
 }
 
@@ -149,7 +169,13 @@ double Execution::elapsed() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 
-bool Execution::step() {
+void Execution::setRate(double rate) {
+  clock_.setRate(rate);
+  if (pending_) due_ = clock_.due(pending_->stamp, PlaybackClock::Clock::now());
+}
+
+bool Execution::fetch() {
+  if (pending_) return true;
   if (exhausted_ || finished_) return false;
   const uint64_t seq = report_.frames;
   if (run_.max_frames() > 0 && seq >= static_cast<uint64_t>(run_.max_frames())) {
@@ -158,18 +184,38 @@ bool Execution::step() {
     return false;
   }
   Source& source = *run_.source;
-  Frame frame;
-  frame.seq = seq;
+  auto frame = std::make_unique<Frame>();
+  frame->seq = seq;
   bool more;
   {
     ScopedTimer t(io_timings_, source.name());
-    more = asModule(source, [&] { return source.next(frame); });
+    more = asModule(source, [&] { return source.next(*frame); });
   }
   if (!more) {
     exhausted_ = true;
     return false;
   }
-  frame.seq = seq;
+  frame->seq = seq;
+  due_ = clock_.due(frame->stamp, PlaybackClock::Clock::now());
+  if (seq == 0) first_stamp_ = frame->stamp;
+  constexpr uint64_t kStampCheck = 10;  // frames after which a paced run expects time to pass
+  if (clock_.rate() > 0 && seq == kStampCheck && frame->stamp == first_stamp_)
+    spdlog::warn("--rate {}: the source's frames carry no timestamps (frame {} is stamped like "
+                 "frame 0), so the run is not paced",
+                 clock_.rate(), seq);
+  pending_ = std::move(frame);
+  return true;
+}
+
+PlaybackClock::Clock::time_point Execution::nextDue() {
+  return fetch() ? due_ : PlaybackClock::Clock::now();
+}
+
+bool Execution::step() {
+  if (!fetch()) return false;
+  const std::unique_ptr<Frame> owned = std::move(pending_);
+  Frame& frame = *owned;
+  const uint64_t seq = frame.seq;
   const bool skip = run_.on_module_error() == "skip";
   bool processed = true;
   try {
@@ -179,6 +225,7 @@ bool Execution::step() {
     skipped(seq, e);
     processed = false;  // the sinks never see a frame the pipeline did not finish
   }
+  if (processed && frame.estimate.valid && frame.estimate.frozen) ++frozen_frames_;
   for (auto& sink : run_.outputs) {
     if (!processed) break;
     ScopedTimer t(io_timings_, sink->name());
@@ -218,6 +265,16 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
     spdlog::warn("{} frame(s) skipped because a module failed (on_module_error: skip)",
                  report.module_errors);
   Pipeline& pipeline = *run_.pipeline;
+  // options_.finishing hears when the final work ends, however it ends.
+  struct Finishing {
+    const std::function<void(bool)>& tell;
+    explicit Finishing(const std::function<void(bool)>& f) : tell(f) {
+      if (tell) tell(false);
+    }
+    ~Finishing() {
+      if (tell) tell(true);
+    }
+  } finishing(options_.finishing);
   pipeline.finish();
   RunResult result = pipeline.result();
   if (pipeline.graph) report.graph = pipeline.graph->stats();
@@ -241,6 +298,12 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
     report.local_maps = pipeline.tracker->stats().local_maps;
     report.tracking_failures = pipeline.tracker->stats().failed;
   }
+  // In localization a failed frame is one no saved map explains: when that is most of them the
+  // poses are mostly predictions, and the session is probably of another place (or sensor).
+  if (frozen_frames_ > 0 && 2 * report.tracking_failures > frozen_frames_)
+    spdlog::warn("localization: {} of {} frames did not align with any saved map; the session "
+                 "is probably of another place, or the sensors or config differ from its run",
+                 report.tracking_failures, frozen_frames_);
   scoreAgainstGroundTruth(result, pipeline.tracker ? pipeline.tracker->dimension() : 3, report);
   if (!result.reference.empty())
     writeTumTrajectory(result.reference,
@@ -253,7 +316,7 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
   report.modules = io_timings_.entries();
   for (const auto& e : pipeline.timings().entries()) report.modules.push_back(e);
   report.statistics = collectStatistics(pipeline);
-  writeTextFileAtomic((fs::path(options_.out_dir) / "run.json").string(), runReportJson(report));
+  writeFileAtomically((fs::path(options_.out_dir) / "run.json").string(), runReportJson(report));
   if (sink_failure) std::rethrow_exception(sink_failure);
   return report;
 }
@@ -263,19 +326,30 @@ RunReport runPipeline(RunConfig& run, const RunOptions& options) {
   std::string stopped_by;
   std::exception_ptr failure;
   std::string error;
+  const auto interrupted = [&] { return options.interrupted && options.interrupted(); };
   for (;;) {
     if (options.observer) options.observer->betweenFrames(execution);
-    if (options.interrupted && options.interrupted()) {
-      stopped_by = "interrupted";
-      if (options.on_interrupt) options.on_interrupt();
-      break;
-    }
+    bool stop = interrupted();
     try {
-      if (!execution.step()) break;
+      // Paced (--rate): wait for the next frame's time, a Ctrl-C still ending the wait.
+      if (!stop) {
+        const auto due = execution.nextDue();
+        for (auto now = PlaybackClock::Clock::now(); now < due && !stop;
+             now = PlaybackClock::Clock::now()) {
+          std::this_thread::sleep_until(std::min(due, now + std::chrono::milliseconds(50)));
+          stop = interrupted();
+        }
+      }
+      if (!stop && !execution.step()) break;
     } catch (const Error& e) {
       // Bad input or a failing module: what was built so far is still finished and written.
       failure = std::current_exception();
       error = e.what();
+      break;
+    }
+    if (stop) {
+      stopped_by = "interrupted";
+      if (options.on_interrupt) options.on_interrupt();
       break;
     }
   }

@@ -2,9 +2,11 @@
 // Runs a built pipeline over its source and writes run.json.
 #include <chrono>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 
+#include "playback_clock.h"
 #include "plugslam/errors.h"
 #include "plugslam/statistics.h"
 #include "plugslam/timings.h"
@@ -29,6 +31,7 @@ struct RunReport {
   GraphStats graph;  ///< loops accepted/rejected, optimization time
   /// Against the source's ground truth, when it has one (SE2/SE3-aligned ATE, RPE over 1 m).
   std::optional<double> ate_rmse, ate_max, rpe_rmse;
+  std::string rpe_unavailable;  ///< why rpe_rmse is empty when ate_rmse is set (a short run)
   /// Figures the modules report themselves (StatisticsSource), by module name.
   std::vector<std::pair<std::string, std::vector<Statistic>>> statistics;
 };
@@ -61,11 +64,18 @@ struct RunOptions {
   /// Called once when `interrupted` stopped the run, before the run finishes: the final
   /// optimization of a large graph can take minutes, so a front-end saves what is built first.
   std::function<void()> on_interrupt;
+  /// Called with false when the run's final work starts (the back-end's final loop passes and
+  /// optimization, the sinks' outputs: seconds to minutes on a large graph, with no frames to
+  /// count) and with true when it ends, also on an error; may be empty.
+  std::function<void(bool done)> finishing;
   /// Called when an error stopped the run, after its outputs and run.json were written (so a
   /// front-end can save the session); may be empty. The error is rethrown afterwards.
   std::function<void()> stopped_by_error;
   /// Watches the run (the viewer stream); may be null. Outlives the run.
   RunObserver* observer = nullptr;
+  /// Playback rate (--rate): 0 = as fast as possible; R > 0 = frames paced by their stamps at R
+  /// times the data's own speed (1 = as recorded), e.g. to watch a log in the viewer.
+  double rate = 0;
 };
 
 /// One run driven frame by frame (the shell steps it; runPipeline loops it). Not thread-safe:
@@ -76,8 +86,14 @@ class Execution {
   Execution(RunConfig& run, RunOptions options);
   /// Processes one frame; false (and nothing done) at the end of the data or max_frames. A
   /// module's ModuleError is thrown, or under `on_module_error: skip` (pipeline modules and
-  /// sinks, not the source) warned about and the frame skipped.
+  /// sinks, not the source) warned about and the frame skipped. Never waits: callers that pace
+  /// the run wait for nextDue() first.
   bool step();
+  /// When the next frame is due at the playback rate (reads it from the source if not yet read;
+  /// now when unpaced or at the end of the data). step() then processes that frame.
+  PlaybackClock::Clock::time_point nextDue();
+  /// Changes the playback rate (RunOptions::rate) from the next frame on.
+  void setRate(double rate);
   /// Ends the run: pipeline finish, sinks end, scoring, run.json. Only once. `error`: what
   /// stopped the run, recorded in run.json.
   RunReport finish(const std::string& stopped_by = "", const std::string& error = "");
@@ -85,7 +101,7 @@ class Execution {
   uint64_t frames() const { return report_.frames; }
   /// Seconds since the run started.
   double elapsed() const;
-  /// Frames in the source, or -1.
+  /// Frames this run will process: the source's count, bounded by max_frames; -1 if unknown.
   int64_t total() const { return total_; }
   /// True once the data (or max_frames) is exhausted.
   bool exhausted() const { return exhausted_; }
@@ -96,24 +112,35 @@ class Execution {
   RunConfig& run_;
   RunOptions options_;
   RunReport report_;
+  // Reads the next frame into pending_ (unless one waits there); false at the end.
+  bool fetch();
+  PlaybackClock clock_;
+  std::unique_ptr<Frame> pending_;  // read from the source, not processed yet
+  PlaybackClock::Clock::time_point due_{};
+  double first_stamp_ = 0;
   // Under on_module_error: skip, one frame's module error (warned; counted).
   void skipped(uint64_t seq, const ModuleError& e);
   Timings io_timings_;
   int64_t total_ = -1;
   std::chrono::steady_clock::time_point start_;
   bool exhausted_ = false, finished_ = false;
+  uint64_t frozen_frames_ = 0;  // frames tracked in frozen maps (localization)
 };
 
 /// Runs source -> pipeline -> sinks to the end of the data (or max_frames, or until
-/// options.interrupted says so); writes run.json. An error during the run (bad input, a failing
+/// options.interrupted says so), paced at options.rate; writes run.json. An error during the run (bad input, a failing
 /// module) stops it cleanly: the run is finished (outputs, run.json with the error), then
 /// options.stopped_by_error is called and the error rethrown.
 RunReport runPipeline(RunConfig& run, const RunOptions& options);
 
+/// "against 'REFERENCE': ATE ..., RPE(1 m) ..." (or why there is no RPE), one line; empty when
+/// the run was not scored. `reference`: the pipeline's reference entry.
+std::string scoreLine(const RunReport& report, const std::string& reference);
+
 /// run.json's content.
 std::string runReportJson(const RunReport& report);
 
-/// Writes `content` to `path` atomically (temp file in the same folder, then rename).
-void writeTextFileAtomic(const std::string& path, const std::string& content);
+/// "N loops closed", plus the restored session's loops kept when there are any.
+std::string loopsClosedText(const GraphStats& graph);
 
 }  // namespace plugslam::runtime

@@ -98,8 +98,7 @@ for rel in "${logs[@]}"; do
     # log's odometry drift), which the odometry audit would try to explain with up to 20 more
     # optimizations of that graph (memory is measured, not the end of the run).
     [ "$mode" = mapping ] && args+=(--set 'pipeline.graph.final_detectors=[]'
-                                    --set pipeline.graph.audit_translation=0
-                                    --set pipeline.graph.audit_rotation=0)
+                                    --set 'pipeline.graph.loop_filters=[sdk.ConsistencyFilter, sdk.ResidualVeto]')
     echo "== $name $mode: ${seconds}s" >&2
     sample_run "$run" "$bin" "${args[@]}"
     rows+=("$name $mode $frames $run")

@@ -8,6 +8,7 @@ editing the table below. Binary files (ROS bags, archives, gzip, PGM) are crafte
 import gzip
 import math
 import os
+import shutil
 import struct
 import zlib
 
@@ -195,15 +196,120 @@ def pgm_p5(w, h, pixels, maxval=255):
     return f"P5\n{w} {h}\n{maxval}\n".encode() + pixels
 
 
+# ---- camera datasets (PNG, JPEG, KITTI / EuRoC / TUM layouts) -------------------------------
+
+
+def png_image(w, h, pixels, channels=1, bits=8):
+    """pixels: w*h*channels sample values (row-major)."""
+    color_type = {1: 0, 3: 2}[channels]
+    rows = b""
+    step = w * channels
+    for y in range(h):
+        row = pixels[y * step:(y + 1) * step]
+        rows += b"\x00" + (bytes(row) if bits == 8 else b"".join(struct.pack(">H", v) for v in row))
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+    ihdr = struct.pack(">IIBBBBB", w, h, bits, color_type, 0, 0, 0)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IDAT", zlib.compress(rows)) +
+            chunk(b"IEND", b""))
+
+
+def grey_png(w=8, h=8, seed=0):
+    return png_image(w, h, [(x * 7 + y * 13 + seed * 29) & 255 for y in range(h) for x in range(w)])
+
+
+def depth_png(w=8, h=8, value=5000):
+    return png_image(w, h, [value] * (w * h), 1, 16)
+
+
+def grey_jpeg(w=8, h=8):
+    """A baseline grey JPEG of flat mid-grey, built from its markers: one quantisation table,
+    one-code Huffman tables (DC category 0 and AC end-of-block are both the 1-bit code 0), so
+    every 8x8 block is two 0 bits."""
+    def seg(marker, data):
+        return bytes([0xFF, marker]) + struct.pack(">H", len(data) + 2) + data
+    dqt = seg(0xDB, b"\x00" + b"\x01" * 64)
+    sof = seg(0xC0, b"\x08" + struct.pack(">HH", h, w) + b"\x01" + b"\x01\x11\x00")
+    one_code = b"\x01" + b"\x00" * 15 + b"\x00"  # one code of length 1, value 0
+    dht = seg(0xC4, b"\x00" + one_code + b"\x10" + one_code)
+    sos = seg(0xDA, b"\x01\x01\x00\x00\x3f\x00")
+    blocks = ((w + 7) // 8) * ((h + 7) // 8)
+    bits = "00" * blocks
+    bits += "1" * (-len(bits) % 8)
+    data = bytes(int(bits[i:i + 8], 2) for i in range(0, len(bits), 8))
+    return b"\xff\xd8" + dqt + sof + dht + sos + data + b"\xff\xd9"
+
+
+KITTI_CALIB = ("P0: 700 0 4 0 0 700 4 0 0 0 1 0\n"
+               "P1: 700 0 4 -350 0 700 4 0 0 0 1 0\n")
+
+
+def kitti_folder(n=2):
+    files = {"calib.txt": KITTI_CALIB, "times.txt": "".join(f"{0.1 * i:.6f}\n" for i in range(n))}
+    for i in range(n):
+        files[f"image_0/{i:06d}.png"] = grey_png(seed=i)
+        files[f"image_1/{i:06d}.png"] = grey_png(seed=i + 1)
+    return files
+
+
+def euroc_sensor(tx, drop=None):
+    keys = [("sensor_type", "camera"),
+            ("T_BS", f"\n  cols: 4\n  rows: 4\n  data: [1, 0, 0, {tx}, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]"),
+            ("resolution", "[8, 8]"), ("camera_model", "pinhole"),
+            ("intrinsics", "[450.0, 450.0, 4.0, 4.0]"), ("distortion_model", "radial-tangential"),
+            ("distortion_coefficients", "[-0.28, 0.07, 0.0002, 0.00002]")]
+    return "%YAML:1.0\n" + "".join(f"{k}: {v}\n" for k, v in keys if k != drop)
+
+
+def euroc_folder(n=2):
+    files = {}
+    for cam, tx in (("cam0", -0.02), ("cam1", 0.09)):
+        files[f"mav0/{cam}/sensor.yaml"] = euroc_sensor(tx)
+        rows = "#timestamp [ns],filename\n"
+        for i in range(n):
+            t = 1403715273262142976 + 50000000 * i
+            rows += f"{t},{t}.png\n"
+            files[f"mav0/{cam}/data/{t}.png"] = grey_png(seed=i)
+        files[f"mav0/{cam}/data.csv"] = rows
+    return files
+
+
+def tum_folder(n=2, colour=".png"):
+    files = {"rgb.txt": "# colour\n", "depth.txt": "# depth\n"}
+    for i in range(n):
+        t = f"{1.0 + i / 30:.6f}"
+        files["rgb.txt"] += f"{t} rgb/{t}{colour}\n"
+        files["depth.txt"] += f"{t} depth/{t}.png\n"
+        files[f"rgb/{t}{colour}"] = grey_png(seed=i) if colour == ".png" else grey_jpeg()
+        files[f"depth/{t}.png"] = depth_png()
+    return files
+
+
+def rgbd_folder(n=2):
+    files = {"pose.txt": "".join(f"{0.01 * i} 0 0 0 0 0 1\n" for i in range(n))}
+    for i in range(1, n + 1):
+        files[f"color/{i}.png"] = grey_png(seed=i)
+        files[f"depth/{i}.png"] = depth_png()
+    return files
+
+
 # ---- the cases -------------------------------------------------------------------------------
 
 cases = []
 
 
 def case(name, content, command, exit_code, pattern, why, binary=None, ext=None):
-    """content None = the file does not exist (missing-file cases)."""
+    """content None = the file does not exist (missing-file cases); a dict = a folder of files
+    (relative path -> content), for the camera dataset layouts."""
     entry = {"name": name, "command": command, "exit": exit_code, "pattern": pattern, "why": why}
-    if content is not None:
+    if isinstance(content, dict):
+        shutil.rmtree(os.path.join(CASES, name), ignore_errors=True)
+        for rel, data in sorted(content.items()):
+            write(os.path.join(CASES, name, os.path.dirname(rel)), os.path.basename(rel), data)
+        entry["file"] = "cases/" + name
+    elif content is not None:
         fname = name + (ext or "")
         write(CASES, fname, content)
         entry["file"] = "cases/" + fname
@@ -219,6 +325,11 @@ VALIDATE = "validate {file}"
 CARMEN = "run {dir}/base/carmen_run.yaml -o {tmp}/out --set source.path={file}"
 ROSBAG = "run {dir}/base/rosbag_run.yaml -o {tmp}/out --set source.path={file}"
 WORLD = "validate {dir}/base/sim_world.yaml --set source.world={file}"
+KITTI = "run {dir}/base/kitti_run.yaml -o {tmp}/out --set source.path={file}"
+KITTI_RAW = "run {dir}/base/kitti_raw_run.yaml -o {tmp}/out --set source.path={file}"
+EUROC = "run {dir}/base/euroc_run.yaml -o {tmp}/out --set source.path={file}"
+TUM = "run {dir}/base/tum_run.yaml -o {tmp}/out --set source.path={file}"
+RGBD_FOLDER = "run {dir}/base/rgbd_folder_run.yaml -o {tmp}/out --set source.path={file}"
 ATE_TUM = "eval ate {dir}/base/ref.tum {file}"
 ATE_KITTI = "eval ate {dir}/base/ref.kitti {file}"
 GRAPH = "graph {file}"
@@ -249,6 +360,19 @@ write(BASE, "rosbag_run.yaml", GOOD_CONFIG.replace("[sim, odometry]", "[io, odom
     "outputs:\n  - {type: io.TrajectoryWriter, file: traj.tum, format: tum}\n")
 write(BASE, "sim_world.yaml", GOOD_CONFIG.replace(
     "session: stage-0, ", "world: set-by-the-case, start: [1.0, 1.0], "))
+# Camera sources: read every frame, write the reference trajectory (no tracker needed).
+CAMERA_RUN = """plugins: [io]
+source: {type: io.SOURCE, path: set-by-the-case}
+outputs:
+  - {type: io.TrajectoryWriter, trajectory: reference, format: tum, file: reference.tum}
+"""
+write(BASE, "kitti_run.yaml", CAMERA_RUN.replace("SOURCE", "KittiSource"))
+write(BASE, "kitti_raw_run.yaml", CAMERA_RUN.replace("SOURCE", "KittiRawSource"))
+write(BASE, "euroc_run.yaml", CAMERA_RUN.replace("SOURCE", "EurocSource"))
+write(BASE, "tum_run.yaml", CAMERA_RUN.replace("SOURCE", "TumRgbdSource").replace(
+    "path: set-by-the-case", "path: set-by-the-case, fx: 500, fy: 500, cx: 4, cy: 4"))
+write(BASE, "rgbd_folder_run.yaml", CAMERA_RUN.replace("SOURCE", "RgbdFolderSource").replace(
+    "path: set-by-the-case", "path: set-by-the-case, fx: 500, fy: 500, cx: 4, cy: 4"))
 write(BASE, "ref.tum", "".join(f"{i:.1f} {0.1*i} 0 0 0 0 0 1\n" for i in range(20)))
 write(BASE, "ref.kitti", "".join(f"1 0 0 {0.1*i} 0 1 0 0 0 0 1 0\n" for i in range(20)))
 write(BASE, "good.log", carmen_log())
@@ -524,6 +648,82 @@ case("archive_text_garbage", garbage(700, 29), ARCHIVE, 2,
      "random bytes (not PLSB: read as YAML)", "tool", ext=".yaml")
 case("archive_empty", "", ARCHIVE, 2, r"archive_empty\.plsb: text archive: expected a map", "empty file", "tool", ext=".plsb")
 case("archive_missing", None, ARCHIVE, 2, r"cannot open .*archive_missing\.plsb", "file missing", "tool", ext=".plsb")
+
+
+# -- camera datasets (issue 15): each case is a small dataset folder --
+def without(files, *names):
+    return {k: v for k, v in files.items() if k not in names}
+
+
+good_kitti = kitti_folder()
+case("cam_kitti_ok", good_kitti, KITTI, 0, r"2 frames", "a valid two-pair KITTI folder reads")
+case("cam_kitti_corrupt_png", dict(good_kitti, **{"image_0/000001.png": grey_png()[:60]}), KITTI, 2,
+     r"frame 1 of 2: .*image_0/000001\.png: corrupt PNG", "left image cut inside IDAT")
+case("cam_kitti_garbage_png", dict(good_kitti, **{"image_1/000000.png": garbage(300, 41)}), KITTI, 2,
+     r"frame 0 of 2: .*image_1/000000\.png: not a PNG or JPEG", "random bytes named .png")
+case("cam_kitti_missing_image", without(good_kitti, "image_1/000001.png"), KITTI, 2,
+     r"frame 1 of 2: cannot open '.*image_1/000001\.png'", "right image missing")
+case("cam_kitti_missing_image_skip", without(good_kitti, "image_1/000001.png"),
+     KITTI + " --set source.on_error=skip", 0, r"\[warning\].*image_1/000001\.png.*frame skipped",
+     "right image missing, on_error: skip warns and goes on")
+case("cam_kitti_calib_without_p1", dict(good_kitti, **{"calib.txt": KITTI_CALIB.split("\n")[0] + "\n"}),
+     KITTI, 2, r"calib\.txt: missing key 'P1' \(keys present: P0\)", "calibration lacks the right camera")
+case("cam_kitti_calib_short_p0", dict(good_kitti, **{"calib.txt": "P0: 700 0 4\n" + KITTI_CALIB.split("\n")[1] + "\n"}),
+     KITTI, 2, r"calib\.txt:1: P0: expected 12 numbers, got 3", "projection matrix cut short")
+case("cam_kitti_times_short", dict(good_kitti, **{"times.txt": "0.0\n"}), KITTI, 2,
+     r"times\.txt: has 1 times, but the images go up to 000001\.png", "times.txt shorter than the images")
+case("cam_kitti_size_mismatch", dict(good_kitti, **{"image_1/000000.png": grey_png(6, 8)}), KITTI, 2,
+     r"image_1/000000\.png: image is 6x8, the calibration's is 8x8", "right image of another size")
+case("cam_kitti_no_images", {"calib.txt": KITTI_CALIB, "times.txt": "0.0\n", "image_0/readme.txt": "x"},
+     KITTI, 2, r"holds no images named by a number", "no numbered images")
+case("cam_kitti_missing_folder", None, KITTI, 2, r"dataset folder '.*cam_kitti_missing_folder' does not exist",
+     "dataset folder missing")
+
+raw = {"calib_cam_to_cam.txt": "calib_time: 09-Jan-2012 13:57:47\nS_rect_00: 8 8\n"
+       "P_rect_00: 700 0 4 0 0 700 4 0 0 0 1 0\nP_rect_01: 700 0 4 -350 0 700 4 0 0 0 1 0\n",
+       "image_00/timestamps.txt": "2011-09-26 13:02:25.967790592\n2011-09-26 13:02:26.070920448\n"}
+for cam in ("image_00", "image_01"):
+    for i in range(2):
+        raw[f"{cam}/data/{i:010d}.png"] = grey_png(seed=i)
+case("cam_kitti_raw_bad_timestamp", dict(raw, **{"image_00/timestamps.txt":
+     "2011-09-26 13:02:25.967790592\n2011-09-26 13:02\n"}), KITTI_RAW, 2,
+     r"timestamps\.txt:2: expected 'YYYY-MM-DD HH:MM:SS\.fffffffff'", "timestamp cut short")
+case("cam_kitti_raw_without_s_rect", dict(raw, **{"calib_cam_to_cam.txt": raw["calib_cam_to_cam.txt"].replace("S_rect_00: 8 8\n", "")}),
+     KITTI_RAW, 2, r"calib_cam_to_cam\.txt: missing key 'S_rect_00'", "calibration without the rectified size")
+
+good_euroc = euroc_folder()
+case("cam_euroc_ok", good_euroc, EUROC, 0, r"2 frames", "a valid two-pair EuRoC folder reads")
+case("cam_euroc_sensor_without_intrinsics", dict(good_euroc, **{"mav0/cam1/sensor.yaml": euroc_sensor(0.09, "intrinsics")}),
+     EUROC, 2, r"cam1/sensor\.yaml: missing key 'intrinsics'", "sensor.yaml lacks the intrinsics")
+case("cam_euroc_sensor_without_tbs", dict(good_euroc, **{"mav0/cam0/sensor.yaml": euroc_sensor(0.0, "T_BS")}),
+     EUROC, 2, r"cam0/sensor\.yaml: missing key 'T_BS'", "sensor.yaml lacks the extrinsics")
+case("cam_euroc_bad_csv", dict(good_euroc, **{"mav0/cam0/data.csv":
+     good_euroc["mav0/cam0/data.csv"] + "14037152733x,a.png\n"}), EUROC, 2,
+     r"cam0/data\.csv:4: timestamp \[ns\]: '14037152733x' is not an integer", "malformed data.csv row")
+case("cam_euroc_no_camera", {"mav0/cam0/sensor.yaml": euroc_sensor(0.0)}, EUROC, 2,
+     r"no camera folder '.*cam1'", "second camera folder missing")
+
+good_tum = tum_folder()
+case("cam_tum_ok", good_tum, TUM, 0, r"2 frames", "a valid two-frame TUM folder reads")
+case("cam_tum_depth_wrong_size", dict(good_tum, **{"depth/1.033333.png": depth_png(6, 8)}), TUM, 2,
+     r"frame 1 of 2: .*depth/1\.033333\.png: depth image is 6x8, expected 8x8", "depth image of the wrong size")
+case("cam_tum_depth_8bit", dict(good_tum, **{"depth/1.033333.png": grey_png()}), TUM, 2,
+     r"depth/1\.033333\.png: depth image is 8-bit grey, expected a 16-bit grey PNG", "8-bit depth image")
+case("cam_tum_truncated_jpeg", dict(tum_folder(2, ".jpg"), **{"rgb/1.033333.jpg": grey_jpeg()[:-10]}), TUM, 2,
+     r"frame 1 of 2: .*rgb/1\.033333\.jpg: corrupt JPEG", "colour JPEG cut short (7-Scenes' colour is JPEG)")
+case("cam_tum_jpeg_ok", tum_folder(2, ".jpg"), TUM, 0, r"2 frames", "JPEG colour reads")
+case("cam_tum_no_association", dict(good_tum, **{"depth.txt": "5.0 depth/1.000000.png\n"}), TUM, 2,
+     r"no colour image has a depth image within 0\.02", "colour and depth times never meet")
+case("cam_tum_list_garbage", dict(good_tum, **{"rgb.txt": garbage(200, 43)}), TUM, 2,
+     r"rgb\.txt:\d+", "random bytes as rgb.txt")
+case("cam_tum_bad_intrinsics_file", dict(good_tum, **{"camera-intrinsics.txt": "585 0 320\n0 585 240\n"}),
+     TUM + " --set source.intrinsics_file=camera-intrinsics.txt", 2,
+     r"camera-intrinsics\.txt:2: expected a 3x3 camera matrix", "K file with two rows")
+
+good_folder = rgbd_folder()
+case("cam_rgbd_folder_pose_count", dict(good_folder, **{"pose.txt": "0 0 0 0 0 0 1\n"}), RGBD_FOLDER, 2,
+     r"pose\.txt: has 1 poses for 2 colour images", "pose list shorter than the images")
+case("cam_rgbd_folder_ok", good_folder, RGBD_FOLDER, 0, r"2 frames", "a valid slambook-style folder reads")
 
 
 # ---- manifest --------------------------------------------------------------------------------

@@ -2,16 +2,22 @@
 #include <gtest/gtest.h>
 
 #include "test_paths.h"
+#include <pty.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
+#include <vector>
+#include <optional>
 
 #include "plugslam/version.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -35,17 +41,58 @@ Result run(const std::string& args, const std::string& env = "") {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
 
+// Runs plugslam on a pseudo-terminal (stdout and stderr both, 200 columns) from `cwd`: what a
+// user sees on a terminal, escape sequences included.
+Result runOnTerminal(const std::vector<std::string>& args, const fs::path& cwd) {
+  int master = -1;
+  winsize ws{};
+  ws.ws_col = 200;
+  ws.ws_row = 50;
+  const pid_t pid = forkpty(&master, nullptr, nullptr, &ws);
+  if (pid < 0) return {-1, "forkpty failed"};
+  if (pid == 0) {
+    if (::chdir(cwd.c_str()) != 0) _exit(126);
+    const std::string bin = buildDir() + "/bin/plugslam";
+    std::vector<char*> argv{const_cast<char*>(bin.c_str())};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(bin.c_str(), argv.data());
+    _exit(127);
+  }
+  std::string out;
+  char buf[4096];
+  for (ssize_t n; (n = ::read(master, buf, sizeof buf)) > 0;) out.append(buf, n);  // EIO at exit
+  ::close(master);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+// Every log line of a terminal's output starts on a line of its own: at the start, after a
+// newline, or after the status line was erased (CR, erase to end of line).
+void expectLogLinesStartClean(const std::string& out) {
+  static const std::regex stamp(R"(\[\d\d:\d\d:\d\d\.\d{3}\])");
+  int lines = 0;
+  for (auto it = std::sregex_iterator(out.begin(), out.end(), stamp); it != std::sregex_iterator();
+       ++it, ++lines) {
+    const std::string before = out.substr(0, it->position());
+    const bool clean = before.empty() || before.back() == '\n' ||
+                       (before.size() >= 4 && before.compare(before.size() - 4, 4, "\r\033[K") == 0);
+    EXPECT_TRUE(clean) << "log line at byte " << it->position() << " follows: '"
+                       << before.substr(before.size() > 60 ? before.size() - 60 : 0) << "'";
+  }
+  EXPECT_GT(lines, 0) << out;
+}
+
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("plugslam_cli_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
+    tmp_.emplace("plugslam_cli");  // a fresh folder of this test's own
+    dir_ = tmp_->path();
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  void TearDown() override { tmp_.reset(); }
   std::string write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return (dir_ / name).string();
+    return tmp_->write(name, text);  // checked
   }
   std::string config(const std::string& extra = "") {
     return write("run.yaml", "plugins: [" + buildDir() + "/tests/plugins/plugslam_fixture.so]\n" +
@@ -53,6 +100,7 @@ class Cli : public ::testing::Test {
                                  "pipeline:\n  preprocessors:\n    - {type: fixture.Scale, factor: 0.5}\n"
                                  "outputs: [fixture.SumWriter]\n" + extra);
   }
+  std::optional<plugslam::testing::TempDir> tmp_;
   fs::path dir_;
 };
 
@@ -140,13 +188,26 @@ TEST_F(Cli, ValidateReportsEveryError) {
   expectHas(r.out, "[error] 4 errors in " + bad);
 }
 
+// Item 17.7: a tracker that has nothing to align with (no aligner slices) is a configuration
+// error, not a run whose pose never moves.
+TEST_F(Cli, ValidateRejectsATrackerWithoutAlignerSlices) {
+  auto no_slices = write("no_slices.yaml", "plugins: [" + buildDir() +
+                                               "/tests/plugins/plugslam_fixture.so]\n"
+                                               "source: {type: fixture.CountingSource}\n"
+                                               "pipeline:\n"
+                                               "  tracker: {type: sdk.MultiTracker3D}\n");
+  auto r = run("validate " + no_slices);
+  EXPECT_EQ(r.code, 2) << r.out;
+  expectHas(r.out, "pipeline.tracker.aligner.slices: the aligner has no slices");
+}
+
 // Item 17.6: validate checks the wiring of the entries: a slice's measurement that no
 // preprocessor writes, a scene entry no tracker slice writes (also for the back-end's slices,
 // whose measurement is a local map's scene), a preprocessor input the source does not provide.
 // Each error names where (the file's line and column, or the --set), the key path and a
 // did-you-mean.
 TEST_F(Cli, ValidateChecksTheEntryWiring) {
-  const std::string shipped = plugslam::testing::sourceDir() + "/configs/default.yaml";
+  const std::string shipped = plugslam::testing::sourceDir() + "/configs/sim2d_double_laser.yaml";
   auto r = run("validate " + shipped + " --set pipeline.tracker.aligner.slices[0].measurement=frnt");
   EXPECT_EQ(r.code, 2) << r.out;
   expectHas(r.out,
@@ -255,13 +316,145 @@ TEST_F(Cli, EveryShippedConfigValidates) {
   for (const auto& entry : fs::directory_iterator(configs)) {
     if (entry.path().extension() != ".yaml") continue;
     ++seen;
-    // From the repository root, as the configs' relative data paths expect.
+    // From a folder of the test's own, not the repository root: the configs name their data as
+    // ${PLUGSLAM_DATA} (item 17.30).
     auto r = run("validate " + entry.path().string(),
-                 "cd " + plugslam::testing::sourceDir() + " &&");
+                 "cd " + dir_.string() + " && PLUGSLAM_DATA=" + plugslam::testing::dataDir());
     if (r.out.find("cannot open") != std::string::npos ||
         r.out.find("does not exist") != std::string::npos)
-      continue;  // a config pointing at ../shared/data on a machine without it
+      continue;  // a config's data is not on this machine
     EXPECT_EQ(r.code, 0) << entry.path() << "\n" << r.out;
   }
   EXPECT_GE(seen, 6);
+}
+
+// Item 17.1: bare `plugslam` (and with a global option) runs the default pipeline into out/,
+// and --help says so; it once registered its logger twice and died.
+TEST_F(Cli, NoCommandRunsTheDefaultPipeline) {
+  auto r = run("-q", "cd " + dir_.string() + " &&");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(r.out.find("already exists"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "trajectory.tum")) << r.out;
+  EXPECT_TRUE(fs::exists(dir_ / "out" / "session" / "session.yaml")) << r.out;
+  r = run("--help");
+  expectHas(r.out, "With no command, runs the built-in default pipeline");
+}
+
+// Item 17.13: the top-level help fits 100 columns; optimize lists its choices as eval does.
+TEST_F(Cli, HelpIsShortAndListsChoices) {
+  auto r = run("--help");
+  std::istringstream lines(r.out);
+  for (std::string line; std::getline(lines, line);)
+    EXPECT_LE(line.size(), 100u) << "too long a help line: " << line;
+  r = run("optimize --help");
+  EXPECT_EQ(r.code, 0) << r.out;
+  expectHas(r.out, "--solver TEXT:{gn,lm}");
+  expectHas(r.out, "--init TEXT:{file,odometry,chordal,best}");
+  expectHas(r.out, "--factorization TEXT:{auto,supernodal,simplicial,block}");
+  expectHas(r.out, "VERTEX_SE3:QUAT");  // the formats moved to the command's own help
+  r = run("optimize x.g2o --solver newton");
+  EXPECT_EQ(r.code, 2) << r.out;
+}
+
+// Item 17.12: `config TYPE` prints the defaults, its only mode; --defaults is still accepted.
+// Item 17.19: `describe run` shows the top-level keys of a config file.
+TEST_F(Cli, ConfigNeedsNoFlagAndDescribeShowsTheTopLevel) {
+  const std::string env = "PLUGSLAM_PLUGIN_PATH=" + buildDir() + "/tests/plugins";
+  auto r = run("config fixture.CountingSource", env);
+  EXPECT_EQ(r.code, 0) << r.out;
+  expectHas(r.out, "frames: 10");
+  r = run("describe run");
+  EXPECT_EQ(r.code, 0) << r.out;
+  for (auto key : {"plugins", "source", "pipeline", "outputs", "max_frames", "on_module_error"})
+    expectHas(r.out, std::string("  ") + key + " ");
+}
+
+// Item 17.5: a --do that names no module or no action fails before the first frame (exit 2,
+// nothing written), not after the whole run with a dangling line.
+TEST_F(Cli, BadActionFailsBeforeTheRun) {
+  auto out = dir_ / "out";
+  auto r = run("run " + config() + " -o " + out.string() + " --do source.nosuch");
+  EXPECT_EQ(r.code, 2) << r.out;
+  expectHas(r.out, "--do source.nosuch: module 'source' (fixture.CountingSource) has no action 'nosuch'");
+  EXPECT_FALSE(fs::exists(out / "run.json")) << "the run started";
+  r = run("run " + config() + " -o " + out.string() + " --do pipeline.graph.save_graph:x.g2o");
+  EXPECT_EQ(r.code, 2) << r.out;
+  expectHas(r.out, "no module 'pipeline.graph'");
+  EXPECT_FALSE(fs::exists(out / "run.json"));
+}
+
+// Item 17.11: a run whose pipeline has no tracker says that nothing was estimated (no "0.0 Hz",
+// no "0 loops"), and writes no empty trajectory.
+TEST_F(Cli, ARunWithoutATrackerSaysSo) {
+  auto cfg = write("plain.yaml", "plugins: [" + buildDir() + "/tests/plugins/plugslam_fixture.so, io]\n"
+                                 "source: {type: fixture.CountingSource, frames: 5}\n"
+                                 "outputs: [io.TrajectoryWriter]\n");
+  auto out = dir_ / "out";
+  auto r = run("run " + cfg + " -o " + out.string());
+  EXPECT_EQ(r.code, 0) << r.out;
+  expectHas(r.out, "5 frames in");
+  expectHas(r.out, "the pipeline has no tracker, so no pose was estimated");
+  EXPECT_EQ(r.out.find("pipeline alone"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("loops closed"), std::string::npos) << r.out;
+  expectHas(r.out, "trajectory.tum not written");
+  EXPECT_FALSE(fs::exists(out / "trajectory.tum"));
+  EXPECT_FALSE(fs::exists(out / "session")) << "no tracker, no maps: no session";
+}
+
+// Item 17.14: every run with a tracker leaves OUTDIR/session, the final one (the mid-run
+// checkpoint is removed), and README's `run --session OUTDIR/session` works after it.
+// Item 17.10: a run too short for RPE over 1 m says so instead of printing nan.
+TEST_F(Cli, EveryRunSavesItsSessionAndShortRunsHaveNoRpe) {
+  auto out = dir_ / "out";
+  auto r = run("run -o " + out.string() + " --set max_frames=15 --checkpoint-every 0.000001");
+  EXPECT_EQ(r.code, 0) << r.out;
+  expectHas(r.out, "session saved in " + (out / "session").string());
+  EXPECT_TRUE(fs::exists(out / "session" / "session.yaml"));
+  EXPECT_FALSE(fs::exists(out / "checkpoint")) << "the stale checkpoint stayed";
+  EXPECT_EQ(r.out.find("nan"), std::string::npos) << r.out;
+  expectHas(r.out, "no RPE(1 m): the run is too short for it (the reference path is");
+  auto out2 = dir_ / "out2";
+  r = run("run --session " + (out / "session").string() + " -o " + out2.string() +
+          " --set max_frames=20");
+  EXPECT_EQ(r.code, 0) << r.out;
+  expectHas(r.out, "(mapping)");
+}
+
+// Items 17.2, 17.3, 17.4 on a terminal: the progress counts to max_frames, log lines never land
+// on the progress line (it is erased first and drawn again after), and the final work shows.
+TEST_F(Cli, ProgressOnATerminal) {
+  auto cfg = config("on_module_error: skip\n");
+  const auto r = runOnTerminal({"run", cfg, "-o", (dir_ / "out").string(), "--set", "max_frames=7",
+                                "--set", "pipeline.preprocessors[0].fail_at=3"},
+                               dir_);
+  EXPECT_EQ(r.code, 0) << r.out;
+  expectHas(r.out, "frame 1/7");  // max_frames bounds the 20 frames of the source
+  EXPECT_EQ(r.out.find("/20"), std::string::npos) << r.out;
+  expectHas(r.out, "frame 3 skipped (on_module_error: skip)");
+  expectLogLinesStartClean(r.out);
+  // After the log line the progress line comes back.
+  const auto warned = r.out.find("frame 3 skipped");
+  ASSERT_NE(warned, std::string::npos);
+  EXPECT_NE(r.out.find("\r  frame 1/7", warned), std::string::npos) << r.out;
+  expectHas(r.out, "finishing: final loop passes");
+  expectHas(r.out, "7 frames in");
+}
+
+// Item 17.30: a config's ${PLUGSLAM_DATA} is the data folder, from the environment when the run
+// starts, so the shipped real-data configs work from any folder; other variables are errors.
+TEST_F(Cli, ConfigsFindTheDataFolderFromAnyFolder) {
+  const std::string carmen = plugslam::testing::sourceDir() + "/configs/laser2d_carmen.yaml";
+  auto r = run("validate " + carmen, "cd " + dir_.string() + " && PLUGSLAM_DATA=/no/such/folder");
+  EXPECT_EQ(r.code, 2) << r.out;
+  expectHas(r.out, "/no/such/folder/laser2d/intel-gfs-corrected/intel-corrected.log.gz");
+  auto bad = write("bad.yaml", "plugins: [" + buildDir() + "/tests/plugins/plugslam_fixture.so]\n"
+                               "source: {type: fixture.CountingSource, sensor: '${HOME}/x'}\n");
+  r = run("validate " + bad);
+  EXPECT_EQ(r.code, 2) << r.out;
+  expectHas(r.out, bad + ":2:48: unknown variable '${HOME}': a config knows ${PLUGSLAM_DATA}");
+  const std::string data = plugslam::testing::dataDir();
+  if (!fs::exists(data + "/laser2d/intel-gfs-corrected/intel-corrected.log.gz"))
+    GTEST_SKIP() << "no intel log under " << data << " (set PLUGSLAM_DATA)";
+  r = run("validate " + carmen, "cd " + dir_.string() + " && PLUGSLAM_DATA=" + data);
+  EXPECT_EQ(r.code, 0) << r.out;
 }

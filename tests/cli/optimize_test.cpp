@@ -12,11 +12,13 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <optional>
 
 #include "plugslam/solver/factor_graph.h"
 #include "plugslam/solver/graph_io.h"
 #include "plugslam/solver/variable.h"
 #include "test_paths.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -60,17 +62,15 @@ void expectHas(const std::string& s, const std::string& part) {
 class Optimize : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("plugslam_optimize_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
+    tmp_.emplace("plugslam_optimize");  // a fresh folder of this test's own
+    dir_ = tmp_->path();
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  void TearDown() override { tmp_.reset(); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   std::string write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return path(name);
+    return tmp_->write(name, text);  // checked
   }
+  std::optional<plugslam::testing::TempDir> tmp_;
   fs::path dir_;
 };
 
@@ -209,16 +209,16 @@ TEST_F(Optimize, BadArgumentsExitTwo) {
   expectHas(r.out, "missing.g2o");
   r = run("optimize " + in + " --solver newton");
   EXPECT_EQ(r.code, 2) << r.out;
-  expectHas(r.out, "expected gn or lm");
+  expectHas(r.out, "--solver: newton not in {gn,lm}");
   r = run("optimize " + in + " --init spanning");
   EXPECT_EQ(r.code, 2) << r.out;
-  expectHas(r.out, "expected file, odometry, chordal or best");
+  expectHas(r.out, "--init: spanning not in {file,odometry,chordal,best}");
   r = run("optimize " + in + " --robust Welsch");
   EXPECT_EQ(r.code, 2) << r.out;
   expectHas(r.out, "Huber");
   r = run("optimize " + in + " --factorization qr");
   EXPECT_EQ(r.code, 2) << r.out;
-  expectHas(r.out, "expected auto, supernodal, simplicial or block");
+  expectHas(r.out, "--factorization: qr not in {auto,supernodal,simplicial,block}");
   r = run("optimize " + in + " --iterations -3");
   EXPECT_EQ(r.code, 2) << r.out;
   r = run("optimize " + in + " -o " + path("no/such/dir/out.g2o"));

@@ -558,6 +558,14 @@ std::string formatParamName(const ::testing::TestParamInfo<ArchiveFormat>& info)
   return formatName(info.param);
 }
 
+}  // namespace
+
+// What GoogleTest prints as GetParam() (gtest_discover_tests puts it in the ctest name): the
+// format's name, not the enum's bytes. In plugslam, where argument-dependent lookup finds it.
+void PrintTo(ArchiveFormat f, std::ostream* os) { *os << formatName(f); }
+
+namespace {
+
 INSTANTIATE_TEST_SUITE_P(Formats, ArchiveRoundTrip,
                          ::testing::Values(ArchiveFormat::kBinary, ArchiveFormat::kText),
                          formatParamName);

@@ -7,9 +7,14 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <optional>
 
 #include "plugslam/archive.h"
+#include "plugslam/eval/relations.h"
 #include "plugslam/property_container.h"
+#include "plugslam/solver/graph_io.h"
+#include "plugslam/trajectory.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -19,14 +24,10 @@ namespace {
 class AtomicFile : public ::testing::Test {
  protected:
   void SetUp() override {
-    const std::string name = std::string("plugslam_atomic_") +
-                             ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
-                             std::to_string(::getpid());
-    dir_ = fs::temp_directory_path() / name;
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    tmp_.emplace("plugslam_atomic");  // a fresh folder of this test's own
+    dir_ = tmp_->path();
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  void TearDown() override { tmp_.reset(); }
 
   std::vector<std::string> entries() const {
     std::vector<std::string> out;
@@ -41,6 +42,8 @@ class AtomicFile : public ::testing::Test {
     ss << in.rdbuf();
     return ss.str();
   }
+
+  std::optional<plugslam::testing::TempDir> tmp_;
 
   fs::path dir_;
 };
@@ -117,6 +120,45 @@ TEST_F(AtomicFile, UnwritableFolderIsAnInputError) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("missing"), std::string::npos) << e.what();
   }
+}
+
+TEST_F(AtomicFile, TextContentIsWrittenVerbatim) {
+  const std::string target = (dir_ / "text.bin").string();
+  const char raw[] = "line\n\0nul and \xff bytes\r\n";
+  const std::string content(raw, sizeof(raw) - 1);  // with the NUL
+  writeFileAtomically(target, content);
+  EXPECT_EQ(slurp(target), content);
+  writeFileAtomically(target, std::string());
+  EXPECT_EQ(slurp(target), "");
+  EXPECT_EQ(entries(), std::vector<std::string>{"text.bin"});
+}
+
+// Trajectories, relations and graphs share the one writer: an unwritable target is an InputError
+// that names the target (not a temp file), and nothing is left behind.
+TEST_F(AtomicFile, EveryResultWriterNamesTheTargetItCannotWrite) {
+  Trajectory trajectory;
+  trajectory.push_back(0.0, Eigen::Isometry3d::Identity());
+  FactorGraph graph;
+  const std::string missing = (dir_ / "missing").string();
+  const auto expectNamed = [&](const std::string& target, const std::function<void()>& write) {
+    try {
+      write();
+      ADD_FAILURE() << "no error writing " << target;
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("'" + target + "'"), std::string::npos) << what;
+    }
+  };
+  expectNamed(missing + "/t.tum", [&] { writeTumTrajectory(trajectory, missing + "/t.tum"); });
+  expectNamed(missing + "/t.txt",
+              [&] { writeKittiTrajectory(trajectory, missing + "/t.txt", ""); });
+  expectNamed(missing + "/r.txt", [&] { writeRelations({}, missing + "/r.txt"); });
+  expectNamed(missing + "/g.g2o", [&] { writeGraphFile(missing + "/g.g2o", graph); });
+  EXPECT_TRUE(entries().empty());
+  // And where they can write, they leave only their file.
+  writeTumTrajectory(trajectory, (dir_ / "t.tum").string());
+  writeGraphFile((dir_ / "g.g2o").string(), graph);
+  EXPECT_EQ(entries(), (std::vector<std::string>{"g.g2o", "t.tum"}));
 }
 
 TEST_F(AtomicFile, ArchiveFilesRoundTripWithFormatDetection) {

@@ -138,7 +138,7 @@ TEST(Builder, DuplicateKeyAndDuplicateNameAreErrors) {
 
 TEST(Builder, WrongKindIsExplained) {
   std::string e = buildError("extra: btest.Other\n");
-  expectContains(e, "'btest.Other' is a Other, but 'extra' expects a Knob");
+  expectContains(e, "'btest.Other' is an Other, but 'extra' expects a Knob");
 }
 
 TEST(Builder, ModuleValidationPointsAtTheParameter) {

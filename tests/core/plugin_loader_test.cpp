@@ -82,6 +82,11 @@ TEST(PluginLoader, RefusesWrongAbiMajor) {
             std::string::npos)
       << e;
   EXPECT_FALSE(pm.isLoaded("wrongabi"));
+  // Item 17.20, as docs/plugin-guide.md says: dlopen ran the library's static initializers, but
+  // the register function of a refused plugin never ran.
+  const char* init = std::getenv("PLUGSLAM_WRONGABI_STATIC_INIT");
+  EXPECT_STREQ(init ? init : "", "ran");
+  EXPECT_EQ(std::getenv("PLUGSLAM_WRONGABI_REGISTERED"), nullptr);
 }
 
 TEST(PluginLoader, RefusesWrongBuildFingerprint) {

@@ -14,6 +14,7 @@
 #include "plugin_manager.h"
 #include "plugslam/errors.h"
 #include "test_paths.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -22,14 +23,7 @@ using namespace plugslam::runtime::editor;
 
 namespace {
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string t = (fs::temp_directory_path() / "plugslam-editor-test-XXXXXX").string();
-    path = mkdtemp(t.data());
-  }
-  ~TempDir() { fs::remove_all(path); }
-};
+using plugslam::testing::TempDir;  // a fresh folder per test, removed after
 
 std::string slurp(const fs::path& p) {
   std::ifstream in(p);
@@ -40,7 +34,7 @@ std::string slurp(const fs::path& p) {
 
 std::string program() { return plugslam::testing::buildDir() + "/bin/plugslam"; }
 std::string defaultConfig() {
-  return slurp(fs::path(plugslam::testing::sourceDir()) / "configs" / "default.yaml");
+  return slurp(fs::path(plugslam::testing::sourceDir()) / "configs" / "sim2d_double_laser.yaml");
 }
 
 // The module at a path of slot keys and item indexes, e.g. {"pipeline", 0, "tracker", 0}.
@@ -131,19 +125,19 @@ TEST_F(Editor, EditsAreValidatedWithTheCliMessages) {
 }
 
 TEST_F(Editor, SavesStayInsideTheRoot) {
-  const fs::path root = tmp.path / "root";
+  const fs::path root = tmp.path() / "root";
   fs::create_directories(root / "sub");
-  fs::create_directories(tmp.path / "outside");
-  fs::create_symlink(tmp.path / "outside", root / "escape");
+  fs::create_directories(tmp.path() / "outside");
+  fs::create_symlink(tmp.path() / "outside", root / "escape");
   fs::create_symlink(root / "sub", root / "inner");
-  std::ofstream(tmp.path / "outside" / "victim.yaml") << "keep: me\n";
-  fs::create_symlink(tmp.path / "outside" / "victim.yaml", root / "link.yaml");
+  std::ofstream(tmp.path() / "outside" / "victim.yaml") << "keep: me\n";
+  fs::create_symlink(tmp.path() / "outside" / "victim.yaml", root / "link.yaml");
 
   EXPECT_EQ(confinedPath(root, "a.yaml"), fs::canonical(root) / "a.yaml");
   EXPECT_EQ(confinedPath(root, "new/dir/b.yml"), fs::canonical(root) / "new/dir/b.yml");
   EXPECT_EQ(confinedPath(root, "inner/c.yaml"), fs::canonical(root) / "sub/c.yaml");
   for (const std::string& bad : std::vector<std::string>{
-           "../x.yaml", "sub/../../x.yaml", "/tmp/x.yaml", (tmp.path / "outside/y.yaml").string(),
+           "../x.yaml", "sub/../../x.yaml", "/tmp/x.yaml", (tmp.path() / "outside/y.yaml").string(),
            "escape/x.yaml", "link.yaml", "", "notes.txt", "sub/"}) {
     EXPECT_THROW(confinedPath(root, bad), InputError) << "'" << bad << "' accepted";
   }
@@ -164,13 +158,13 @@ TEST_F(Editor, SavesStayInsideTheRoot) {
                InputError);
   EXPECT_THROW(editor.call("editor.save", json{{"path", "../up.yaml"}, {"yaml", "a: 1"}}.dump()),
                InputError);
-  EXPECT_FALSE(fs::exists(tmp.path / "outside" / "evil.yaml"));
-  EXPECT_FALSE(fs::exists(tmp.path / "up.yaml"));
-  EXPECT_EQ(slurp(tmp.path / "outside" / "victim.yaml"), "keep: me\n");
+  EXPECT_FALSE(fs::exists(tmp.path() / "outside" / "evil.yaml"));
+  EXPECT_FALSE(fs::exists(tmp.path() / "up.yaml"));
+  EXPECT_EQ(slurp(tmp.path() / "outside" / "victim.yaml"), "keep: me\n");
 }
 
 TEST_F(Editor, MalformedRequestsAreRefusedWithAReason) {
-  ConfigEditor editor(tmp.path, defaultConfig(), "default.yaml", program());
+  ConfigEditor editor(tmp.path(), defaultConfig(), "default.yaml", program());
   EXPECT_THROW(editor.call("editor.save", "{not json"), InputError);
   EXPECT_THROW(editor.call("editor.save", "{}"), InputError);
   EXPECT_THROW(editor.call("editor.save", R"({"path": "a.yaml", "tree": {"type": 3}})"),
@@ -178,10 +172,10 @@ TEST_F(Editor, MalformedRequestsAreRefusedWithAReason) {
   EXPECT_THROW(editor.call("editor.nothing", "{}"), InputError);
   const json cfg = json::parse(editor.call("editor.config", ""));
   EXPECT_EQ(cfg["name"], "default.yaml");
-  EXPECT_EQ(cfg["root"], fs::canonical(tmp.path).string());
+  EXPECT_EQ(cfg["root"], fs::canonical(tmp.path()).string());
   // Only plugslam validates: inside another program (this test) the editor refuses rather than
   // running that program as if it were plugslam.
-  ConfigEditor bare(tmp.path, defaultConfig(), "default.yaml");
+  ConfigEditor bare(tmp.path(), defaultConfig(), "default.yaml");
   EXPECT_THROW(bare.call("editor.validate", R"({"yaml": "a: 1"})"), Error);
   EXPECT_TRUE(ConfigEditor::handles("editor.validate"));
   EXPECT_FALSE(ConfigEditor::handles("pause"));

@@ -13,17 +13,15 @@
 #include "plugslam/eval/relations.h"
 #include "plugslam/eval/report.h"
 #include "plugslam/eval/rpe.h"
+#include "test_paths.h"
 
 namespace plugslam {
 namespace {
 
 namespace fs = std::filesystem;
 
-// The data folder, or empty when the datasets are not installed.
-fs::path dataDir() {
-  const char* env = std::getenv("PLUGSLAM_DATA");
-  return env ? fs::path(env) : fs::path();
-}
+// The data folder ($PLUGSLAM_DATA or the default); it may not exist.
+fs::path dataDir() { return plugslam::testing::dataDir(); }
 
 // A file under the data folder, or nothing when the datasets are not installed.
 std::optional<fs::path> dataFile(const std::string& rel) {

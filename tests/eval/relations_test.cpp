@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "plugslam/errors.h"
-#include "test_files.h"
+#include "temp_dir.h"
 
 namespace plugslam {
 namespace {
@@ -74,7 +74,7 @@ TEST(RelationsTest, PairsWithinDistancePlusConsecutive) {
 }
 
 TEST(RelationsTest, ReadsTheFreiburgFormat) {
-  test::ScratchDir dir;
+  const plugslam::testing::TempDir dir;
   const std::string path = dir.write("a.relations",
                                      "1182.412 1182.612 0.2 -0.01 0 0 0 0.0872664626\n"
                                      "# comment\n"
@@ -100,7 +100,7 @@ TEST(RelationsTest, ReadsTheFreiburgFormat) {
 }
 
 TEST(RelationsTest, RejectsMalformedFilesAndMissingOverlap) {
-  test::ScratchDir dir;
+  const plugslam::testing::TempDir dir;
   EXPECT_THROW(readRelations(dir.write("a", "1 2 0 0 0 0 0\n")), ParseError);
   EXPECT_THROW(readRelations(dir.write("b", "1 2 0 0 0 0 0 nan\n")), ParseError);
   EXPECT_THROW(readRelations(dir.write("c", "# nothing\n")), ParseError);

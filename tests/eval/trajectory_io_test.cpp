@@ -7,12 +7,12 @@
 
 #include "plugslam/errors.h"
 #include "plugslam/trajectory.h"
-#include "test_files.h"
+#include "temp_dir.h"
 
 namespace plugslam {
 namespace {
 
-using test::ScratchDir;
+using plugslam::testing::TempDir;
 
 Trajectory randomTrajectory(std::size_t n, bool stamps_are_indices) {
   std::mt19937 rng(7);
@@ -79,7 +79,7 @@ TEST(TrajectoryTest, PathLengthNearestAndTransform) {
 }
 
 TEST(TrajectoryIoTest, TumRoundTrip) {
-  ScratchDir dir;
+  const TempDir dir;
   const Trajectory a = randomTrajectory(50, false);
   writeTumTrajectory(a, dir.file("a.tum"));
   expectSame(a, readTumTrajectory(dir.file("a.tum")), 1e-8);
@@ -89,7 +89,7 @@ TEST(TrajectoryIoTest, TumRoundTrip) {
 }
 
 TEST(TrajectoryIoTest, KittiRoundTripWithAndWithoutTimes) {
-  ScratchDir dir;
+  const TempDir dir;
   const Trajectory a = randomTrajectory(20, false);
   writeKittiTrajectory(a, dir.file("poses.txt"), dir.file("times.txt"));
   expectSame(a, readKittiTrajectory(dir.file("poses.txt"), dir.file("times.txt")), 1e-9);
@@ -101,7 +101,7 @@ TEST(TrajectoryIoTest, KittiRoundTripWithAndWithoutTimes) {
 }
 
 TEST(TrajectoryIoTest, KittiValuesAreRowMajor) {
-  ScratchDir dir;
+  const TempDir dir;
   // 90 deg about z, translation (1, 2, 3).
   const std::string p = dir.write("k.txt", "0 -1 0 1 1 0 0 2 0 0 1 3\n");
   const Trajectory t = readKittiTrajectory(p);
@@ -111,7 +111,7 @@ TEST(TrajectoryIoTest, KittiValuesAreRowMajor) {
 }
 
 TEST(TrajectoryIoTest, ReadsG2oVerticesSortedById) {
-  ScratchDir dir;
+  const TempDir dir;
   const std::string se2 = dir.write("a.g2o",
                                     "VERTEX_SE2 2 2.0 0.5 1.5707963267948966\n"
                                     "VERTEX_SE2 0 0 0 0\n"
@@ -137,7 +137,7 @@ TEST(TrajectoryIoTest, ReadsG2oVerticesSortedById) {
 }
 
 TEST(TrajectoryIoTest, DetectsFormats) {
-  ScratchDir dir;
+  const TempDir dir;
   EXPECT_EQ(detectTrajectoryFormat(dir.write("x.txt", "# c\n1 0 0 0 0 0 0 1\n")),
             TrajectoryFormat::Tum);
   EXPECT_EQ(detectTrajectoryFormat(dir.write("y.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n")),
@@ -152,7 +152,7 @@ TEST(TrajectoryIoTest, DetectsFormats) {
 }
 
 TEST(TrajectoryIoTest, RejectsMalformedTum) {
-  ScratchDir dir;
+  const TempDir dir;
   const std::string ok = "0 0 0 0 0 0 0 1\n";
   auto tum = [&](const std::string& text) {
     const std::string p = dir.write("t.tum", text);
@@ -171,7 +171,7 @@ TEST(TrajectoryIoTest, RejectsMalformedTum) {
 }
 
 TEST(TrajectoryIoTest, RejectsMalformedKittiAndG2o) {
-  ScratchDir dir;
+  const TempDir dir;
   const std::string id = "1 0 0 0 0 1 0 0 0 0 1 0\n";
   const std::string k1 = dir.write("k1.txt", id + "1 0 0 0 0 1 0 0 0 0 1\n");
   EXPECT_EQ(parseErrorLine([&] { readKittiTrajectory(k1); }, "expected 12 columns"), 2);
@@ -197,7 +197,7 @@ TEST(TrajectoryIoTest, RejectsMalformedKittiAndG2o) {
 }
 
 TEST(TrajectoryIoTest, WriteToMissingFolderIsAnInputError) {
-  ScratchDir dir;
+  const TempDir dir;
   EXPECT_THROW(writeTumTrajectory(randomTrajectory(2, false), dir.file("no/such/dir/a.tum")),
                InputError);
 }

@@ -15,6 +15,7 @@
 #include "plugslam/eval/rpe.h"
 #include "plugslam/trajectory.h"
 #include "test_paths.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 using namespace plugslam;
@@ -70,8 +71,10 @@ Crispness crispness(const std::string& log, const fs::path& out, const std::stri
 }
 
 
+// A folder inside this test process's own fresh temporary folder.
 fs::path tempDir(const std::string& name) {
-  fs::path d = fs::temp_directory_path() / ("plugslam_it_" + std::to_string(::getpid()) + name);
+  static const plugslam::testing::TempDir tmp("plugslam_it");
+  fs::path d = tmp.path() / name;
   fs::create_directories(d);
   return d;
 }
@@ -84,10 +87,17 @@ TEST(Slam, DefaultDemoRunsAndPrintsAteBelowThreshold) {
   ASSERT_EQ(r.code, 0) << r.out;
   std::smatch m;
   ASSERT_TRUE(std::regex_search(r.out, m, std::regex("ATE rmse ([0-9.]+) m"))) << r.out;
+  // Measured about 0.003 m (docs/benchmarks.md, stage-1 double, 38e6619); the deterministic
+  // back-end repeats it to the digit run to run. The bound is not the measurement plus a margin:
+  // it is under the seed paper's own ATE on this session (0.032 m, Table I, double laser), so the
+  // demo fails when it is no better than the paper's system, whatever the build or machine
+  // changes in the last digits.
   EXPECT_LT(std::stod(m[1]), 0.02) << r.out;
   for (auto f : {"trajectory.tum", "graph.g2o", "map.pgm", "map.yaml", "map.png", "run.json"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
   const std::string json = slurp((out / "run.json").string());
+  // Measured 75 accepted loops (same run): the count follows the validator's settings; that the
+  // demo closes loops at all is what is checked, its accuracy by the ATE above.
   EXPECT_GT(jsonNumber(json, "loops_accepted"), 0);
   EXPECT_EQ(jsonNumber(json, "tracking_failures"), 0);
   fs::remove_all(out);
@@ -168,7 +178,10 @@ TEST(Slam, SeattleClosesItsLoopAfterLargeDrift) {
   Trajectory ref = readTrajectory((out / "reference.tum").string());
   ASSERT_EQ(est.size(), 241u);
   RelationResult rel = evaluateRelations(est, relationsFromTrajectory(ref, 2.0));
-  // Without the global search: 1.35 m, 14 deg. With it: 0.032 m, 0.28 deg.
+  // Without the global search: 1.35 m, 14 deg. With it: 0.031 m, 0.26 deg at 38e6619
+  // (deterministic: the same run to run). The bounds are issue 5's targets (0.05 m, 1 deg), not the
+  // measurement plus a margin; the failure they guard against, the missed loop, lands 27 times
+  // above them.
   EXPECT_LT(rel.translation.mean, 0.05);
   EXPECT_LT(rel.rotation_deg.mean, 1.0);
   const Crispness c = crispness(log, out);
@@ -190,12 +203,18 @@ TEST(Slam, EdmontonClosesLoopsOnItsSparseScans) {
   Result r = run("run configs/laser2d_carmen.yaml -o " + out.string() + " --set source.path=" +
                  log + " --set source.max_range=50 --set pipeline.graph.deterministic=true");
   ASSERT_EQ(r.code, 0) << r.out;
+  // Measured 282 accepted at 38e6619; before range_sigma, none. The bound only says that loops pass
+  // validation on these scans at all (a fraction of the measured count, which moves with every
+  // validator setting); how good they are is what the relations and crispness check.
   EXPECT_GT(jsonNumber(slurp((out / "run.json").string()), "loops_accepted"), 60);
   Trajectory est = readTrajectory((out / "trajectory.tum").string());
   Trajectory ref = readTrajectory((out / "reference.tum").string());
   RelationResult rel = evaluateRelations(est, relationsFromTrajectory(ref, 2.0));
-  EXPECT_LT(rel.translation.mean, 0.06);  // measured 0.0522 m
-  EXPECT_LT(rel.rotation_deg.mean, 1.0);  // measured 0.37 deg
+  // Measured 0.0522 m, 0.37 deg at 38e6619, the same run to run. 0.06 m sits just above the
+  // reference's own noise (about 0.05 m here): a tighter bound would test GMapping, not us. 1 deg
+  // is issue 5's.
+  EXPECT_LT(rel.translation.mean, 0.06);
+  EXPECT_LT(rel.rotation_deg.mean, 1.0);
   const Crispness c = crispness(log, out);
   const double c_ours = c.ours, c_ref = c.reference;
   EXPECT_LE(c_ours, c_ref) << "ours " << c_ours << " reference " << c_ref;  // 0.0488, 0.0518
@@ -225,6 +244,11 @@ TEST(Slam, FreiburgCampusStaysInOnePiece) {
     Trajectory ref = readTrajectory((out / "reference.tum").string());
     ASSERT_EQ(est.size(), 2008u);
     RelationResult rel = evaluateRelations(est, relationsFromTrajectory(ref, 2.0));
+    // Measured 0.073 m, 0.43 deg (shipped config, 38e6619) and 1.09 m, 2.6 deg (fallback_sigma
+    // 0.3), each the same run to run. The bounds are about twice those: on this aliasing-prone log
+    // another compiler, libm or CHOLMOD build may let a different set of loops pass, and twice the
+    // measurement stays far below every failure seen (0.61 m for the facade tie, 38 m when the
+    // rotation window was open, 1e12-cell maps when Gauss-Newton diverged). 1 deg is issue 5's.
     EXPECT_LT(rel.translation.mean, extra.empty() ? 0.15 : 2.0) << extra;
     EXPECT_LT(rel.rotation_deg.mean, extra.empty() ? 1.0 : 5.0) << extra;
     if (extra.empty()) {

@@ -19,6 +19,7 @@
 #include "run_config.h"
 #include "runner.h"
 #include "test_paths.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 using namespace plugslam;
@@ -69,8 +70,8 @@ TEST(IoOdometryPlugins, RegisterTheirTypes) {
 
 // Perfect odometry through WheelOdometry + PriorSlice reproduces the true path.
 TEST(IoOdometryPlugins, OdometryOnlyRunFollowsGroundTruth) {
-  const fs::path out = fs::temp_directory_path() / ("plugslam_ioodom_" + std::to_string(getpid()));
-  fs::remove_all(out);
+  const plugslam::testing::TempDir tmp("plugslam_ioodom");
+  const fs::path out = tmp.path() / "out";
   runtime::PluginManager plugins;
   auto run = runtime::buildRun(runtime::loadConfigText(runText("0.0"), "run.yaml"), plugins);
   runtime::RunOptions options;

@@ -1,12 +1,15 @@
 // The generic Multi-Aligner and Multi-Tracker on a synthetic landmark cue.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <optional>
 #include <random>
 
 #include "landmark_cue.h"
+#include "plugslam/localizer.h"
 #include "plugslam/multi_tracker.h"
+#include "plugslam/pipeline.h"
 #include "plugslam/registry.h"
 #include "plugslam/slice_check.h"
 
@@ -36,6 +39,15 @@ std::shared_ptr<MultiTracker<Space2D>> makeTracker(double split_distance) {
   tracker->splitter.assign(splitter);
   tracker->configure();
   return tracker;
+}
+
+// A pipeline that only tracks: it places each local map the tracker starts and composes the
+// frames' world poses, as every run does.
+std::unique_ptr<Pipeline> trackingOnly(std::shared_ptr<Tracker> tracker) {
+  auto pipeline = std::make_unique<Pipeline>();
+  pipeline->tracker.assign(std::move(tracker));
+  pipeline->configure();
+  return pipeline;
 }
 
 }  // namespace
@@ -154,6 +166,7 @@ TEST(MultiAligner, NoSliceOrNoDataIsInvalidNotACrash) {
 
 TEST(MultiTracker, TracksACircleAndSplitsLocalMaps) {
   auto tracker = makeTracker(1.0);
+  auto pipeline = trackingOnly(tracker);
   const Landmarks world = grid(1.5, 12.0);
   std::vector<Eigen::Isometry2d> truth;
   for (int i = 0; i < 200; ++i) {
@@ -167,7 +180,7 @@ TEST(MultiTracker, TracksACircleAndSplitsLocalMaps) {
     f.stamp = 0.1 * i;
     // Observations in the robot frame; the world frame of the estimate is the first pose's.
     f.measurement.set<Landmarks>("landmarks", observe(world, truth[i], 6.0));
-    tracker->track(f);
+    pipeline->process(f);
     ASSERT_TRUE(f.estimate.valid);
     Eigen::Isometry2d expected = truth[0].inverse() * truth[i];
     worst = std::max(worst, (Space2D::toVector(Space2D::from3D(f.estimate.world)) -
@@ -178,16 +191,51 @@ TEST(MultiTracker, TracksACircleAndSplitsLocalMaps) {
   // 31.4 m of travel with a split every metre.
   EXPECT_GT(tracker->stats().local_maps, 25u);
   EXPECT_EQ(tracker->stats().failed, 0u);
-  auto closed = tracker->takeClosed();
-  ASSERT_FALSE(closed.empty());
-  for (size_t k = 1; k < closed.size(); ++k) {
-    EXPECT_EQ(closed[k]->previous, closed[k - 1]->id);
-    EXPECT_EQ(closed[k]->information.rows(), 3);
+  const auto maps = pipeline->result().local_maps;
+  ASSERT_EQ(maps.size(), tracker->stats().local_maps);
+  for (size_t k = 1; k < maps.size(); ++k) {
+    EXPECT_EQ(maps[k]->previous, maps[k - 1]->id);
+    EXPECT_EQ(maps[k]->information.rows(), 3);
   }
+}
+
+TEST(MultiTracker, ReportsTheMapsItStartsAndCloses) {
+  // A split every metre at 0.1 m per frame: every 10th frame closes the map and starts the next;
+  // a reset closes the map at once and the next frame starts a new chain.
+  auto tracker = makeTracker(1.0);
+  const Landmarks world = grid(1.5, 12.0);
+  std::vector<std::shared_ptr<LocalMap>> started, closed;
+  for (int i = 0; i < 40; ++i) {
+    if (i == 25) tracker->reset();
+    Frame f;
+    f.seq = i;
+    f.stamp = 0.1 * i;
+    f.measurement.set<Landmarks>("landmarks", observe(world, se2(0.1 * i, 0, 0), 6.0));
+    const TrackEvents events = tracker->track(f);
+    if (events.started) {
+      started.push_back(events.started);
+      EXPECT_EQ(f.estimate.local_map, events.started->id) << i;
+    }
+    for (const auto& m : events.closed) {
+      // A map closes once, after it started, and never is the one the frame is in.
+      EXPECT_NE(m->id, f.estimate.local_map) << i;
+      EXPECT_TRUE(std::find(closed.begin(), closed.end(), m) == closed.end()) << i;
+      EXPECT_TRUE(std::find(started.begin(), started.end(), m) != started.end()) << i;
+      closed.push_back(m);
+    }
+  }
+  ASSERT_EQ(started.size(), tracker->stats().local_maps);
+  EXPECT_EQ(closed.size(), started.size() - 1);  // the last one is still open
+  for (size_t k = 0; k < started.size(); ++k) EXPECT_EQ(started[k]->id, static_cast<int64_t>(k));
+  // The map started after the reset follows none; the others follow their predecessor.
+  int chains = 0;
+  for (const auto& m : started) chains += m->previous < 0;
+  EXPECT_EQ(chains, 2);
 }
 
 TEST(MultiTracker, AFrameWithoutDataStartsANewMapAndTrackingGoesOn) {
   auto tracker = makeTracker(100.0);
+  auto pipeline = trackingOnly(tracker);
   const Landmarks world = grid(1.5, 12.0);
   for (int i = 0; i < 30; ++i) {
     Frame f;
@@ -195,7 +243,7 @@ TEST(MultiTracker, AFrameWithoutDataStartsANewMapAndTrackingGoesOn) {
     f.stamp = 0.1 * i;
     const Eigen::Isometry2d pose = se2(0.1 * i, 0, 0);
     if (i != 15) f.measurement.set<Landmarks>("landmarks", observe(world, pose, 6.0));
-    tracker->track(f);
+    pipeline->process(f);
     if (i > 16) {
       EXPECT_LT((f.estimate.world.translation().head<2>() - pose.translation()).norm(), 1e-6) << i;
     }
@@ -217,21 +265,25 @@ TEST(MultiTracker, EstimatesSayWhetherTheMapIsFrozenAndWhetherTheFrameWasLost) {
     return f;
   };
   auto mapper = makeTracker(1.0);
+  auto mapping = trackingOnly(mapper);
   for (int i = 0; i < 30; ++i) {
     Frame f = frameAt(i, i != 15);
-    mapper->track(f);
+    mapping->process(f);
     ASSERT_TRUE(f.estimate.valid);
     EXPECT_FALSE(f.estimate.frozen) << i;
     EXPECT_EQ(f.estimate.lost, i == 15) << i;
   }
-  std::vector<std::shared_ptr<const LocalMap>> maps;
-  for (const auto& m : mapper->takeClosed()) maps.push_back(m);
-  maps.push_back(mapper->current());
-  auto localizer = makeTracker(1.0);
-  localizer->localizeIn(maps);
+  // The session's maps, as a run saved and another loads them: localization swaps in the
+  // tracker's localizer.
+  std::vector<std::shared_ptr<LocalMap>> maps;
+  for (const auto& m : mapping->result().local_maps) maps.push_back(std::make_shared<LocalMap>(*m));
+  auto localizing = trackingOnly(makeTracker(1.0));
+  localizing->restoreSession(maps, {}, true);
+  ASSERT_TRUE(dynamic_cast<Localizer<Space2D>*>(localizing->tracker.get()));
+  const Tracker& localizer = *localizing->tracker;
   for (int i = 0; i < 30; ++i) {
     Frame f = frameAt(i, i != 20);
-    localizer->track(f);
+    localizing->process(f);
     ASSERT_TRUE(f.estimate.valid);
     EXPECT_TRUE(f.estimate.frozen) << i;
     EXPECT_EQ(f.estimate.lost, i == 20) << i;
@@ -241,7 +293,41 @@ TEST(MultiTracker, EstimatesSayWhetherTheMapIsFrozenAndWhetherTheFrameWasLost) {
           << i;
     }
   }
-  EXPECT_EQ(localizer->stats().failed, 1u);
+  EXPECT_EQ(localizer.stats().failed, 1u);
+  EXPECT_EQ(localizing->result().local_maps.size(), maps.size());  // nothing was created
+}
+
+namespace {
+
+// The path of the ParamError that configure() throws ("" if it throws none).
+std::string configureError(Configurable& tracker) {
+  try {
+    tracker.configure();
+  } catch (const ParamError& e) {
+    return e.path();
+  }
+  return "";
+}
+
+template <class S>
+void expectSlicesRequired() {
+  MultiTracker<S> tracker;
+  EXPECT_EQ(configureError(tracker), "aligner") << S::kSuffix;
+  tracker.aligner.assign(std::make_shared<MultiAligner<S>>());
+  EXPECT_EQ(configureError(tracker), "aligner.slices") << S::kSuffix;
+}
+
+}  // namespace
+
+// Item 17.7: without aligner slices no frame can be aligned; the tracker used to "track" every
+// frame at the prediction. That is a configuration error. Tracker slices are optional (an
+// odometry prior alone is dead reckoning and needs no map).
+TEST(MultiTracker, ATrackerWithoutAlignerSlicesIsAConfigurationError) {
+  expectSlicesRequired<Space2D>();
+  expectSlicesRequired<Space3D>();
+  auto tracker = makeTracker(1.0);
+  tracker->slices.clear();
+  EXPECT_EQ(configureError(*tracker), "");
 }
 
 TEST(MultiTracker, FallbackSigmaIsValidated) {
@@ -265,11 +351,13 @@ class ScriptedMotion : public MotionModel<Space2D> {
 
 // Drives along x at 0.1 m per frame; the motion model is right except at frame 15, where it
 // predicts 0.5 m too far (and at frame 20, where it predicts nothing). Returns the estimates.
-std::vector<Eigen::Isometry2d> driveWithABadPrediction(MultiTracker<Space2D>& tracker) {
+std::vector<Eigen::Isometry2d> driveWithABadPrediction(
+    const std::shared_ptr<MultiTracker<Space2D>>& tracker) {
   auto motion = std::make_shared<ScriptedMotion>();
   for (uint64_t i = 1; i < 30; ++i) motion->script[i] = se2(i == 15 ? 0.6 : 0.1, 0, 0);
   motion->script.erase(20);
-  tracker.motion.assign(motion);
+  tracker->motion.assign(motion);
+  auto pipeline = trackingOnly(tracker);
   const Landmarks world = grid(1.5, 12.0);
   std::vector<Eigen::Isometry2d> out;
   for (int i = 0; i < 30; ++i) {
@@ -277,7 +365,7 @@ std::vector<Eigen::Isometry2d> driveWithABadPrediction(MultiTracker<Space2D>& tr
     f.seq = i;
     f.stamp = 0.1 * i;
     f.measurement.set<Landmarks>("landmarks", observe(world, se2(0.1 * i, 0, 0), 6.0));
-    tracker.track(f);
+    pipeline->process(f);
     out.push_back(Space2D::from3D(f.estimate.world));
   }
   return out;
@@ -288,7 +376,7 @@ std::vector<Eigen::Isometry2d> driveWithABadPrediction(MultiTracker<Space2D>& tr
 TEST(MultiTracker, MaxCorrectionKeepsThePredictionWhenTheAlignmentMovesItTooFar) {
   // Without a limit the (exact) landmark alignment corrects the bad prediction.
   auto free = makeTracker(100.0);
-  auto estimates = driveWithABadPrediction(*free);
+  auto estimates = driveWithABadPrediction(free);
   EXPECT_EQ(free->stats().failed, 0u);
   EXPECT_NEAR(estimates[15].translation().x(), 1.5, 1e-6);
 
@@ -297,7 +385,7 @@ TEST(MultiTracker, MaxCorrectionKeepsThePredictionWhenTheAlignmentMovesItTooFar)
   auto limited = makeTracker(100.0);
   limited->max_correction = std::vector<double>{0.2, 0.5};
   limited->configure();
-  estimates = driveWithABadPrediction(*limited);
+  estimates = driveWithABadPrediction(limited);
   EXPECT_EQ(limited->stats().failed, 1u);
   EXPECT_NEAR(estimates[15].translation().x(), 2.0, 1e-6);
   // Tracking goes on from the kept prediction, 0.5 m off from there on.

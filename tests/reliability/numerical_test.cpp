@@ -8,6 +8,7 @@
 
 #include "landmark_cue.h"
 #include "plugslam/multi_tracker.h"
+#include "plugslam/pipeline.h"
 #include "plugslam/registry.h"
 
 namespace plugslam::testing {
@@ -37,6 +38,13 @@ std::shared_ptr<MultiTracker<Space2D>> makeTracker() {
   return tracker;
 }
 
+// A pipeline that only tracks: it places the local maps and composes the world pose.
+std::unique_ptr<Pipeline> trackingOnly(const std::shared_ptr<Tracker>& tracker) {
+  auto pipeline = std::make_unique<Pipeline>();
+  pipeline->tracker.assign(tracker);
+  return pipeline;
+}
+
 Eigen::Isometry2d se2(double x, double y, double a) {
   Eigen::Isometry2d t = Eigen::Isometry2d::Identity();
   t.translation() << x, y;
@@ -58,6 +66,7 @@ Landmarks onlyOne(Landmarks seen) {
 
 TEST(TrackerRobustness, UnsolvableFrameIsCountedAndStartsANewLocalMap) {
   auto tracker = makeTracker();
+  auto pipeline = trackingOnly(tracker);
   const Landmarks world = grid(1.5, 12.0);
   // After the failure the new local map is anchored at the motion prediction, so the world
   // estimate keeps that offset (only a back-end could remove it); tracking must still reproduce
@@ -71,7 +80,7 @@ TEST(TrackerRobustness, UnsolvableFrameIsCountedAndStartsANewLocalMap) {
     const Eigen::Isometry2d pose = se2(0.1 * i, 0.02 * i, 0.01 * i);
     Landmarks seen = observe(world, pose, 6.0);
     f.measurement.set<Landmarks>("landmarks", i == 20 ? onlyOne(seen) : seen);
-    tracker->track(f);
+    pipeline->process(f);
     ASSERT_TRUE(f.estimate.world.matrix().allFinite()) << "frame " << i;
     if (i > 22) {
       const Eigen::Isometry3d step = previous_estimate.inverse() * f.estimate.world;
@@ -94,6 +103,7 @@ TEST(TrackerRobustness, UnsolvableFrameIsCountedAndStartsANewLocalMap) {
 
 TEST(TrackerRobustness, OverflowingMeasurementsNeverReachTheEstimate) {
   auto tracker = makeTracker();
+  auto pipeline = trackingOnly(tracker);
   const Landmarks world = grid(1.5, 12.0);
   for (int i = 0; i < 30; ++i) {
     Frame f;
@@ -106,7 +116,7 @@ TEST(TrackerRobustness, OverflowingMeasurementsNeverReachTheEstimate) {
       for (auto& p : seen)
         if (p.allFinite()) p *= 1e200;
     f.measurement.set<Landmarks>("landmarks", seen);
-    tracker->track(f);
+    pipeline->process(f);
     ASSERT_TRUE(f.estimate.world.matrix().allFinite()) << "frame " << i;
     ASSERT_TRUE(f.estimate.in_map.matrix().allFinite()) << "frame " << i;
   }

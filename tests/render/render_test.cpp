@@ -18,6 +18,7 @@
 #include "render/figure.h"
 #include "render/run_pictures.h"
 #include "test_paths.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 using namespace plugslam;
@@ -30,14 +31,7 @@ constexpr double kRes = 0.05, kOx = -1, kOy = -2, kWallX = 3.0;
 constexpr int kW = 200, kH = 100;
 const Rgb kEstimateColour{31, 119, 180};
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string t = (fs::temp_directory_path() / "plugslam-render-XXXXXX").string();
-    path = mkdtemp(t.data());
-  }
-  ~TempDir() { fs::remove_all(path); }
-};
+using plugslam::testing::TempDir;  // a fresh folder per test, removed after
 
 // Around a 2 m x 1.5 m rectangle, 5 cm per pose, 0.1 s apart.
 std::vector<Eigen::Vector2d> rectangle() {
@@ -134,15 +128,15 @@ class Render : public ::testing::Test {
     return t;
   }();
   void SetUp() override {
-    writeRun(tmp.path, toTrajectory(path, Eigen::Isometry3d::Identity()),
+    writeRun(tmp.path(), toTrajectory(path, Eigen::Isometry3d::Identity()),
              toTrajectory(path, ref_world));
   }
 };
 
 TEST_F(Render, MapPictureDrawsTrajectoryLoopsAndMapWhereTheyAre) {
-  const auto written = renderRun(tmp.path.string(), tmp.path.string());
+  const auto written = renderRun(tmp.path().string(), tmp.path().string());
   ASSERT_EQ(written.size(), 4u);
-  const RunData run = loadRun(tmp.path.string());
+  const RunData run = loadRun(tmp.path().string());
   EXPECT_EQ(run.dimension, 2);
   EXPECT_EQ(run.nodes.size(), 4u);
   ASSERT_EQ(run.loop_ends.size(), 2u) << "one loop closure (2-0); odometry edges are not loops";
@@ -152,7 +146,7 @@ TEST_F(Render, MapPictureDrawsTrajectoryLoopsAndMapWhereTheyAre) {
   // Equal axes: one metre is as many pixels across as up.
   EXPECT_NEAR(p.width / (p.x_max - p.x_min), p.height / (p.y_max - p.y_min), 1e-6);
 
-  const Canvas png = readPng((tmp.path / "render_map.png").string());
+  const Canvas png = readPng((tmp.path() / "render_map.png").string());
   ASSERT_EQ(png.width(), fig.width);
   ASSERT_EQ(png.height(), fig.height);
   // The wall of the map is black at its place in metres.
@@ -178,7 +172,7 @@ TEST_F(Render, MapPictureDrawsTrajectoryLoopsAndMapWhereTheyAre) {
 
   // The SVG draws the same: the estimate polyline at the PNG's pixel positions, and the
   // reference (given in another frame, rotated by 0.5 rad and moved by (5, -3)) aligned onto it.
-  const std::string svg = slurp(tmp.path / "render_map.svg");
+  const std::string svg = slurp(tmp.path() / "render_map.svg");
   const auto est = svgPolyline(svg, "estimate"), ref = svgPolyline(svg, "reference");
   ASSERT_EQ(est.size(), path.size());
   ASSERT_EQ(ref.size(), path.size());
@@ -202,14 +196,14 @@ TEST_F(Render, ErrorPlotsShowTheErrorOfEachPose) {
     q.translation().y() += p.t < half ? 0.1 : 0.3;
     ref.push_back(p.t, q);
   }
-  writeTumTrajectory(ref, (tmp.path / "reference.tum").string());
+  writeTumTrajectory(ref, (tmp.path() / "reference.tum").string());
   RenderOptions o;
   o.alignment = Alignment::None;
-  const auto written = renderRun(tmp.path.string(), tmp.path.string(), o);
+  const auto written = renderRun(tmp.path().string(), tmp.path().string(), o);
   ASSERT_EQ(written.size(), 4u);
-  const Figure fig = errorFigure(loadRun(tmp.path.string(), o), o);
+  const Figure fig = errorFigure(loadRun(tmp.path().string(), o), o);
   ASSERT_EQ(fig.panels.size(), 4u) << "ATE/time, ATE/distance, RPE translation, RPE rotation";
-  const Canvas png = readPng((tmp.path / "render_errors.png").string());
+  const Canvas png = readPng((tmp.path() / "render_errors.png").string());
   ASSERT_EQ(png.width(), fig.width);
   ASSERT_EQ(png.height(), fig.height);
   const Panel& p = fig.panels[0];
@@ -226,34 +220,34 @@ TEST_F(Render, ErrorPlotsShowTheErrorOfEachPose) {
     EXPECT_NEAR(value, t < half ? 0.1 : 0.3, 2 * per_px) << "t = " << t;
   }
   // The SVG curve has one point per associated pose.
-  const std::string svg = slurp(tmp.path / "render_errors.svg");
+  const std::string svg = slurp(tmp.path() / "render_errors.svg");
   EXPECT_EQ(svgPolyline(svg, "ate-time").size(), est.size());
   EXPECT_EQ(svgPolyline(svg, "ate-distance").size(), est.size());
   EXPECT_FALSE(svgPolyline(svg, "rpe-translation").empty());
 }
 
 TEST_F(Render, WithoutReferenceOnlyTheMapIsDrawn) {
-  fs::remove(tmp.path / "reference.tum");
-  const auto written = renderRun(tmp.path.string(), (tmp.path / "pictures").string());
+  fs::remove(tmp.path() / "reference.tum");
+  const auto written = renderRun(tmp.path().string(), (tmp.path() / "pictures").string());
   ASSERT_EQ(written.size(), 2u);
-  EXPECT_TRUE(fs::exists(tmp.path / "pictures" / "render_map.png"));
-  EXPECT_FALSE(fs::exists(tmp.path / "pictures" / "render_errors.png"));
-  EXPECT_THROW(errorFigure(loadRun(tmp.path.string())), InputError);
+  EXPECT_TRUE(fs::exists(tmp.path() / "pictures" / "render_map.png"));
+  EXPECT_FALSE(fs::exists(tmp.path() / "pictures" / "render_errors.png"));
+  EXPECT_THROW(errorFigure(loadRun(tmp.path().string())), InputError);
 }
 
 TEST_F(Render, BadInputNamesTheFile) {
-  fs::remove(tmp.path / "trajectory.tum");
+  fs::remove(tmp.path() / "trajectory.tum");
   try {
-    loadRun(tmp.path.string());
+    loadRun(tmp.path().string());
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("trajectory.tum"), std::string::npos) << e.what();
   }
   writeTumTrajectory(toTrajectory(path, Eigen::Isometry3d::Identity()),
-                     (tmp.path / "trajectory.tum").string());
-  std::ofstream(tmp.path / "map.pgm") << "P6\n1 1\n255\n";
+                     (tmp.path() / "trajectory.tum").string());
+  std::ofstream(tmp.path() / "map.pgm") << "P6\n1 1\n255\n";
   try {
-    loadRun(tmp.path.string());
+    loadRun(tmp.path().string());
     FAIL() << "expected InputError";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("map.pgm"), std::string::npos) << e.what();
@@ -283,12 +277,12 @@ TEST(RenderCanvas, PngRoundTripsAndTextIsDrawn) {
   for (int y = 0; y < 16; ++y)
     for (int x = 0; x < 60; ++x) dark += c.at(x, y).r == 0;
   EXPECT_GT(dark, 20) << "the glyphs put dots on the canvas";
-  writePng((tmp.path / "c.png").string(), c);
-  const Canvas back = readPng((tmp.path / "c.png").string());
+  writePng((tmp.path() / "c.png").string(), c);
+  const Canvas back = readPng((tmp.path() / "c.png").string());
   ASSERT_EQ(back.width(), 60);
   ASSERT_EQ(back.height(), 20);
   EXPECT_EQ(back.samples(), c.samples());
-  EXPECT_THROW(readPng((tmp.path / "missing.png").string()), InputError);
+  EXPECT_THROW(readPng((tmp.path() / "missing.png").string()), InputError);
 }
 
 // `plugslam ARGS` as a user runs it: its exit code, and stdout and stderr in `out`.
@@ -309,11 +303,11 @@ TEST_F(Render, CommandLine) {
     return plugslamCli("render " + args, out);
   };
   std::string out;
-  ASSERT_EQ(run(tmp.path.string() + " --width 640", out), 0) << out;
+  ASSERT_EQ(run(tmp.path().string() + " --width 640", out), 0) << out;
   EXPECT_NE(out.find("render_map.png"), std::string::npos) << out;
   EXPECT_NE(out.find("render_errors.svg"), std::string::npos) << out;
-  EXPECT_LE(readPng((tmp.path / "render_map.png").string()).width(), 640);
-  EXPECT_EQ(run((tmp.path / "nowhere").string(), out), 2) << out;
+  EXPECT_LE(readPng((tmp.path() / "render_map.png").string()).width(), 640);
+  EXPECT_EQ(run((tmp.path() / "nowhere").string(), out), 2) << out;
   EXPECT_NE(out.find("is not a folder"), std::string::npos) << out;
 }
 

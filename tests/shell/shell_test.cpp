@@ -13,8 +13,10 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <optional>
 
 #include "test_paths.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -58,17 +60,13 @@ void expectHas(const std::string& s, const std::string& part) {
 class ShellTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("plugslam_shell_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    tmp_.emplace("plugslam_shell");  // a fresh folder of this test's own
+    dir_ = tmp_->path();
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  void TearDown() override { tmp_.reset(); }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
   std::string write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return path(name);
+    return tmp_->write(name, text);  // checked
   }
   // The lmsim pipeline (tests/shell/lmsim.yaml) with `laps` laps.
   std::string lmsimConfig(double laps) {
@@ -82,6 +80,7 @@ class ShellTest : public ::testing::Test {
     return sh("PLUGSLAM_PLUGIN_PATH=" + pluginDir() + " " + bin() + " shell -o " + path("out") +
               " < " + path("script.txt"));
   }
+  std::optional<plugslam::testing::TempDir> tmp_;
   fs::path dir_;
 };
 
@@ -170,6 +169,9 @@ TEST_F(ShellTest, EveryCommandThroughStdin) {
   expectHas(r.out, "resumed");
   expectHas(r.out, "run finished (stopped)");
   expectHas(r.out, "run finished (end of data)");
+  // Item 17.16: the shell names the reference entry as the CLI does, not "ground truth".
+  expectHas(r.out, "against 'ground_truth': ATE rmse");
+  EXPECT_EQ(r.out.find("against ground truth"), std::string::npos);
   expectHas(r.out, "state: finished");
   expectHas(r.out, "saved session " + path("s1"));
   expectHas(r.out, "loaded session " + path("s1"));
@@ -192,6 +194,23 @@ TEST_F(ShellTest, EveryCommandThroughStdin) {
     EXPECT_TRUE(fs::exists(dir_ / "s1" / f)) << f;
   // Nothing after quit ran.
   EXPECT_EQ(r.out.find("> status", r.out.find("> quit")), std::string::npos);
+}
+
+// `rate R` paces the shell's runs by the frames' stamps (lmsim: 10 Hz): 11 frames are 1.0 s of
+// data, so at rate 2 `step 11` takes at least 0.5 s (a lower bound: the pacing only waits).
+TEST_F(ShellTest, RatePacesTheRunByItsStamps) {
+  const std::string cfg = lmsimConfig(0.3);
+  const auto start = std::chrono::steady_clock::now();
+  Result r = shell("load " + cfg + "\nrate\nrate 2\nrate\nstep 11\nrate -1\nrate fast\nrate 0\nstop\n");
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(r.code, 1) << r.out;  // two bad rates
+  expectHas(r.out, "rate 0 (as fast as possible)");
+  expectHas(r.out, "> rate\nrate 2\n");
+  expectHas(r.out, "paused at frame 11");
+  expectHas(r.out, "error: rate: expected a number >= 0");
+  expectHas(r.out, "got 'fast'");
+  EXPECT_EQ(count(r.out, "error:"), 2u) << r.out;
+  EXPECT_GE(wall, 0.5) << r.out;
 }
 
 TEST_F(ShellTest, ErrorsLeaveTheShellAliveAndTheStateIntact) {
@@ -244,14 +263,14 @@ TEST_F(ShellTest, ErrorsLeaveTheShellAliveAndTheStateIntact) {
   expectHas(r.out, "error: unknown command 'frobnicate'");
   expectHas(r.out, "error: no config loaded (load CONFIG)");
   expectHas(r.out, "error: cannot open config file '/nonexistent/config.yaml'");
-  expectHas(r.out, "error: --set source.laps=-1: source.laps: ");
+  expectHas(r.out, "error: set source.laps -1: source.laps: ");  // what was typed, not --set
   expectHas(r.out, "did you mean 'sigma'?");
   expectHas(r.out, "error: no parameter or module 'nope'");
   expectHas(r.out, "the list has 1 modules");
   expectHas(r.out, "has no action 'nope'");
   expectHas(r.out, "error: no module 'nomodule'");
   expectHas(r.out,
-            "'sdk.DistanceSplitter' is a Splitter, but '" + slice + "' takes a AlignerSlice2D");
+            "'sdk.DistanceSplitter' is a Splitter, but '" + slice + "' takes an AlignerSlice2D");
   expectHas(r.out, "error: unknown type 'lmsim.NoSuchSlice'");
   expectHas(r.out, "error: expected a positive number of frames, got '0'");
   expectHas(r.out, "error: no run in progress");
@@ -383,6 +402,10 @@ TEST_F(ShellTest, InterruptedRunLeavesALoadableSession) {
   expectHas(log, "Ctrl-C again quits now");
   expectHas(log, "interrupted at frame");
   expectHas(log, "session saved in " + out + "/session");
+  // Item 17.15: --session adds a new run to the session; the message does not call it a resume.
+  expectHas(log, "It is not a point to resume from: `plugslam run CONFIG --session " + out +
+                     "/session` adds a new run's maps to it");
+  EXPECT_EQ(log.find("continue with"), std::string::npos) << log;
   EXPECT_FALSE(std::filesystem::exists(out + "/session.new")) << "the atomic save left its copy";
   EXPECT_NE(readFile(out + "/run.json").find("\"stopped_by\": \"interrupted\""), std::string::npos);
   // The session loads and a run extends it.

@@ -9,6 +9,7 @@
 
 #include "plugslam/errors.h"
 #include "plugslam/solver/pose_factors.h"
+#include "temp_dir.h"
 
 using namespace plugslam;
 
@@ -93,7 +94,8 @@ TEST(GraphIo, RoundTrip2DAnd3D) {
             a * a.transpose() + Eigen::Matrix<double, 6, 6>::Identity());
       }
     }
-    const std::string path = ::testing::TempDir() + "/roundtrip" + std::to_string(dim) + ".g2o";
+    const plugslam::testing::TempDir tmp;
+    const std::string path = tmp.file("roundtrip" + std::to_string(dim) + ".g2o");
     EXPECT_EQ(writeGraphFile(path, g), 0u);
     FactorGraph r;
     const GraphFileInfo info = readGraphFile(path, r);

@@ -453,7 +453,7 @@ TEST(Optimizer, AutoKeepsTheBlockPathOnSparseFillAndLeavesItOnDenseFill) {
     const OptimizeResult r = optimizer.optimize(g);
     EXPECT_TRUE(r.ok()) << toString(r.reason);
     EXPECT_LT(r.final_chi2, 1e-6 * r.initial_chi2);
-    // On the reference BLAS the block kernels win at any fill (docs/architecture.md).
+    // On the reference BLAS the block kernels win at any fill (docs/benchmarks.md, History).
     const Factorization expected = f == Factorization::kAuto && hasOptimizedBlas()
                                        ? Factorization::kSupernodal
                                        : Factorization::kBlock;

@@ -2,6 +2,7 @@
 // known g2o chi2 of each graph (issue 3), so a broken initialisation or convergence fails.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -9,15 +10,15 @@
 
 #include "plugslam/errors.h"
 #include "plugslam/solver/optimize_graph_file.h"
+#include "temp_dir.h"
+#include "test_paths.h"
 
 using namespace plugslam;
 
 namespace {
 
 std::string dataFile(const std::string& rel) {
-  const char* root = std::getenv("PLUGSLAM_DATA");
-  if (!root) return {};
-  const std::string path = std::string(root) + "/" + rel;
+  const std::string path = plugslam::testing::dataDir() + "/" + rel;
   return std::filesystem::exists(path) ? path : std::string();
 }
 
@@ -28,6 +29,18 @@ struct Case {
 };
 
 class PoseGraphData : public ::testing::TestWithParam<Case> {};
+
+// "posegraph/se-sync/kitti_00.g2o" with LM -> "kitti_00_lm": letters, digits and '_' only.
+std::string caseName(const Case& c) {
+  std::string stem = std::filesystem::path(c.file).stem().string();
+  for (char& ch : stem)
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  return stem + (c.algorithm == Algorithm::kGaussNewton ? "_gn" : "_lm");
+}
+
+// What GoogleTest prints as GetParam() (gtest_discover_tests puts it in the ctest name): the
+// case's name, not the struct's bytes (a pointer among them).
+void PrintTo(const Case& c, std::ostream* os) { *os << caseName(c); }
 
 }  // namespace
 
@@ -57,7 +70,10 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"posegraph/se-sync/MIT.g2o", 526.33, Algorithm::kGaussNewton},
         Case{"posegraph/se-sync/manhattan.g2o", 3549.0 * 1.001, Algorithm::kGaussNewton},
         Case{"posegraph/se-sync/kitti_00.g2o", 98.322 * 1.001, Algorithm::kLevenbergMarquardt},
-        Case{"posegraph/se-sync/sphere2500.g2o", 727.15 * 1.001, Algorithm::kGaussNewton}));
+        Case{"posegraph/se-sync/sphere2500.g2o", 727.15 * 1.001, Algorithm::kGaussNewton}),
+    // Named by graph and solver ("intel_gn"): the default name printed the struct's bytes, a
+    // heap address among them, so the test names changed with every build.
+    [](const ::testing::TestParamInfo<Case>& info) { return caseName(info.param); });
 
 TEST(PoseGraphDataFile, OdometryStartOnMitStopsInTheKnownLocalMinimum) {
   // The file's own poses lead GN to g2o GN's local minimum (770.66): chordal exists for this.
@@ -84,9 +100,10 @@ TEST(PoseGraphDataFile, BestOfKeepsTheLowerMinimum) {
 TEST(PoseGraphDataFile, WritesTheOptimisedGraph) {
   const std::string path = dataFile("posegraph/se-sync/tinyGrid3D.g2o");
   if (path.empty()) GTEST_SKIP() << "PLUGSLAM_DATA/posegraph/se-sync/tinyGrid3D.g2o not available";
+  const plugslam::testing::TempDir tmp;
   OptimizeOptions o;
   o.input = path;
-  o.output = ::testing::TempDir() + "/tiny_out.g2o";
+  o.output = tmp.file("tiny_out.g2o");
   const OptimizeReport r = optimizeGraphFile(o);
   o.input = o.output;
   o.output.clear();
@@ -112,13 +129,12 @@ TEST(PoseGraphDataFile, SeSyncWeightsReachTheCertifiedOptimum) {
 }
 
 TEST(PoseGraphDataFile, NonPositiveDefiniteInformationNeedsProjection) {
-  const std::string path = ::testing::TempDir() + "/nonpd.g2o";
-  {
-    std::ofstream out(path);
-    out << "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 2 2 0 0\n"
-           "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 -1\nEDGE_SE2 1 2 1 0 0 1 0 0 1 0 1\n"
-           "EDGE_SE2 0 2 2 0 0.1 1 0 0 1 0 1\n";
-  }
+  const plugslam::testing::TempDir tmp;
+  const std::string path =
+      tmp.write("nonpd.g2o",
+                "VERTEX_SE2 0 0 0 0\nVERTEX_SE2 1 1 0 0\nVERTEX_SE2 2 2 0 0\n"
+                "EDGE_SE2 0 1 1 0 0 1 0 0 1 0 -1\nEDGE_SE2 1 2 1 0 0 1 0 0 1 0 1\n"
+                "EDGE_SE2 0 2 2 0 0.1 1 0 0 1 0 1\n");
   OptimizeOptions o;
   o.input = path;
   try {

@@ -14,8 +14,11 @@
 #include <sstream>
 #include <string>
 #include <vector>
+#include <optional>
 
 #include "plugslam/errors.h"
+#include "temp_dir.h"
+#include "test_paths.h"
 
 namespace fs = std::filesystem;
 using plugslam::InputError;
@@ -33,17 +36,13 @@ constexpr double kPi = 3.14159265358979323846;
 class CarmenReaderTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("plugslam_carmen_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
+    tmp_.emplace("plugslam_carmen");  // a fresh folder of this test's own
+    dir_ = tmp_->path();
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  void TearDown() override { tmp_.reset(); }
 
   std::string write(const std::string& name, const std::string& text) {
-    std::string p = (dir_ / name).string();
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
+    return tmp_->write(name, text);  // checked
   }
   std::string writeGz(const std::string& name, const std::string& text) {
     std::string p = (dir_ / name).string();
@@ -52,6 +51,8 @@ class CarmenReaderTest : public ::testing::Test {
     gzclose(f);
     return p;
   }
+
+  std::optional<plugslam::testing::TempDir> tmp_;
 
   fs::path dir_;
 };
@@ -519,8 +520,7 @@ struct RealLog {
 };
 
 TEST(CarmenReaderRealData, ReadsEveryLog) {
-  const char* root = std::getenv("PLUGSLAM_DATA");
-  if (!root) GTEST_SKIP() << "PLUGSLAM_DATA is not set";
+  const std::string root = plugslam::testing::dataDir();
   // Counts from the SOURCE.md of each log (computed there with awk).
   const RealLog logs[] = {
       {"laser2d/edmonton-gfs-corrected/edmonton-corrected.log.gz", 340, 6351, 21, 180},

@@ -12,6 +12,7 @@
 #include "plugslam/errors.h"
 #include "plugslam/geometry.h"
 #include "test_paths.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 using plugslam::Frame;
@@ -23,9 +24,8 @@ using plugslam::io::CarmenSource;
 namespace {
 
 std::string writeLog(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + "/" + std::to_string(::getpid()) + "_" + name;
-  std::ofstream(path) << text;
-  return path;
+  static const plugslam::testing::TempDir tmp;  // this test process's own folder
+  return tmp.write(name, text);
 }
 
 void expectPose(const Eigen::Isometry2d& expected, const Eigen::Isometry2d& actual,

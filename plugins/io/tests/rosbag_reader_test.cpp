@@ -15,6 +15,7 @@
 #include <random>
 #include <string>
 #include <vector>
+#include <optional>
 
 #include "plugslam/errors.h"
 #include "readers/ros_messages.h"
@@ -25,6 +26,8 @@ using plugslam::ParseError;
 using namespace plugslam::io;  // test file only
 
 #include "bag_bytes.h"
+#include "temp_dir.h"
+#include "test_paths.h"
 
 namespace {
 
@@ -97,16 +100,12 @@ const char* kMagic = "#ROSBAG V2.0\n";
 class RosbagReaderTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("plugslam_rosbag_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
+    tmp_.emplace("plugslam_rosbag");  // a fresh folder of this test's own
+    dir_ = tmp_->path();
   }
-  void TearDown() override { fs::remove_all(dir_); }
+  void TearDown() override { tmp_.reset(); }
   std::string write(const std::string& name, const std::string& bytes) {
-    std::string p = (dir_ / name).string();
-    std::ofstream(p, std::ios::binary) << bytes;
-    return p;
+    return tmp_->write(name, bytes);  // checked
   }
   // A bag with /scan (conn 0) and /odom (conn 1) messages split over two chunks.
   std::string smallBag(const std::string& how) {
@@ -122,6 +121,7 @@ class RosbagReaderTest : public ::testing::Test {
     return kMagic + bagHeader() + chunk(c1, how) + index + chunk(c2, how) +
            connection(0, "/scan", kLaserScanType, kLaserScanMd5);
   }
+  std::optional<plugslam::testing::TempDir> tmp_;
   fs::path dir_;
 };
 
@@ -367,8 +367,7 @@ TEST_F(RosbagReaderTest, WrongTypeOrUnknownConnection) {
 }
 
 TEST(RosbagReaderRealData, DisUndergroundBag) {
-  const char* root = std::getenv("PLUGSLAM_DATA");
-  if (!root) GTEST_SKIP() << "PLUGSLAM_DATA is not set";
+  const std::string root = plugslam::testing::dataDir();
   fs::path p = fs::path(root) / "laser2d/dis-underground-rosbag/dis-underground.bag";
   if (!fs::exists(p)) GTEST_SKIP() << p << " is absent";
   auto t0 = std::chrono::steady_clock::now();

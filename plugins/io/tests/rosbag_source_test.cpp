@@ -23,6 +23,7 @@ using plugslam::Odometry2D;
 using plugslam::io::RosbagSource;
 
 #include "bag_bytes.h"
+#include "temp_dir.h"
 
 namespace {
 
@@ -68,9 +69,8 @@ std::string syntheticBag() {
       record(op(3) + field("index_pos", u64(0)) + field("conn_count", u32(0)) +
                  field("chunk_count", u32(0)),
              std::string(64, ' '));
-  const std::string path = ::testing::TempDir() + "/" + std::to_string(::getpid()) + "_sync.bag";
-  std::ofstream(path, std::ios::binary) << "#ROSBAG V2.0\n" << bag_header << chunk;
-  return path;
+  static const plugslam::testing::TempDir tmp;  // this test process's own folder
+  return tmp.write("sync.bag", "#ROSBAG V2.0\n" + bag_header + chunk);
 }
 
 std::string disBag() {

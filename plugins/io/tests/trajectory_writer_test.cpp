@@ -8,6 +8,7 @@
 
 #include "plugslam/errors.h"
 #include "plugslam/geometry.h"
+#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 using plugslam::RunResult;
@@ -27,9 +28,10 @@ RunResult sampleResult() {
   return r;
 }
 
+// A folder inside this test process's own fresh temporary folder.
 std::string outDir(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("plugslam_tw_" + std::to_string(::getpid()) + "_" + name);
+  static const plugslam::testing::TempDir tmp("plugslam_tw");
+  const fs::path dir = tmp.path() / name;
   fs::create_directories(dir);
   return dir.string();
 }
@@ -68,14 +70,58 @@ TEST(TrajectoryWriter, WritesKittiWithTimes) {
   fs::remove_all(dir);
 }
 
+// Item 17.18: plugins/io/README.md's `trajectory: reference` writes the pipeline's reference (and
+// `ground_truth`, which the README once named, is refused).
+TEST(TrajectoryWriter, WritesTheReferenceWhenAsked) {
+  const std::string dir = outDir("reference");
+  TrajectoryWriter w;
+  EXPECT_THROW(w.trajectory = std::string("ground_truth"), plugslam::ValueError);
+  w.trajectory = std::string("reference");
+  w.file = std::string("reference.tum");
+  w.configure();
+  w.begin(dir);
+  RunResult r;
+  r.reference = sampleResult().trajectory;  // the estimate stays empty
+  w.end(r);
+  expectSame(r.reference, plugslam::readTumTrajectory(dir + "/reference.tum"));
+  fs::remove_all(dir);
+}
+
 TEST(TrajectoryWriter, RejectsBadSettings) {
   TrajectoryWriter w;
   EXPECT_THROW(w.format = std::string("csv"), plugslam::ValueError);
   w.times_file = std::string("times.txt");
   EXPECT_THROW(w.configure(), plugslam::ParamError);
-  w.times_file = std::string("");
-  w.file = std::string("");
-  EXPECT_THROW(w.configure(), plugslam::ParamError);
+}
+
+// Item 17.9: with no `file:`, the name follows the format.
+TEST(TrajectoryWriter, DefaultFileNameFollowsTheFormat) {
+  const std::string dir = outDir("kitti_default");
+  TrajectoryWriter w;
+  w.format = std::string("kitti");
+  w.configure();
+  w.begin(dir);
+  const RunResult r = sampleResult();
+  w.end(r);
+  EXPECT_EQ(w.outputPath(), dir + "/trajectory.kitti");
+  EXPECT_FALSE(fs::exists(dir + "/trajectory.tum"));
+  // KITTI rows are poses only (no times file here): the poses come back, the stamps do not.
+  const Trajectory back = plugslam::readTrajectory(dir + "/trajectory.kitti");
+  ASSERT_EQ(back.size(), r.trajectory.size());
+  for (size_t i = 0; i < back.size(); ++i)
+    EXPECT_TRUE(back[i].pose.isApprox(r.trajectory[i].pose, 1e-8)) << "pose " << i;
+  fs::remove_all(dir);
+}
+
+// Item 17.11: a run that estimated no pose (no tracker) writes no empty trajectory file.
+TEST(TrajectoryWriter, AnEmptyTrajectoryIsNotWritten) {
+  const std::string dir = outDir("empty");
+  TrajectoryWriter w;
+  w.configure();
+  w.begin(dir);
+  w.end(RunResult{});
+  EXPECT_FALSE(fs::exists(dir + "/trajectory.tum"));
+  fs::remove_all(dir);
 }
 
 TEST(TrajectoryWriter, UnwritableFolderIsAnInputError) {

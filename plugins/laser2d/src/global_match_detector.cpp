@@ -145,25 +145,10 @@ std::vector<LoopCandidate> GlobalMatchDetector::detect(const GraphView& view,
   const auto* query_cloud = scene.find(query.scene);
   if (!query_cloud || query_cloud->empty()) return out;
 
-  const Eigen::Vector3d at = view.origins.at(query.id).translation();
-  const auto gate = [&](double since) { return std::min(max_radius(), radius() + drift() * since); };
-  std::vector<std::pair<double, int64_t>> near;
-  for (int64_t id = 0; id < query.id; ++id) {
-    const double since = here - view.travelled[id];
-    if (since < min_travel()) continue;
-    const double d = (view.origins[id].translation() - at).norm();
-    if (d <= gate(since)) near.emplace_back(d, id);
-  }
-  if (near.empty()) return out;
-  std::sort(near.begin(), near.end());
-  std::vector<int64_t> chosen;
-  for (const auto& [d, id] : near) {
-    if (static_cast<int>(chosen.size()) >= max_candidates()) break;
-    bool spaced = true;
-    for (int64_t c : chosen)
-      spaced = spaced && std::abs(view.travelled[c] - view.travelled[id]) >= candidate_spacing();
-    if (spaced) chosen.push_back(id);
-  }
+  const DriftGate gate{radius(), drift(), max_radius(), min_travel()};
+  const auto chosen =
+      spreadAlongPath(view, gate.near(view, query.id), max_candidates(), candidate_spacing());
+  if (chosen.empty()) return out;
   last_query_ = here;
 
   const double r = resolution();
@@ -174,11 +159,11 @@ std::vector<LoopCandidate> GlobalMatchDetector::detect(const GraphView& view,
   points = voxelFilter(points, r);
   if (points.empty()) return out;
 
-  for (int64_t id : chosen) {
+  for (const auto& [distance, id] : chosen) {
     const double since = here - view.travelled[id];
     const auto grid = gridOf(view, id, query.id);
     CorrelativeOptions o;
-    o.linear_window = gate(since);
+    o.linear_window = gate.radiusAt(since);
     o.angular_window = std::min(max_angular_window(), angular_window() + angular_drift() * since);
     o.min_score = min_score();
     o.min_score_margin = min_score_margin();

@@ -11,8 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "correlative_validator.h"
-#include "plugslam/graph_slam.h"
+#include "correlative_matcher.h"
+#include "plugslam/drift_gate.h"
+#include "plugslam/entry.h"
+#include "plugslam/loop_closure.h"
+#include "point_cloud2d.h"
 
 namespace plugslam {
 namespace laser2d {

@@ -1,7 +1,5 @@
 #include "occupancy_grid.h"
 
-#include <zlib.h>
-
 #include <cmath>
 #include <cstdlib>
 
@@ -133,51 +131,6 @@ bool TiledOccupancyGrid::traceRay(const Eigen::Vector2d& from, const Eigen::Vect
 std::string encodePgm(const std::vector<uint8_t>& pixels, int width, int height) {
   std::string out = "P5\n" + std::to_string(width) + " " + std::to_string(height) + "\n255\n";
   out.append(reinterpret_cast<const char*>(pixels.data()), pixels.size());
-  return out;
-}
-
-namespace {
-void putU32(std::string& s, uint32_t v) {
-  s.push_back(static_cast<char>(v >> 24));
-  s.push_back(static_cast<char>(v >> 16));
-  s.push_back(static_cast<char>(v >> 8));
-  s.push_back(static_cast<char>(v));
-}
-
-void chunk(std::string& out, const char* type, const std::string& data) {
-  putU32(out, static_cast<uint32_t>(data.size()));
-  const std::string body = std::string(type, 4) + data;
-  out += body;
-  putU32(out,
-         static_cast<uint32_t>(crc32(0, reinterpret_cast<const Bytef*>(body.data()), body.size())));
-}
-}  // namespace
-
-std::string encodePng(const std::vector<uint8_t>& pixels, int width, int height) {
-  if (width <= 0 || height <= 0 || pixels.size() != static_cast<size_t>(width) * height)
-    throw InputError("PNG: expected width * height pixels");
-  std::string raw;
-  raw.reserve(static_cast<size_t>(width + 1) * height);
-  for (int y = 0; y < height; ++y) {
-    raw.push_back('\0');  // filter type: none
-    raw.append(reinterpret_cast<const char*>(pixels.data()) + static_cast<size_t>(y) * width,
-               width);
-  }
-  uLongf size = compressBound(raw.size());
-  std::string deflated(size, '\0');
-  if (compress2(reinterpret_cast<Bytef*>(deflated.data()), &size,
-                reinterpret_cast<const Bytef*>(raw.data()), raw.size(), 6) != Z_OK)
-    throw Error("PNG: zlib compression failed");
-  deflated.resize(size);
-
-  std::string out("\x89PNG\r\n\x1a\n", 8);
-  std::string ihdr;
-  putU32(ihdr, static_cast<uint32_t>(width));
-  putU32(ihdr, static_cast<uint32_t>(height));
-  ihdr += std::string("\x08\x00\x00\x00\x00", 5);  // 8-bit grayscale, deflate, no interlace
-  chunk(out, "IHDR", ihdr);
-  chunk(out, "IDAT", deflated);
-  chunk(out, "IEND", "");
   return out;
 }
 

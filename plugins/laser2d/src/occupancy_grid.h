@@ -136,8 +136,6 @@ class TiledOccupancyGrid {
 
 /// Encodes an 8-bit grayscale image as binary PGM (P5).
 std::string encodePgm(const std::vector<uint8_t>& pixels, int width, int height);
-/// Encodes an 8-bit grayscale image as PNG (zlib deflate, no filter).
-std::string encodePng(const std::vector<uint8_t>& pixels, int width, int height);
 
 }  // namespace laser2d
 }  // namespace plugslam

@@ -9,6 +9,7 @@
 #include "occupancy_grid.h"
 #include "plugslam/atomic_file.h"
 #include "plugslam/geometry.h"
+#include "plugslam/png.h"
 #include "plugslam/pose_space.h"
 #include "point_cloud2d.h"
 
@@ -25,6 +26,7 @@ void OccupancyMapWriter::begin(const std::string& out_dir) {
   traced_.reset();
   traced_frames_ = 0;
   last_traced_valid_ = false;
+  last_map_ = kNoMap;
 }
 
 OccupancyMapWriter::OccupancyMapWriter() {
@@ -78,7 +80,69 @@ std::vector<const PointCloud2D*> OccupancyMapWriter::cloudsOf(const Frame& frame
   return out;
 }
 
+void OccupancyMapWriter::publishGrid(int64_t map, double stamp) {
+  auto it = by_map_.find(map);
+  if (it == by_map_.end() || !grid_channel_.wanted()) return;
+  // The scans in the map's frame, copied: the grid is traced later, on the viewer's thread. A
+  // viewer's cell is at least 10 cm: finer shows nothing more on a screen-sized map and costs
+  // four times the bytes per halving.
+  struct Scan {
+    SE2 pose;
+    Eigen::Vector2d origin;
+    std::vector<float> xy;
+  };
+  auto scans = std::make_shared<std::vector<Scan>>();
+  for (size_t i : it->second) {
+    const KeptScan& k = scans_[i];
+    scans->push_back(Scan{se2(k.in_map[0], k.in_map[1], k.in_map[2]),
+                          Eigen::Vector2d(k.origin[0], k.origin[1]), k.xy});
+  }
+  view::Grid grid;
+  grid.stamp = stamp;
+  grid.frame = "map/" + std::to_string(map);
+  const double resolution = std::max(this->resolution(), 0.1);
+  grid.fill = [scans, resolution](view::Grid& g) {
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector2d hi = -lo;
+    for (const auto& s : *scans) {
+      const Eigen::Vector2d o = s.pose * s.origin;
+      lo = lo.cwiseMin(o);
+      hi = hi.cwiseMax(o);
+      for (size_t k = 0; k + 1 < s.xy.size(); k += 2) {
+        const Eigen::Vector2d p = s.pose * Eigen::Vector2d(s.xy[k], s.xy[k + 1]);
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+    }
+    if (!(lo.x() <= hi.x())) return;
+    OccupancyGrid occupancy(resolution, lo, hi);
+    for (const auto& s : *scans) {
+      const Eigen::Vector2d o = s.pose * s.origin;
+      for (size_t k = 0; k + 1 < s.xy.size(); k += 2)
+        occupancy.traceRay(o, s.pose * Eigen::Vector2d(s.xy[k], s.xy[k + 1]));
+    }
+    g.cell_size = resolution;
+    g.width = occupancy.width();
+    g.height = occupancy.height();
+    g.pose = Eigen::Isometry3d::Identity();
+    g.pose.translation() << occupancy.origin().x(), occupancy.origin().y(), 0;
+    g.cells.resize(static_cast<size_t>(g.width) * g.height);
+    for (int y = 0; y < g.height; ++y)
+      for (int x = 0; x < g.width; ++x)
+        g.cells[static_cast<size_t>(y) * g.width + x] =
+            occupancy.unknown(x, y)
+                ? view::Grid::kUnknown
+                : static_cast<uint8_t>(std::lround(100 * occupancy.probability(x, y)));
+  };
+  grid_channel_.publish(std::move(grid), map);
+}
+
 void OccupancyMapWriter::consume(const Frame& frame) {
+  // A new local map: the last one is complete, and its grid goes to viewers.
+  if (frame.estimate.valid && frame.estimate.local_map != last_map_) {
+    if (last_map_ != kNoMap) publishGrid(last_map_, frame.stamp);
+    last_map_ = frame.estimate.local_map;
+  }
   const bool estimated = frame.estimate.valid;
   if (estimated && frame.estimate.frozen) {
     // Its world pose is final: draw it now, keep nothing. A frame too close to the last one
@@ -133,6 +197,7 @@ void OccupancyMapWriter::consume(const Frame& frame) {
 }
 
 void OccupancyMapWriter::end(const RunResult& result) {
+  if (last_map_ != kNoMap) publishGrid(last_map_, result.trajectory.empty() ? 0 : result.trajectory.endTime());
   written_.clear();
   placed_ = 0;
   // Place every kept scan at its corrected pose.
@@ -196,7 +261,16 @@ void OccupancyMapWriter::end(const RunResult& result) {
   const std::string image_name = base.substr(base.find_last_of('/') + 1) + ".pgm";
   const std::vector<uint8_t> pixels = grid.image();
   const std::string pgm = encodePgm(pixels, grid.width(), grid.height());
-  const std::string png = encodePng(pixels, grid.width(), grid.height());
+  PngPixels image;
+  image.data = pixels.data();
+  image.width = grid.width();
+  image.height = grid.height();
+  // A map is mostly large flat areas: row filters buy little there and cost time. One IDAT
+  // chunk keeps map.png byte for byte what the writer always produced.
+  PngOptions flat;
+  flat.filters = false;
+  flat.idat_bytes = 0;
+  const std::string png = encodePng(image, flat);
   std::ostringstream yaml;
   yaml.precision(10);
   yaml << "image: " << image_name << "\n"

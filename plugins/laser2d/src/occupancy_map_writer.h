@@ -9,6 +9,7 @@
 #include "occupancy_grid.h"
 #include "plugslam/geometry.h"
 #include "plugslam/sink.h"
+#include "plugslam/view/publisher.h"
 #include "point_cloud2d.h"
 
 namespace plugslam {
@@ -94,6 +95,10 @@ class OccupancyMapWriter final : public Sink {
   bool isNew(int64_t map, const double in_map[3]) const;
   // Ray-traces a cloud at its final world pose into traced_.
   void trace(const PointCloud2D& cloud, const SE2& world);
+  // Publishes local map `map`'s grid on /grid, in the map's frame, from its kept scans.
+  void publishGrid(int64_t map, double stamp);
+  view::Channel<view::Grid> grid_channel_{"/grid", view::Latch::kPerKey};
+  int64_t last_map_ = kNoMap;  // local map of the last frame, to see one close
   std::string out_dir_;
   std::vector<KeptScan> scans_;
   std::unordered_map<int64_t, std::vector<size_t>> by_map_;  // indices into scans_

@@ -2,7 +2,6 @@
 #include "plugslam/plugin.h"
 #include "plugslam/view/drawers.h"
 
-#include "cloud_merger.h"
 #include "correlative_validator.h"
 #include "global_match_detector.h"
 #include "occupancy_map_writer.h"
@@ -32,9 +31,6 @@ PLUGSLAM_PLUGIN("laser2d", "1.0.0", "2D laser: scan preprocessing, ICP slices, p
   registrar.add<CorrelativeValidator>(
       "CorrelativeValidator",
       "loop validator: branch-and-bound correlative scan-to-map matching over a wide window");
-  registrar.add<CloudMerger>(
-      "CloudMerger", "joins a local map's 2D point clouds into another map's frame (a loop "
-                     "validator's view of a neighbourhood)");
   registrar.add<GlobalMatchDetector>(
       "GlobalMatchDetector",
       "loop detector for large drift: branch-and-bound scan-to-map matching of the query "

@@ -8,6 +8,7 @@
 #include "occupancy_map_writer.h"
 #include "plugslam/errors.h"
 #include "plugslam/multi_tracker.h"
+#include "plugslam/pipeline.h"
 #include "plugslam/registry.h"
 #include "point_map_slice.h"
 #include "readers/carmen_reader.h"
@@ -122,6 +123,8 @@ FrontendRun runFrontend(const std::string& log, const FrontendOptions& options) 
     pre.configure();
     slice->configure();
     tracker.configure();
+    Pipeline pipeline;  // places the local maps and composes the world pose, as a run does
+    pipeline.tracker.assign(std::shared_ptr<Tracker>(std::shared_ptr<Tracker>(), &tracker));
 
     // Frames are prepared outside the timed loop: the source is not the front-end.
     std::vector<Frame> frames(scans.size());
@@ -134,7 +137,7 @@ FrontendRun runFrontend(const std::string& log, const FrontendOptions& options) 
     const auto start = std::chrono::steady_clock::now();
     for (auto& frame : frames) {
       pre.process(frame);
-      tracker.track(frame);
+      pipeline.process(frame);
     }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

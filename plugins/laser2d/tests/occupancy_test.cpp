@@ -12,9 +12,16 @@
 #include "plugslam/pose_space.h"
 #include "scan_preprocessor.h"
 #include "synthetic.h"
+#include "temp_dir.h"
 
 namespace plugslam::laser2d {
 namespace {
+
+// This test process's own fresh temporary folder.
+const plugslam::testing::TempDir& scratch() {
+  static const plugslam::testing::TempDir tmp("laser2d_occupancy");
+  return tmp;
+}
 
 std::string readAll(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -34,7 +41,7 @@ TEST(OccupancyGrid, RayMarksFreeCellsAndTheHit) {
 
 TEST(OccupancyMapWriter, SquareRoomMap) {
   const auto world = test::box(0, 0, 4, 4);
-  const auto dir = std::filesystem::temp_directory_path() / "laser2d_occupancy_test";
+  const auto dir = scratch().path() / "laser2d_occupancy_test";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
 
@@ -117,7 +124,7 @@ TEST(OccupancyMapWriter, SquareRoomMap) {
 }
 
 TEST(OccupancyMapWriter, NoPlaceableScanWritesNothing) {
-  const auto dir = std::filesystem::temp_directory_path() / "laser2d_occupancy_empty";
+  const auto dir = scratch().path() / "laser2d_occupancy_empty";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   OccupancyMapWriter writer;
@@ -130,7 +137,7 @@ TEST(OccupancyMapWriter, NoPlaceableScanWritesNothing) {
 
 TEST(OccupancyMapWriter, SaveActionWritesTheMapMidRun) {
   const auto world = test::box(0, 0, 4, 4);
-  const auto dir = std::filesystem::temp_directory_path() / "laser2d_occupancy_save_test";
+  const auto dir = scratch().path() / "laser2d_occupancy_save_test";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   ScanPreprocessor pre;
@@ -167,7 +174,7 @@ TEST(OccupancyMapWriter, KeepsCloudsOnlyForNewPosesInTheirLocalMap) {
   ScanPreprocessor pre;
   pre.configure();
   OccupancyMapWriter writer;
-  writer.begin(std::filesystem::temp_directory_path().string());
+  writer.begin(scratch().path().string());
   test::ScanSpec spec;
   uint64_t seq = 0;
   auto feed = [&](int64_t map, const SE2& in_map) {
@@ -274,7 +281,7 @@ struct MapImage {
 // same frames mapped (kept, drawn at the end) do.
 TEST(OccupancyMapWriter, FramesInFrozenMapsAreTracedAtOnceAndKeepNothing) {
   const auto world = test::box(0, 0, 4, 4);
-  const auto dir = std::filesystem::temp_directory_path() / "laser2d_occupancy_frozen";
+  const auto dir = scratch().path() / "laser2d_occupancy_frozen";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir / "mapped");
   std::filesystem::create_directories(dir / "localized");

@@ -5,6 +5,7 @@
 
 #include "plugin_manager.h"
 #include "plugslam/multi_tracker.h"
+#include "plugslam/pipeline.h"
 #include "plugslam/preprocessor.h"
 #include "plugslam/sink.h"
 #include "plugslam/value_types.h"
@@ -41,6 +42,8 @@ TEST(Laser2dPlugin, LoadsRegistersAndTracks) {
     tracker.aligner.assign(aligner);
     tracker.slices.assign(make<TrackerSlice<Space2D>>("laser2d.PointMapSlice"));
     tracker.configure();
+    Pipeline pipeline;  // places the local maps and composes the world pose
+    pipeline.tracker.assign(std::shared_ptr<Tracker>(std::shared_ptr<Tracker>(), &tracker));
     ASSERT_TRUE(pre);
     const auto world = test::room(8, 6);
     test::ScanSpec spec;
@@ -52,7 +55,7 @@ TEST(Laser2dPlugin, LoadsRegistersAndTracks) {
       ASSERT_TRUE(pre->process(frame));
       // The measurement is the plugin's value type, known to the SDK by its tag.
       EXPECT_EQ(frame.measurement.at("front").tag(), "laser2d.PointCloud2D");
-      tracker.track(frame);
+      pipeline.process(frame);
       const Eigen::Vector3d v = toVector(Space2D::from3D(frame.estimate.world));
       EXPECT_NEAR(v.x(), 0.1 * k, 1e-3);
       EXPECT_NEAR(v.y(), 0.0, 1e-3);

@@ -14,6 +14,7 @@
 #include "scan_preprocessor.h"
 #include "scan_slices.h"
 #include "synthetic.h"
+#include "temp_dir.h"
 
 namespace plugslam::laser2d {
 namespace {
@@ -362,8 +363,8 @@ TEST(PointCloud2D, RoundTripsThroughBothArchivesInAContainer) {
   PropertyContainer c;
   c.set("front", cloud);
   c.set<double>("other", 2.5);
-  const auto dir = std::filesystem::temp_directory_path() / "laser2d_cloud_test";
-  std::filesystem::create_directories(dir);
+  const plugslam::testing::TempDir tmp("laser2d_cloud");
+  const auto dir = tmp.path();
   for (auto format : {ArchiveFormat::kBinary, ArchiveFormat::kText}) {
     const std::string path = (dir / (format == ArchiveFormat::kText ? "c.yaml" : "c.bin")).string();
     saveFile(path, c, format);
@@ -381,7 +382,6 @@ TEST(PointCloud2D, RoundTripsThroughBothArchivesInAContainer) {
     EXPECT_NE(b.revision, 0u);
     EXPECT_EQ(back.get<double>("other"), 2.5);
   }
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

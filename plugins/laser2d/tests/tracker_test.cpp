@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "plugslam/multi_tracker.h"
+#include "plugslam/pipeline.h"
 #include "point_map_slice.h"
 #include "scan_preprocessor.h"
 #include "scan_slices.h"
@@ -64,6 +65,8 @@ TEST(MultiTracker2D, RecoversASyntheticTrajectory) {
     tracker.splitter.assign(std::make_shared<DistanceSplitter>());
     tracker.motion.assign(std::make_shared<OdometryIncrement>());
     tracker.configure();
+    Pipeline pipeline;  // places the local maps and composes the world pose
+    pipeline.tracker.assign(std::shared_ptr<Tracker>(std::shared_ptr<Tracker>(), &tracker));
     ScanPreprocessor pre;
     pre.configure();
 
@@ -86,7 +89,7 @@ TEST(MultiTracker2D, RecoversASyntheticTrajectory) {
         frame.raw.set("odom_delta", se2(1.02 * d.x(), 1.02 * d.y(), d.z() + 0.002));
       }
       ASSERT_TRUE(pre.process(frame));
-      tracker.track(frame);
+      pipeline.process(frame);
       ASSERT_TRUE(frame.estimate.valid);
       const SE2 expected = truth.front().inverse() * truth[k];
       const SE2 error = expected.inverse() * Space2D::from3D(frame.estimate.world);

@@ -9,6 +9,7 @@
 
 #include "plugslam/errors.h"
 #include "sim2d/simulator.h"
+#include "temp_dir.h"
 
 namespace plugslam {
 namespace sim {
@@ -261,12 +262,10 @@ TEST(Sim2dSimulator, DrivesInALoadedPgmWorld) {
   fill(w - 2, 0, w, h);
   fill(30, 30, 40, 40);
   fill(70, 2, 72, 50);  // leaves rows 50..78 open
-  const std::string path = ::testing::TempDir() + "/room.pgm";
-  {
-    std::ofstream out(path);
-    out << "P2\n" << w << " " << h << "\n255\n";
-    for (int v : img) out << v << "\n";
-  }
+  const plugslam::testing::TempDir tmp;
+  std::string pgm = "P2\n" + std::to_string(w) + " " + std::to_string(h) + "\n255\n";
+  for (int v : img) pgm += std::to_string(v) + "\n";
+  const std::string path = tmp.write("room.pgm", pgm);
   SimConfig config;
   config.world = std::make_shared<const World>(World::loadPgm(path, 0.1, Eigen::Vector2d(-1, -1)));
   config.tour = {Eigen::Vector2d(1.5, 5.0), Eigen::Vector2d(9.5, 5.0)};  // either side of the wall

@@ -10,6 +10,7 @@
 #include "plugslam/errors.h"
 #include "sim2d/laser.h"
 #include "sim2d/world.h"
+#include "temp_dir.h"
 
 namespace plugslam {
 namespace sim {
@@ -33,10 +34,14 @@ double analyticSquare(const Eigen::Vector2d& o, const Eigen::Vector2d& d, double
   return t;
 }
 
+// This test process's own folder (ctest runs each test in a process of its own).
+const plugslam::testing::TempDir& scratch() {
+  static const plugslam::testing::TempDir tmp;
+  return tmp;
+}
+
 std::string writeTemp(const std::string& name, const std::string& content) {
-  const std::string path = ::testing::TempDir() + "/" + name;
-  std::ofstream(path, std::ios::binary) << content;
-  return path;
+  return scratch().write(name, content);
 }
 
 TEST(Sim2dWorld, ScanInSquareRoomMatchesAnalyticDistances) {
@@ -176,7 +181,7 @@ TEST(Sim2dWorld, LoadsSegmentList) {
   EXPECT_NEAR(world.castRay({1, 1}, {1, 0}, 10.0), 3.0, 1e-12);
 
   // Round trip through saveSegments.
-  const std::string copy = ::testing::TempDir() + "/copy.segments";
+  const std::string copy = scratch().file("copy.segments");
   World::office().saveSegments(copy);
   EXPECT_EQ(World::loadSegments(copy).segments().size(), World::office().segments().size());
 }
@@ -199,7 +204,7 @@ TEST(Sim2dWorld, RejectsMalformedSegmentList) {
   expectParseError(writeTemp("garbage.segments", "0 0 1 1.5m\n"), 1, "'1.5m'");
   expectParseError(writeTemp("point.segments", "\n2 2 2 2\n"), 2, "distinct");
   expectParseError(writeTemp("empty.segments", "# nothing\n\n"), 2, "at least one segment");
-  EXPECT_THROW(World::loadSegments(::testing::TempDir() + "/missing.segments"), InputError);
+  EXPECT_THROW(World::loadSegments(scratch().file("missing.segments")), InputError);
 }
 
 TEST(Sim2dWorld, LoadsAsciiPgm) {

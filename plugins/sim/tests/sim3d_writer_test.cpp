@@ -15,15 +15,17 @@
 #include "simulator3d_source.h"
 #include "writers/image_sequence_writer.h"
 #include "writers/sequence_writers.h"
+#include "temp_dir.h"
 
 namespace plugslam::sim::sim3d {
 namespace {
 
 namespace fs = std::filesystem;
 
+// A path (not created) inside this test process's own fresh temporary folder.
 fs::path tempDir(const std::string& name) {
-  fs::path p =
-      fs::temp_directory_path() / ("plugslam_sim3d_" + name + "_" + std::to_string(::getpid()));
+  static const plugslam::testing::TempDir tmp("plugslam_sim3d");
+  fs::path p = tmp.path() / name;
   fs::remove_all(p);
   return p;
 }

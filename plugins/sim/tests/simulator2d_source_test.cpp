@@ -9,6 +9,7 @@
 
 #include "plugslam/errors.h"
 #include "plugslam/geometry.h"
+#include "temp_dir.h"
 
 using plugslam::Frame;
 using plugslam::LaserScan;
@@ -138,12 +139,11 @@ TEST(Simulator2DSource, BadParametersAreParamErrors) {
 namespace {
 
 TEST(Simulator2DSource, ExploresACustomSegmentWorld) {
-  const std::string path = ::testing::TempDir() + "/iosrc_room.segments";
-  {
-    std::ofstream out(path);
-    out << "# 12 x 8 m room with a pillar\n0 0 12 0\n12 0 12 8\n12 8 0 8\n0 8 0 0\n"
-           "5 3 7 3\n7 3 7 5\n7 5 5 5\n5 5 5 3\n";
-  }
+  const plugslam::testing::TempDir tmp;
+  const std::string path =
+      tmp.write("room.segments",
+                "# 12 x 8 m room with a pillar\n0 0 12 0\n12 0 12 8\n12 8 0 8\n0 8 0 0\n"
+                "5 3 7 3\n7 3 7 5\n7 5 5 5\n5 5 5 3\n");
   auto run = [&](int64_t seed) {
     Simulator2DSource source;
     source.session = std::string("stage-0");

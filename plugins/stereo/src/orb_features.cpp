@@ -1,6 +1,7 @@
 #include "orb_features.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 namespace plugslam {
@@ -25,6 +26,7 @@ void OrbExtractor::extract(const cv::Mat& grey, std::vector<cv::KeyPoint>& keypo
     descriptors.release();
     return;
   }
+  const auto t0 = std::chrono::steady_clock::now();
   const cv::Rect inner(b, b, grey.cols - 2 * b, grey.rows - 2 * b);
   const cv::Mat roi = grey(inner);
   const int side = std::max(8, options_.cell);
@@ -65,10 +67,30 @@ void OrbExtractor::extract(const cv::Mat& grey, std::vector<cv::KeyPoint>& keypo
   for (size_t c = 0; c < cells_.size(); ++c)
     if (!weak_cell[c]) keepBest(strong_, c);
   if (need_weak && options_.min_fast_threshold < options_.fast_threshold) {
-    cv::FAST(roi, weak_, options_.min_fast_threshold, true);
-    bucket(weak_);
-    for (size_t c = 0; c < cells_.size(); ++c)
-      if (weak_cell[c]) keepBest(weak_, c);
+    // Only the empty cells are searched again: a pass at the low threshold over the whole image
+    // costs more than the first one (most pixels pass the quick test) and its corners elsewhere
+    // would be discarded anyway. Each cell's window grows by FAST's 3-pixel circle, so every
+    // pixel of the cell can be a corner.
+    constexpr int kCircle = 3;
+    for (size_t c = 0; c < cells_.size(); ++c) {
+      if (!weak_cell[c]) continue;
+      const int x0 = static_cast<int>(c % static_cast<size_t>(cols)) * side;
+      const int y0 = static_cast<int>(c / static_cast<size_t>(cols)) * side;
+      const cv::Rect cell(x0, y0, std::min(side, inner.width - x0), std::min(side, inner.height - y0));
+      const cv::Rect window = cv::Rect(cell.x - kCircle, cell.y - kCircle, cell.width + 2 * kCircle,
+                                       cell.height + 2 * kCircle) &
+                              cv::Rect(0, 0, inner.width, inner.height);
+      cv::FAST(roi(window), weak_, options_.min_fast_threshold, true);
+      std::vector<int>& idx = cells_[c];
+      idx.clear();
+      for (size_t i = 0; i < weak_.size(); ++i) {
+        weak_[i].pt.x += static_cast<float>(window.x);
+        weak_[i].pt.y += static_cast<float>(window.y);
+        if (cell.contains(cv::Point(static_cast<int>(weak_[i].pt.x), static_cast<int>(weak_[i].pt.y))))
+          idx.push_back(static_cast<int>(i));
+      }
+      keepBest(weak_, c);
+    }
   }
   if (!options_.upright) {
     // Intensity-centroid orientation over a radius-15 disc (as ORB's own detector does).
@@ -88,7 +110,10 @@ void OrbExtractor::extract(const cv::Mat& grey, std::vector<cv::KeyPoint>& keypo
       if (kp.angle < 0) kp.angle += 360.0f;
     }
   }
+  const auto t1 = std::chrono::steady_clock::now();
   orb_->compute(grey, keypoints, descriptors);
+  detection_s_ += std::chrono::duration<double>(t1 - t0).count();
+  description_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
 }
 
 }  // namespace visual

@@ -33,12 +33,16 @@ class OrbExtractor {
   void extract(const cv::Mat& grey, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors);
   /// Distance of keypoints from the image border [px].
   static constexpr int border() { return 16; }
+  /// Seconds spent so far finding corners (FAST and bucketing) and describing them (ORB).
+  double detectionSeconds() const { return detection_s_; }
+  double descriptionSeconds() const { return description_s_; }
 
  private:
   OrbOptions options_;
   cv::Ptr<cv::ORB> orb_;
   std::vector<cv::KeyPoint> strong_, weak_;
   std::vector<std::vector<int>> cells_;
+  double detection_s_ = 0, description_s_ = 0;
 };
 
 }  // namespace visual

@@ -9,39 +9,40 @@ namespace plugslam {
 namespace visual {
 
 namespace {
+constexpr int kRightOversampling = 3;
+
 double secondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 }  // namespace
 
-cv::Mat asMat(const Image& im) {
-  const int type = im.channels == 1 ? CV_8UC1 : (im.channels == 3 ? CV_8UC3 : CV_8UC4);
-  return cv::Mat(im.height, im.width, type, const_cast<uint8_t*>(im.data.data()),
-                 static_cast<size_t>(im.stride));
-}
-
-cv::Mat greyOf(const Image& im) {
-  cv::Mat m = asMat(im);
-  if (im.channels == 1) return m;
-  cv::Mat grey;
-  cv::cvtColor(m, grey, im.channels == 3 ? cv::COLOR_RGB2GRAY : cv::COLOR_RGBA2GRAY);
-  return grey;
-}
-
 StereoPreprocessor::StereoPreprocessor() = default;
 StereoPreprocessor::~StereoPreprocessor() = default;
 
 void StereoPreprocessor::configure() {
-  if (min_fast_threshold() > fast_threshold())
-    throw ParamError("min_fast_threshold",
-                     "must not exceed fast_threshold (" + std::to_string(fast_threshold()) + ")");
-  OrbOptions o;
-  o.features = features();
-  o.cell = cell();
-  o.fast_threshold = fast_threshold();
-  o.min_fast_threshold = min_fast_threshold();
-  o.upright = upright();
-  extractor_.setOptions(o);
+  // The front-end is single-threaded and deterministic (DESIGN.md, Threads): OpenCV runs its
+  // functions sequentially in the caller instead of on its own pool (0 = no threading).
+  if (cv::getNumThreads() != 1) cv::setNumThreads(0);
+  KeypointPreprocessor::configure();
+  OrbOptions o = orbOptions();
+  // The disparity moves a left corner into another bucket of the right image, where stronger
+  // corners may outrank it: the right image keeps more corners per bucket so that the left
+  // keypoints' partners survive the bucketing.
+  o.features *= kRightOversampling;
+  right_extractor_.setOptions(o);
+}
+
+std::vector<Statistic> StereoPreprocessor::statistics() const {
+  const double n = frames_ ? static_cast<double>(frames_) : 1.0;
+  return {{"frames", static_cast<double>(frames_)},
+          {"extraction_s", extraction_s_},
+          {"matching_s", matching_s_},
+          // The two parts of extraction, both images: FAST + bucketing, ORB descriptors.
+          {"detection_s", extractor_.detectionSeconds() + right_extractor_.detectionSeconds()},
+          {"description_s",
+           extractor_.descriptionSeconds() + right_extractor_.descriptionSeconds()},
+          {"keypoints_per_frame", static_cast<double>(keypoints_) / n},
+          {"with_depth_per_frame", static_cast<double>(with_depth_) / n}};
 }
 
 bool StereoPreprocessor::process(Frame& frame) {
@@ -52,17 +53,33 @@ bool StereoPreprocessor::process(Frame& frame) {
   if (!cam)
     throw InputError("stereo: raw entry '" + camera() + "' (CameraInfo) is missing: the pair "
                      "cannot be triangulated without a calibration");
-  if (!(cam->baseline > 0) || !(cam->fx > 0) || !(cam->fy > 0))
-    throw InputError("stereo: calibration '" + camera() + "' needs fx, fy > 0 and a baseline > 0");
   if (l->width != r->width || l->height != r->height)
     throw InputError("stereo: the left image is " + std::to_string(l->width) + "x" +
                      std::to_string(l->height) + " but the right one " +
                      std::to_string(r->width) + "x" + std::to_string(r->height));
+  // A raw pair (EuRoC) is rectified here, with maps computed once per calibration.
+  const bool raw_pair = StereoRectifier::needed(*cam);
+  if (raw_pair) {
+    if (cam->width != l->width || cam->height != l->height)
+      throw InputError("stereo: the calibration is for " + std::to_string(cam->width) + "x" +
+                       std::to_string(cam->height) + " images, the pair is " +
+                       std::to_string(l->width) + "x" + std::to_string(l->height));
+    rectifier_.prepare(*cam);
+    cam = &rectifier_.rectified();
+  }
+  if (!(cam->baseline > 0) || !(cam->fx > 0) || !(cam->fy > 0))
+    throw InputError("stereo: calibration '" + camera() +
+                     "' needs fx, fy > 0 and a baseline > 0, or a second camera to rectify with");
   configure();  // cheap; picks up parameters changed at run time
-  const cv::Mat gl = greyOf(*l), gr = greyOf(*r);
+  cv::Mat gl = greyOf(*l), gr = greyOf(*r);
   auto t0 = std::chrono::steady_clock::now();
+  if (raw_pair) {
+    rectifier_.rectify(gl, gr, rect_l_, rect_r_);
+    gl = rect_l_;
+    gr = rect_r_;
+  }
   extractor_.extract(gl, kl_, dl_);
-  extractor_.extract(gr, kr_, dr_);
+  right_extractor_.extract(gr, kr_, dr_);
   extraction_s_ += secondsSince(t0);
   t0 = std::chrono::steady_clock::now();
   StereoMatchOptions mo;
@@ -84,20 +101,24 @@ bool StereoPreprocessor::process(Frame& frame) {
   f.stamp = l->stamp;
   f.descriptor_bytes = dl_.cols > 0 ? dl_.cols : 32;
   f.reserve(kl_.size());
-  const bool rgb = l->channels >= 3;
+  // A rectified pair's pixels are the rectified image's: colours come from it, in grey.
+  const bool rgb = l->channels >= 3 && !raw_pair;
   for (size_t i = 0; i < kl_.size(); ++i) {
     const int x = cvRound(kl_[i].pt.x), y = cvRound(kl_[i].pt.y);
     uint32_t colour;
     if (rgb) {
-      colour = (uint32_t(l->at(x, y, 0)) << 16) | (uint32_t(l->at(x, y, 1)) << 8) | l->at(x, y, 2);
+      colour = colourAt(*l, x, y);
     } else {
-      const uint32_t g = l->at(x, y, 0);
+      const uint32_t g = gl.at<uint8_t>(y, x);
       colour = (g << 16) | (g << 8) | g;
     }
     f.pushStereo(Eigen::Vector2d(kl_[i].pt.x, kl_[i].pt.y), pixel_sigma(), disparity_[i],
                  disparity_sigma(), dl_.ptr<uint8_t>(static_cast<int>(i)), colour);
   }
   matching_s_ += secondsSince(t0);
+  ++frames_;
+  keypoints_ += f.size();
+  for (double q : f.inverse_depth) with_depth_ += q > 0;
   return true;
 }
 

@@ -7,33 +7,24 @@
 
 #include <opencv2/core.hpp>
 
-#include "orb_features.h"
+#include "keypoint_preprocessor.h"
+#include "rectifier.h"
 #include "plugslam/landmarks/feature_set.h"
-#include "plugslam/preprocessor.h"
 #include "plugslam/sensor_data.h"
+#include "plugslam/statistics.h"
 #include "stereo_matcher.h"
 
 namespace plugslam {
 namespace visual {
 
 /// Keypoints with stereo depth from a left/right image pair.
-class StereoPreprocessor final : public PreProcessor {
+class StereoPreprocessor final : public KeypointPreprocessor, public StatisticsSource {
  public:
   Param<std::string> left{this, "left", "left", "", "raw entry of the left image (Image)"};
   Param<std::string> right{this, "right", "right", "", "raw entry of the right image (Image)"};
   Param<std::string> camera{this, "camera", "camera", "",
                             "raw entry of the calibration (CameraInfo: left intrinsics, baseline)"};
   Param<std::string> output{this, "output", "features", "", "measurement entry (FeatureSet)"};
-  Param<int> features{this, "features", 1200, "",
-                      "target keypoints per image, spread over the image by bucketing",
-                      Range{10, 100000}};
-  Param<int> cell{this, "cell", 32, "px", "bucket side", Range{8, 4096}};
-  Param<int> fast_threshold{this, "fast_threshold", 20, "grey levels", "FAST threshold",
-                            Range{1, 255}};
-  Param<int> min_fast_threshold{this, "min_fast_threshold", 7, "grey levels",
-                                "FAST threshold retried in buckets left empty", Range{1, 255}};
-  Param<bool> upright{this, "upright", true, "",
-                      "descriptors without orientation (the camera rolls little between frames)"};
   Param<int> max_hamming{this, "max_hamming", 50, "bits",
                          "stereo descriptor check: larger distances are no match", Range{0, 256}};
   Param<int> row_tolerance{this, "row_tolerance", 2, "px",
@@ -45,8 +36,6 @@ class StereoPreprocessor final : public PreProcessor {
   Param<double> min_depth{this, "min_depth", 0.5, "m",
                           "nearest depth searched: sets the largest disparity, fx b / min_depth",
                           Range{0.01, 1000}};
-  Param<double> pixel_sigma{this, "pixel_sigma", 1.0, "px", "keypoint position noise (u and v)",
-                            Range{0.01, 100}};
   Param<double> disparity_sigma{this, "disparity_sigma", 0.5, "px",
                                 "noise of the refined disparity", Range{0.01, 100}};
 
@@ -55,22 +44,19 @@ class StereoPreprocessor final : public PreProcessor {
   void configure() override;
   bool process(Frame& frame) override;
 
-  /// Time spent extracting keypoints and matching the pair, summed over the run [s].
-  double extractionTime() const { return extraction_s_; }
-  double matchingTime() const { return matching_s_; }
+  /// frames, extraction_s, matching_s, per frame: keypoints (left image) and those with depth.
+  std::vector<Statistic> statistics() const override;
 
  private:
-  OrbExtractor extractor_;
+  OrbExtractor right_extractor_;
+  StereoRectifier rectifier_;
+  cv::Mat rect_l_, rect_r_;
   std::vector<cv::KeyPoint> kl_, kr_;
   cv::Mat dl_, dr_;
   std::vector<double> disparity_;
   double extraction_s_ = 0, matching_s_ = 0;
+  uint64_t frames_ = 0, keypoints_ = 0, with_depth_ = 0;
 };
-
-/// An SDK image as an OpenCV header over the same pixels (no copy).
-cv::Mat asMat(const Image& image);
-/// The image in grey (a view when it already is, a conversion otherwise).
-cv::Mat greyOf(const Image& image);
 
 }  // namespace visual
 }  // namespace plugslam

@@ -8,6 +8,7 @@
 #include "cli.h"
 #include "commands/commands.h"
 #include "commands/introspection.h"
+#include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
 #include "plugslam/eval/ate.h"
 #include "plugslam/eval/crispness.h"
@@ -18,7 +19,6 @@
 #include "plugslam/sensor_data.h"
 #include "plugslam/source.h"
 #include "plugslam/trajectory.h"
-#include "runner.h"
 
 namespace plugslam::runtime {
 
@@ -38,7 +38,7 @@ void emit(const EvalArgs& a, const std::string& md, const std::string& json) {
   if (a.output.empty())
     std::cout << text << (text.empty() || text.back() == '\n' ? "" : "\n");
   else
-    writeTextFileAtomic(a.output, text);
+    writeFileAtomically(a.output, text);
 }
 
 Trajectory read(const std::string& path, const std::string& format) {

@@ -10,9 +10,9 @@
 #include "commands/commands.h"
 #include "commands/introspection.h"
 #include "config_builder.h"
+#include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
 #include "plugslam/registry.h"
-#include "runner.h"
 
 namespace plugslam::runtime {
 
@@ -41,7 +41,10 @@ void addPluginsCommand(CLI::App& root, int& exit_code) {
 void addDescribeCommand(CLI::App& root, int& exit_code) {
   auto* cmd = root.add_subcommand("describe", "Show a type's parameters (type, default, unit, doc)");
   static std::string type;
-  cmd->add_option("TYPE", type, "type name, e.g. sdk.Pipeline")->required();
+  cmd->add_option("TYPE", type,
+                  std::string("type name, e.g. sdk.Pipeline; `") + kTopLevelName +
+                      "`: the top-level keys of a config file")
+      ->required();
   cmd->callback([&exit_code] {
     PluginManager plugins;
     loadPluginOf(plugins, type);
@@ -51,10 +54,11 @@ void addDescribeCommand(CLI::App& root, int& exit_code) {
 }
 
 void addConfigCommand(CLI::App& root, int& exit_code) {
-  auto* cmd = root.add_subcommand("config", "Print YAML for a type");
+  auto* cmd = root.add_subcommand("config", "Print a type's default configuration as YAML");
   static std::string type;
   static bool defaults = false;
-  cmd->add_flag("--defaults", defaults, "print the type's default configuration")->required();
+  // The only mode; the flag stays accepted so older scripts and docs keep working.
+  cmd->add_flag("--defaults", defaults, "the type's defaults (what the command prints anyway)");
   cmd->add_option("TYPE", type, "type name, e.g. sdk.Pipeline")->required();
   cmd->callback([&exit_code] {
     PluginManager plugins;
@@ -88,7 +92,7 @@ void addReferenceCommand(CLI::App& root, int& exit_code) {
     if (out_file.empty())
       std::cout << md;
     else
-      writeTextFileAtomic(out_file, md);
+      writeFileAtomically(out_file, md);
     exit_code = kOk;
   });
 }

@@ -10,6 +10,7 @@
 #include "plugslam/entry.h"
 #include "plugslam/errors.h"
 #include "plugslam/registry.h"
+#include "run_config.h"
 
 namespace plugslam::runtime {
 
@@ -69,34 +70,93 @@ std::string md(const std::string& s) {
 
 }  // namespace
 
+namespace {
+
+// The parameters, nested modules and actions of a module, as `describe` prints them.
+std::string describeBody(const Configurable& obj) {
+  std::string out = "\nparameters:\n";
+  if (obj.params().empty()) out += "  (none)\n";
+  for (auto* p : obj.params()) out += paramLine(*p, entryOf(obj, p));
+  if (!obj.slots().empty()) {
+    out += "\nnested modules:\n";
+    for (auto* s : obj.slots())
+      out += fmt::format("  {:<22} {}{}{}\n      {}\n", s->name(),
+                         s->isList() ? "list of " : "", s->kind(),
+                         s->defaultType().empty() ? "" : ", default " + s->defaultType(), s->doc());
+  }
+  if (!obj.actions().empty()) {
+    out += "\nactions:\n";
+    for (auto& a : obj.actions()) out += fmt::format("  {:<22} {}\n", a.name, a.doc);
+  }
+  return out;
+}
+
+// The tables of a module in the markdown reference.
+std::string referenceBody(const Configurable& obj) {
+  std::string out;
+  if (!obj.params().empty()) {
+    out += "| key | type | default | unit | description |\n|---|---|---|---|---|\n";
+    for (auto* p : obj.params()) {
+      std::string doc = p->doc();
+      if (!doc.empty() && doc.back() != '.') doc += ".";
+      if (const EntryBase* e = entryOf(obj, p)) {
+        std::string text = entryText(*e);
+        text[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(text[0])));
+        doc += " " + text + ".";
+      }
+      if (p->range()) doc += fmt::format(" Range [{:g}, {:g}].", p->range()->min, p->range()->max);
+      if (!p->choices().empty()) {
+        std::string c;
+        for (auto& v : p->choices()) c += (c.empty() ? "" : ", ") + v;
+        doc += " One of: " + c + ".";
+      }
+      out += fmt::format("| `{}` | {} | `{}` | {} | {} |\n", p->name(), md(p->typeName()),
+                         md(p->defaultText()), p->unit(), md(doc));
+    }
+    out += "\n";
+  }
+  if (!obj.slots().empty()) {
+    out += "| nested module | kind | default | description |\n|---|---|---|---|\n";
+    for (auto* s : obj.slots())
+      out += fmt::format("| `{}` | {}{} | {} | {} |\n", s->name(), s->isList() ? "list of " : "",
+                         s->kind(),
+                         s->defaultType().empty() ? "—" : "`" + s->defaultType() + "`",
+                         md(s->doc()));
+    out += "\n";
+  }
+  if (!obj.actions().empty()) {
+    out += "Actions: ";
+    std::string a;
+    for (auto& act : obj.actions())
+      a += (a.empty() ? "" : ", ") + ("`" + act.name + "` (" + act.doc + ")");
+    out += a + ".\n\n";
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string describeType(const std::string& type) {
+  if (type == kTopLevelName) {
+    RunConfig top;
+    return fmt::format("{} (the top level of a config file)\n  {}\n", kTopLevelName,
+                       kTopLevelDoc) +
+           describeBody(top);
+  }
   auto& registry = Registry::instance();
   auto info = registry.find(type);
   if (!info) {
     std::string msg = "unknown type '" + type + "'";
     std::string near = registry.closest(type);
     if (!near.empty()) msg += "; did you mean '" + near + "'?";
-    msg += " (`plugslam plugins` lists the types)";
+    msg += " (`plugslam plugins` lists the types; `plugslam describe " + std::string(kTopLevelName) +
+           "` the keys of a config file's top level)";
     throw InputError(msg);
   }
   auto obj = registry.create(type);
-  std::string out = fmt::format("{} ({}, plugin {})\n  {}\n", info->name, info->kind,
-                                info->plugin, info->doc);
-  out += "\nparameters:\n";
-  if (obj->params().empty()) out += "  (none)\n";
-  for (auto* p : obj->params()) out += paramLine(*p, entryOf(*obj, p));
-  if (!obj->slots().empty()) {
-    out += "\nnested modules:\n";
-    for (auto* s : obj->slots())
-      out += fmt::format("  {:<22} {}{}{}\n      {}\n", s->name(),
-                         s->isList() ? "list of " : "", s->kind(),
-                         s->defaultType().empty() ? "" : ", default " + s->defaultType(), s->doc());
-  }
-  if (!obj->actions().empty()) {
-    out += "\nactions:\n";
-    for (auto& a : obj->actions()) out += fmt::format("  {:<22} {}\n", a.name, a.doc);
-  }
-  return out;
+  return fmt::format("{} ({}, plugin {})\n  {}\n", info->name, info->kind, info->plugin,
+                     info->doc) +
+         describeBody(*obj);
 }
 
 std::string configReferenceMarkdown(const std::vector<PluginInfo>& plugins) {
@@ -108,6 +168,12 @@ std::string configReferenceMarkdown(const std::vector<PluginInfo>& plugins) {
   std::vector<std::string> names{"sdk"};
   for (auto& p : plugins) names.push_back(p.name);
   std::sort(names.begin() + 1, names.end());
+  {
+    RunConfig top;
+    out += fmt::format("## The top level of a config file\n\n{} (`plugslam describe {}`)\n\n",
+                       kTopLevelDoc, kTopLevelName);
+    out += referenceBody(top);
+  }
   for (const auto& plugin : names) {
     auto types = registry.typesOf(plugin);
     if (types.empty()) continue;
@@ -117,42 +183,7 @@ std::string configReferenceMarkdown(const std::vector<PluginInfo>& plugins) {
     for (const auto& t : types) {
       auto obj = registry.create(t.name);
       out += fmt::format("### `{}` ({})\n\n{}\n\n", t.name, t.kind, t.doc);
-      if (!obj->params().empty()) {
-        out += "| key | type | default | unit | description |\n|---|---|---|---|---|\n";
-        for (auto* p : obj->params()) {
-          std::string doc = p->doc();
-          if (!doc.empty() && doc.back() != '.') doc += ".";
-          if (const EntryBase* e = entryOf(*obj, p)) {
-            std::string text = entryText(*e);
-            text[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(text[0])));
-            doc += " " + text + ".";
-          }
-          if (p->range()) doc += fmt::format(" Range [{:g}, {:g}].", p->range()->min, p->range()->max);
-          if (!p->choices().empty()) {
-            std::string c;
-            for (auto& v : p->choices()) c += (c.empty() ? "" : ", ") + v;
-            doc += " One of: " + c + ".";
-          }
-          out += fmt::format("| `{}` | {} | `{}` | {} | {} |\n", p->name(), md(p->typeName()),
-                             md(p->defaultText()), p->unit(), md(doc));
-        }
-        out += "\n";
-      }
-      if (!obj->slots().empty()) {
-        out += "| nested module | kind | default | description |\n|---|---|---|---|\n";
-        for (auto* s : obj->slots())
-          out += fmt::format("| `{}` | {}{} | {} | {} |\n", s->name(),
-                             s->isList() ? "list of " : "", s->kind(),
-                             s->defaultType().empty() ? "—" : "`" + s->defaultType() + "`",
-                             md(s->doc()));
-        out += "\n";
-      }
-      if (!obj->actions().empty()) {
-        out += "Actions: ";
-        std::string a;
-        for (auto& act : obj->actions()) a += (a.empty() ? "" : ", ") + ("`" + act.name + "` (" + act.doc + ")");
-        out += a + ".\n\n";
-      }
+      out += referenceBody(*obj);
     }
   }
   return out;

@@ -11,7 +11,13 @@ namespace plugslam::runtime {
 std::vector<std::string> loadAllPlugins(PluginManager& plugins);
 /// Loads the plugin a type name ("laser2d.X") belongs to, if not loaded yet.
 void loadPluginOf(PluginManager& plugins, const std::string& type);
-/// Plain-text description of a type: its parameters, nested modules and actions.
+/// What `describe` calls the top level of a config file (RunConfig, not a registered type).
+inline constexpr const char* kTopLevelName = "run";
+/// One line on the top level of a config file.
+inline constexpr const char* kTopLevelDoc =
+    "the keys of a config file's root map: the plugins, the source, the pipeline, the outputs "
+    "and how the run goes";
+/// Plain-text description of a type (or of kTopLevelName): parameters, nested modules, actions.
 std::string describeType(const std::string& type);
 /// Markdown reference of every registered type (docs/config-reference.md).
 std::string configReferenceMarkdown(const std::vector<PluginInfo>& plugins);

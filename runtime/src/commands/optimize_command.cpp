@@ -10,9 +10,9 @@
 
 #include "cli.h"
 #include "commands/commands.h"
+#include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
 #include "plugslam/solver/optimize_graph_file.h"
-#include "runner.h"
 
 namespace plugslam::runtime {
 
@@ -122,18 +122,21 @@ class IterationTable {
 void addOptimizeCommand(CLI::App& root, int& exit_code) {
   static OptimizeArgs a;
   auto* cmd = root.add_subcommand(
-      "optimize",
-      "Optimise a pose graph (g2o: VERTEX_SE2/EDGE_SE2/VERTEX_SE3:QUAT/EDGE_SE3:QUAT/FIX; TORO: "
-      "VERTEX2/EDGE2; edge-only files are initialised) and write it as g2o with a JSON summary");
+      "optimize", "Optimise a pose graph (g2o, TORO) and write it as g2o, with a summary");
+  cmd->footer(
+      "Reads g2o (VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, EDGE_SE3:QUAT, FIX) and TORO (VERTEX2,\n"
+      "EDGE2); a file with edges only is initialised (--init).");
   cmd->add_option("IN", a.input, "input pose graph (g2o or TORO)")->required();
   cmd->add_option("-o,--output", a.output,
                   "optimised graph to write (g2o); the summary goes to OUT.json unless --summary");
   cmd->add_option("--solver", a.solver, "gn (Gauss-Newton) or lm (Levenberg-Marquardt)")
+      ->check(CLI::IsMember({"gn", "lm"}))
       ->capture_default_str();
   cmd->add_option("--iterations", a.iterations, "iteration budget")->capture_default_str();
   cmd->add_option("--init", a.init,
                   "starting point: file (the file's poses), odometry (spanning tree), chordal "
                   "(chordal relaxation), best (file and chordal, keep the lower chi2)")
+      ->check(CLI::IsMember({"file", "odometry", "chordal", "best"}))
       ->capture_default_str();
   cmd->add_option("--robust", a.robust,
                   "robust kernel: Huber, Cauchy, Tukey or DCS (default: none)");
@@ -146,6 +149,7 @@ void addOptimizeCommand(CLI::App& root, int& exit_code) {
   cmd->add_option("--factorization", a.factorization,
                   "sparse factorisation: auto (block when all variables have one size), "
                   "supernodal or simplicial (CHOLMOD), block (plugslam's block Cholesky)")
+      ->check(CLI::IsMember({"auto", "supernodal", "simplicial", "block"}))
       ->capture_default_str();
   cmd->add_option("--summary", a.summary, "JSON summary file (default: OUT.json)");
   cmd->callback([&exit_code] {
@@ -203,10 +207,8 @@ void addOptimizeCommand(CLI::App& root, int& exit_code) {
     if (summary.empty() && !a.output.empty()) summary = a.output + ".json";
     if (!summary.empty()) {
       try {
-        writeTextFileAtomic(summary, summaryJson(a, r, time_total));
-      } catch (const InputError&) {
-        throw;
-      } catch (const Error& e) {
+        writeFileAtomically(summary, summaryJson(a, r, time_total));
+      } catch (const InputError& e) {
         // An unwritable summary path is a bad argument, like an unwritable -o.
         throw InputError(std::string("--summary: ") + e.what());
       }

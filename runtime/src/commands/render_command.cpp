@@ -12,10 +12,11 @@ namespace plugslam::runtime {
 
 void addRenderCommand(CLI::App& root, int& exit_code) {
   auto* cmd = root.add_subcommand(
-      "render",
-      "Draw a run's output folder: render_map.png/.svg (map, estimated trajectory, reference "
-      "aligned onto it, loop closures) and, with a reference, render_errors.png/.svg (ATE per "
-      "pose over time and distance, RPE over distance)");
+      "render", "Draw a run's output folder: map, paths, loops, errors (PNG, SVG)");
+  cmd->footer(
+      "Writes render_map.png/.svg (map, estimated trajectory, reference aligned onto it, loop\n"
+      "closures) and, with a reference, render_errors.png/.svg (ATE per pose over time and\n"
+      "distance, RPE over distance).");
   static std::string dir, out, align = "auto";
   static render::RenderOptions o;
   cmd->add_option("RUN_DIR", dir, "folder written by `plugslam run -o RUN_DIR`")->required();

@@ -4,17 +4,24 @@
 
 #include <CLI/CLI.hpp>
 #include <boost/filesystem.hpp>
+#include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <mutex>
 #include <optional>
 #include <sstream>
+#include <thread>
 
 #include "cli.h"
 #include "commands/commands.h"
 #include "config_builder.h"
+#include "console/status_line.h"
+#include "playback_clock.h"
 #include "plugslam/errors.h"
 #include "run_config.h"
 #include "runner.h"
@@ -97,6 +104,101 @@ SessionSummary writeCheckpoint(const std::string& dir, const std::string& config
 
 }  // namespace
 
+namespace {
+
+// One --do: "MODULE.ACTION[:ARG,...]".
+struct ActionCall {
+  std::string target;
+  std::vector<std::string> args;
+};
+
+ActionCall parseAction(const std::string& text) {
+  ActionCall call;
+  const auto colon = text.find(':');
+  call.target = text.substr(0, colon);
+  if (colon != std::string::npos) {
+    std::stringstream list(text.substr(colon + 1));
+    for (std::string item; std::getline(list, item, ',');) call.args.push_back(item);
+  }
+  return call;
+}
+
+// The progress line of a run: frame, share of the frames this run will process, rate, ETA and
+// loops, on the terminal's status line; every few seconds a log line when stderr is no terminal.
+std::string progressText(uint64_t frame, int64_t total, double t, uint64_t loops) {
+  const double hz = t > 0 ? frame / t : 0;
+  std::string text = fmt::format("  frame {}", frame);
+  if (total > 0) text += fmt::format("/{} {:5.1f}%", total, 100.0 * frame / total);
+  text += fmt::format("  {:.1f} Hz", hz);
+  if (total > 0 && hz > 0)
+    text += fmt::format("  ETA {:.0f} s", std::max<double>(0, total - (int64_t)frame) / hz);
+  return text + fmt::format("  loops {}", loops);
+}
+
+// While the run's final work goes on (final loop passes, final optimization, outputs: no frames
+// to count), the elapsed time on the status line, or a log line every ten seconds off a terminal.
+class FinishingTicker {
+ public:
+  void operator()(bool done) {
+    if (!done) {
+      start_ = std::chrono::steady_clock::now();
+      if (StatusLine::console().terminal())
+        StatusLine::console().show(text());
+      else
+        spdlog::info("finishing the run: final loop passes, final optimization, outputs");
+      stop_ = false;
+      thread_ = std::thread([this] { tick(); });
+      return;
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    cv_.notify_all();
+    if (thread_.joinable()) thread_.join();
+    StatusLine::console().clear();
+    spdlog::debug("finished in {:.1f} s", elapsed());
+  }
+  ~FinishingTicker() {
+    if (thread_.joinable()) (*this)(true);
+  }
+
+ private:
+  double elapsed() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  void tick() {
+    StatusLine& line = StatusLine::console();
+    const auto period = std::chrono::milliseconds(line.terminal() ? 200 : 10000);
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!cv_.wait_for(lock, period, [this] { return stop_; })) {
+      if (line.terminal())
+        line.show(text());
+      else
+        spdlog::info("{}", text().substr(2));
+    }
+  }
+  std::string text() const {
+    return fmt::format("  finishing: final loop passes, optimization, outputs  {:.1f} s",
+                       elapsed());
+  }
+  std::chrono::steady_clock::time_point start_;
+  std::thread thread_;
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  bool stop_ = false;
+};
+
+// What `--session DIR` does with a saved session, said where a session is saved: it is no resume.
+std::string sessionUse(const std::string& dir) {
+  return fmt::format(
+      "`plugslam run CONFIG --session {}` adds a new run's maps to it (multi-session mapping, "
+      "the config's source from its first frame), `--localize` tracks in it without mapping",
+      dir);
+}
+
+}  // namespace
+
 void addRunCommand(CLI::App& root, int& exit_code) {
   auto* cmd = root.add_subcommand("run", "Run a pipeline and write its outputs");
   static std::string file;
@@ -106,6 +208,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
   static bool localize = false;
   static std::vector<std::string> actions;
   static double checkpoint_every = 60.0;
+  static double rate = 0.0;
   static ViewerOptions viewer_options;
   cmd->add_option("CONFIG", file,
                   "pipeline YAML file (default: the session's config with --session, else the "
@@ -118,12 +221,15 @@ void addRunCommand(CLI::App& root, int& exit_code) {
                 "with --session: track against the saved maps, frozen; no new maps or edges");
   cmd->add_option("--checkpoint-every", checkpoint_every,
                   "save the session into OUTDIR/checkpoint every this many seconds of the run, "
-                  "atomically, so even a killed run leaves a loadable session (0: never)")
+                  "atomically, so even a killed run leaves a loadable session (0: never); removed "
+                  "when the run ends and writes OUTDIR/session")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--rate", rate, kPlaybackRateHelp)->capture_default_str()->check(CLI::NonNegativeNumber);
   cmd->add_option("--do", actions,
-                  "after the run, run a module action: MODULE.ACTION[:ARG,...] (repeatable)");
-  addViewerOptions(*cmd, viewer_options);
+                  "after the run, run a module action: MODULE.ACTION[:ARG,...] (repeatable; "
+                  "checked before the first frame)");
+  addViewerOptions(*cmd, viewer_options, /*run_options=*/true);
   cmd->callback([&exit_code] {
     if (localize && session_dir.empty()) throw InputError("--localize needs --session DIR");
     std::optional<SessionManifest> manifest;
@@ -134,6 +240,16 @@ void addRunCommand(CLI::App& root, int& exit_code) {
                                      : loadConfigFile(defaultConfigPath());
     for (const auto& s : sets) applyOverride(doc, s);
     auto run = buildRun(doc, plugins);
+    // A typo in an action fails now, not after a run of minutes.
+    std::vector<ActionCall> calls;
+    for (const auto& a : actions) {
+      calls.push_back(parseAction(a));
+      try {
+        checkAction(*run, calls.back().target);
+      } catch (const InputError& e) {
+        throw InputError("--do " + a + ": " + e.what());
+      }
+    }
     if (manifest) {
       // After buildRun: the config's plugins register the value types the scenes hold.
       SessionMaps maps = loadSessionMaps(*manifest);
@@ -143,46 +259,47 @@ void addRunCommand(CLI::App& root, int& exit_code) {
     }
     RunOptions options;
     options.out_dir = out_dir;
-    const bool tty = ::isatty(STDERR_FILENO);
+    StatusLine& status = StatusLine::console();
+    options.rate = rate;
     std::string config_yaml = YAML::Dump(doc.root) + "\n";  // a viewer's settings update it
     Pipeline* pipeline = run->pipeline.get();
-    options.progress = [tty, last = -1.0, last_checkpoint = 0.0, pipeline, &config_yaml](
-                           uint64_t frame, int64_t total, double t, uint64_t loops) mutable {
+    const std::string checkpoint_dir = (boost::filesystem::path(out_dir) / "checkpoint").string();
+    options.progress = [&status, last = -1.0, last_checkpoint = 0.0, pipeline, &config_yaml,
+                        &checkpoint_dir](uint64_t frame, int64_t total, double t,
+                                         uint64_t loops) mutable {
       // Between frames the front-end is idle, so the pipeline's state can be saved as it is.
       if (checkpoint_every > 0 && t - last_checkpoint >= checkpoint_every) {
         last_checkpoint = t;
-        writeCheckpoint((boost::filesystem::path(out_dir) / "checkpoint").string(), config_yaml,
-                        *pipeline);
+        writeCheckpoint(checkpoint_dir, config_yaml, *pipeline);
       }
-      if (t - last < (tty ? 0.2 : 5.0)) return;
+      if (t - last < (status.terminal() ? 0.2 : 5.0)) return;
       last = t;
-      double hz = t > 0 ? frame / t : 0;
-      std::string pct = total > 0 ? fmt::format(" {:5.1f}%", 100.0 * frame / total) : "";
-      std::string eta = total > 0 && hz > 0 ? fmt::format(" ETA {:.0f}s", (total - (int64_t)frame) / hz) : "";
-      if (tty)
-        std::fprintf(stderr, "\r  frame %llu%s  %.1f Hz%s  loops %llu   ", (unsigned long long)frame,
-                     pct.c_str(), hz, eta.c_str(), (unsigned long long)loops);
+      const std::string text = progressText(frame, total, t, loops);
+      if (status.terminal())
+        status.show(text);
       else
-        spdlog::info("frame {}{} {:.1f} Hz{} loops {}", frame, pct, hz, eta, loops);
+        spdlog::info("{}", text.substr(2));
     };
+    FinishingTicker ticker;
+    options.finishing = [&ticker](bool done) { ticker(done); };
     options.interrupted = [] { return g_interrupted.load(); };
     const std::string session_out = (boost::filesystem::path(out_dir) / "session").string();
     options.on_interrupt = [&] {
       // Saved before the final optimization and the outputs, which can take minutes on a large
       // graph: a second Ctrl-C (the default action again) then loses nothing built so far.
       SessionSummary s = writeCheckpoint(session_out, config_yaml, *run->pipeline);
-      std::cerr << fmt::format(
+      status.print(fmt::format(
           "\ninterrupted: session saved in {} ({} local maps); finishing the run (final "
           "optimization, outputs); Ctrl-C again quits now and keeps that session\n",
-          session_out, s.maps);
+          session_out, s.maps));
     };
     options.stopped_by_error = [&] {
       // The maps built before the error are kept: the same session an interrupted run saves.
-      const std::string dir = (boost::filesystem::path(out_dir) / "session").string();
-      SessionSummary s = saveSession(dir, config_yaml, *run->pipeline);
-      std::cout << fmt::format("run stopped by an error: outputs written in {}, session saved in "
-                               "{} ({} local maps); continue with: plugslam run --session {}\n",
-                               out_dir, dir, s.maps, dir);
+      SessionSummary s = saveSession(session_out, config_yaml, *run->pipeline);
+      std::cout << fmt::format(
+          "run stopped by an error: outputs written in {}, session saved in {} ({} local maps "
+          "from the frames before the error); {}\n",
+          out_dir, session_out, s.maps, sessionUse(session_out));
     };
     // The viewer (--serve, --record): it watches the run and queues its requests between frames.
     Viewer viewer(viewer_options);
@@ -194,7 +311,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
             SessionSummary s = writeCheckpoint(dir, control->configYaml(), *run->pipeline);
             return fmt::format("saved session {}: {} local maps, {} edges", dir, s.maps, s.edges);
           },
-          [] { return g_interrupted.load(); }, &config_yaml);
+          [] { return g_interrupted.load(); }, &config_yaml, viewer_options.paused);
       options.observer = control.get();
       viewer.serve(control.get());
     }
@@ -204,37 +321,44 @@ void addRunCommand(CLI::App& root, int& exit_code) {
       InterruptGuard guard;
       report = runPipeline(*run, options);
     }
+    if (viewer.server() && viewer_options.keep_serving && report.stopped_by != "interrupted") {
+      std::cerr << "run finished; still serving " << viewer.server()->url()
+                << " (Ctrl-C to quit)" << std::endl;
+      InterruptGuard guard;
+      while (!g_interrupted.load()) ::usleep(100000);
+    }
     if (control) control->shutdown();
     viewer.stop();
-    if (tty) std::fprintf(stderr, "\n");
-    std::cout << fmt::format(
-        "{} frames in {:.3f} s ({:.1f} Hz; pipeline alone {:.1f} Hz); {} loops closed; outputs in {}\n",
-        report.frames, report.wall_s, report.hz, report.pipeline_hz, report.graph.loops_accepted,
-        out_dir);
-    if (report.ate_rmse)
-      std::cout << fmt::format("against '{}': ATE rmse {:.4f} m (max {:.4f} m), RPE(1 m) rmse {:.4f} m\n",
-                               run->pipeline->reference(), *report.ate_rmse, *report.ate_max,
-                               report.rpe_rmse.value_or(NAN));
+    status.clear();
+    const bool tracker = static_cast<bool>(run->pipeline->tracker);
+    std::string summary =
+        fmt::format("{} frames in {:.3f} s ({:.1f} Hz", report.frames, report.wall_s, report.hz);
+    if (tracker) summary += fmt::format("; pipeline alone {:.1f} Hz", report.pipeline_hz);
+    summary += ")";
+    if (run->pipeline->graph)
+      summary += "; " + loopsClosedText(report.graph);
+    if (!tracker) summary += "; the pipeline has no tracker, so no pose was estimated";
+    std::cout << summary << "; outputs in " << out_dir << "\n";
+    std::cout << scoreLine(report, run->pipeline->reference());
     if (report.stopped_by == "interrupted") {
       // Again, now with the final optimization; atomically, so a kill mid-save keeps the first.
       SessionSummary s = writeCheckpoint(session_out, config_yaml, *run->pipeline);
-      std::cout << fmt::format("interrupted at frame {}: session saved in {} ({} local maps); "
-                               "continue with: plugslam run --session {}\n",
-                               report.frames, session_out, s.maps, session_out);
+      std::cout << fmt::format(
+          "interrupted at frame {}: session saved in {} ({} local maps). It is not a point to "
+          "resume from: {}\n",
+          report.frames, session_out, s.maps, sessionUse(session_out));
       exit_code = kInterrupted;
       return;
     }
-    for (const auto& a : actions) {
-      const auto colon = a.find(':');
-      std::vector<std::string> args;
-      if (colon != std::string::npos) {
-        std::stringstream list(a.substr(colon + 1));
-        std::string item;
-        while (std::getline(list, item, ',')) args.push_back(item);
-      }
-      std::cout << a.substr(0, colon) << ": " << invokeAction(*run, a.substr(0, colon), args)
-                << "\n";
+    if (tracker) {
+      // Every run leaves its final session (the checkpoint was only a mid-run snapshot).
+      SessionSummary s = writeCheckpoint(session_out, config_yaml, *run->pipeline);
+      boost::system::error_code ec;
+      boost::filesystem::remove_all(checkpoint_dir, ec);
+      std::cout << fmt::format("session saved in {} ({} local maps)\n", session_out, s.maps);
     }
+    for (const auto& call : calls)
+      std::cout << call.target << ": " << invokeAction(*run, call.target, call.args) << "\n";
     exit_code = kOk;
   });
 }

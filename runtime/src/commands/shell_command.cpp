@@ -7,6 +7,7 @@
 
 #include "cli.h"
 #include "commands/commands.h"
+#include "playback_clock.h"
 #include "plugslam/errors.h"
 #include "shell/shell.h"
 #include "view/shell_control.h"
@@ -16,19 +17,22 @@ namespace plugslam::runtime {
 
 void addShellCommand(CLI::App& root, int& exit_code) {
   auto* cmd = root.add_subcommand(
-      "shell", "Interactive shell: run, pause, step, set/get, actions, hot swap, sessions");
+      "shell", "Interactive shell: run, pause, step, set, actions, hot swap, sessions");
   static std::string config;
   static std::string script;
   static std::string out_dir = "out";
+  static double rate = 0.0;
   static ViewerOptions viewer_options;
   cmd->add_option("CONFIG", config, "config to load first");
   cmd->add_option("--script", script, "read commands from this file instead of stdin");
   cmd->add_option("-o,--output", out_dir, "output folder of runs")->capture_default_str();
+  cmd->add_option("--rate", rate, kPlaybackRateHelp)->capture_default_str()->check(CLI::NonNegativeNumber);
   addViewerOptions(*cmd, viewer_options);
   cmd->callback([&exit_code] {
     const bool interactive = script.empty() && ::isatty(STDIN_FILENO);
     ShellOptions options;
     options.out_dir = out_dir;
+    options.rate = rate;
     options.echo = !interactive;
     // The viewer (--serve, --record) watches every run and drives the shell's own commands.
     Viewer viewer(viewer_options);
@@ -39,6 +43,13 @@ void addShellCommand(CLI::App& root, int& exit_code) {
       options.on_state = [c = control.get()](const std::string& s) { c->stateChanged(s); };
     }
     Shell shell(std::cout, options);
+    // The control's thread uses the shell: it stops before the shell goes, also on an error.
+    struct StopFirst {
+      ShellControl* control;
+      ~StopFirst() {
+        if (control) control->shutdown();
+      }
+    } stop_first{control.get()};
     if (control) control->attach(shell);
     if (!config.empty()) shell.execute("load " + config);
     viewer.serve(control.get());

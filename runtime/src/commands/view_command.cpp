@@ -51,7 +51,7 @@ std::string pageUrl(const std::string& text) {
 
 void addViewCommand(CLI::App& root, int& exit_code) {
   auto* cmd = root.add_subcommand(
-      "view", "Print (or --open) the built-in page of a host that streams with --serve");
+      "view", "Print (or --open) the page of a host that streams with --serve");
   static std::string address;
   static bool open = false;
   cmd->add_option("HOST:PORT", address, "the host's --serve address (default 127.0.0.1:8765)");

@@ -10,6 +10,7 @@
 
 #include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
+#include "plugslam/png.h"
 
 namespace plugslam::runtime::render {
 
@@ -180,23 +181,14 @@ void Canvas::text(int x, int y, const std::string& s, Rgb c, int scale, Align al
 }
 
 std::string encodePng(const Canvas& canvas) {
-  // libpng's simplified API: no setjmp, errors come back as a message in the image struct.
-  png_image image{};
-  image.version = PNG_IMAGE_VERSION;
-  image.width = static_cast<png_uint_32>(canvas.width());
-  image.height = static_cast<png_uint_32>(canvas.height());
-  image.format = PNG_FORMAT_RGB;
-  png_alloc_size_t size = 0;
-  const int stride = canvas.width() * 3;
-  if (!png_image_write_to_memory(&image, nullptr, &size, 0, canvas.samples().data(), stride,
-                                 nullptr))
-    throw Error(std::string("PNG encoding failed: ") + image.message);
-  std::string out(size, '\0');
-  if (!png_image_write_to_memory(&image, out.data(), &size, 0, canvas.samples().data(), stride,
-                                 nullptr))
-    throw Error(std::string("PNG encoding failed: ") + image.message);
-  out.resize(size);
-  return out;
+  PngPixels pixels;
+  pixels.data = canvas.samples().data();
+  pixels.width = canvas.width();
+  pixels.height = canvas.height();
+  pixels.channels = 3;
+  PngOptions picture;  // libpng's defaults: adaptive filters suit plots and map renderings
+  picture.srgb = true;  // pictures for a screen
+  return plugslam::encodePng(pixels, picture);
 }
 
 void writePng(const std::string& path, const Canvas& canvas) {

@@ -57,7 +57,7 @@ class Canvas {
   std::vector<uint8_t> rgb_;
 };
 
-/// Encodes the canvas as an 8-bit RGB PNG (libpng).
+/// Encodes the canvas as an 8-bit sRGB PNG (the SDK's encoder).
 std::string encodePng(const Canvas& canvas);
 /// Writes the canvas as a PNG atomically; throws InputError on failure.
 void writePng(const std::string& path, const Canvas& canvas);

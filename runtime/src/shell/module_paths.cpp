@@ -103,14 +103,28 @@ Configurable& findModule(Configurable& root, const std::string& name) {
       (near.empty() ? std::string(" (see: list actions)") : "; did you mean '" + near + "'?"));
 }
 
-std::string invokeAction(Configurable& root, const std::string& target,
-                         const std::vector<std::string>& args) {
+namespace {
+// "MODULE.ACTION" -> the module and the action's name.
+std::pair<Configurable*, std::string> splitAction(Configurable& root, const std::string& target) {
   const auto dot = target.rfind('.');
   if (dot == std::string::npos || dot == 0 || dot + 1 == target.size())
     throw InputError("expected MODULE.ACTION (e.g. pipeline.graph.optimize_now), got '" + target +
                      "'");
-  Configurable& m = findModule(root, target.substr(0, dot));
-  return m.invoke(target.substr(dot + 1), args);
+  return {&findModule(root, target.substr(0, dot)), target.substr(dot + 1)};
+}
+}  // namespace
+
+void checkAction(Configurable& root, const std::string& target) {
+  const auto [module, action] = splitAction(root, target);
+  for (const Action& a : module->actions())
+    if (a.name == action) return;
+  module->invoke(action);  // not an action of the module: throws the error that lists them
+}
+
+std::string invokeAction(Configurable& root, const std::string& target,
+                         const std::vector<std::string>& args) {
+  const auto [module, action] = splitAction(root, target);
+  return module->invoke(action, args);
 }
 
 }  // namespace plugslam::runtime

@@ -26,6 +26,9 @@ void walkModules(Configurable& root,
                  const std::function<void(Configurable& module, const std::string& path)>& visit);
 /// The module whose pipeline path or instance name is `name`; throws InputError when none.
 Configurable& findModule(Configurable& root, const std::string& name);
+/// Checks that "MODULE.ACTION" names a module (by path or name) and one of its actions, without
+/// running it; throws the InputError invokeAction would.
+void checkAction(Configurable& root, const std::string& target);
 /// Runs "MODULE.ACTION" with `args` (the module by path or name); returns the action's message.
 std::string invokeAction(Configurable& root, const std::string& target,
                          const std::vector<std::string>& args);

@@ -5,6 +5,7 @@
 #include <readline/readline.h>
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
@@ -35,6 +36,8 @@ const CommandHelp kCommands[] = {
     {"stop", "stop", "end the run now; outputs and run.json are written"},
     {"wait", "wait", "wait until the run pauses or ends"},
     {"status", "status", "frame, rate, local maps, graph size, loops closed"},
+    {"rate", "rate [R]", "show or set the playback rate: 0 = as fast as possible, 1 = the data's "
+     "own speed (by its timestamps), 2 = twice as fast"},
     {"set", "set PATH VALUE", "change a parameter (checked like the YAML) and rebuild"},
     {"get", "get PATH", "show a parameter or a module by pipeline path"},
     {"list", "list actions", "every module action, by module path"},
@@ -186,6 +189,7 @@ void Shell::dispatch(const std::string& cmd, const Args& a, const std::string& r
   if (cmd == "save") return want(1, "save DIR"), cmdSave(a);
   if (cmd == "load-session") return cmdLoadSession(a);
   if (cmd == "help") return cmdHelp();
+  if (cmd == "rate") return a.size() > 1 ? want(1, "rate [R]") : cmdRate(a);
   std::string near = closestMatch(cmd, commandNames());
   throw InputError("unknown command '" + cmd + "'" +
                    (near.empty() ? std::string("; type help") : "; did you mean '" + near + "'?"));
@@ -260,6 +264,7 @@ void Shell::startExecution(int64_t budget) {
   RunOptions o;
   o.out_dir = options_.out_dir;
   o.observer = options_.observer;
+  o.rate = options_.rate;
   auto exec = std::make_unique<Execution>(*run_, o);
   {
     auto lk = lockBetweenFrames();
@@ -281,6 +286,15 @@ void Shell::workerLoop() {
     if (stop_requested_) break;
     bool more = false;
     try {
+      // Paced (rate > 0): wait for the frame's time with the lock released, so commands get in
+      // meanwhile; a pause, a stop or a new rate ends the wait.
+      const auto due = exec_->nextDue();
+      if (PlaybackClock::Clock::now() < due) {
+        cv_.wait_until(lk, due, [&] {
+          return stop_requested_ || state_ != State::kRunning || exec_->nextDue() != due;
+        });
+        continue;
+      }
       more = exec_->step();
     } catch (const std::exception& e) {
       worker_error_ = e.what();
@@ -309,13 +323,11 @@ void Shell::workerLoop() {
 
 void Shell::printReport(const RunReport& r) {
   *out_ << fmt::format(
-      "run finished ({}): {} frames in {:.3f} s ({:.1f} Hz), {} local maps, {} loops closed; "
-      "outputs in {}\n",
-      r.stopped_by, r.frames, r.wall_s, r.hz, r.local_maps, r.graph.loops_accepted,
+      "run finished ({}): {} frames in {:.3f} s ({:.1f} Hz), {} local maps, {}; outputs in {}\n",
+      r.stopped_by, r.frames, r.wall_s, r.hz, r.local_maps, loopsClosedText(r.graph),
       options_.out_dir);
   if (r.ate_rmse)
-    *out_ << fmt::format("against ground truth: ATE rmse {:.4f} m (max {:.4f} m)\n", *r.ate_rmse,
-                        *r.ate_max);
+    *out_ << scoreLine(r, run_ && run_->pipeline ? run_->pipeline->reference() : "");
 }
 
 // ---- commands -----------------------------------------------------------------------------------
@@ -400,6 +412,31 @@ void Shell::cmdStep(const Args& a) {
   *out_ << "paused at frame " << exec_->frames() << "\n";
 }
 
+void Shell::cmdRate(const Args& a) {
+  if (a.empty()) {
+    *out_ << fmt::format("rate {}{}\n", options_.rate,
+                        options_.rate > 0 ? "" : " (as fast as possible)");
+    return;
+  }
+  double rate = -1;
+  try {
+    size_t used = 0;
+    rate = std::stod(a[0], &used);
+    if (used != a[0].size()) rate = -1;
+  } catch (const std::exception&) {
+  }
+  if (!(rate >= 0) || !std::isfinite(rate))
+    throw InputError("rate: expected a number >= 0 (0: as fast as possible, 1: the data's own "
+                     "speed), got '" + a[0] + "'");
+  {
+    auto lk = lockBetweenFrames();
+    options_.rate = rate;
+    if (exec_) exec_->setRate(rate);
+  }
+  cv_.notify_all();  // a worker waiting for a frame's time re-reads it
+  *out_ << fmt::format("rate {}\n", rate);
+}
+
 void Shell::cmdStop() {
   {
     auto lk = lockBetweenFrames();
@@ -454,6 +491,7 @@ void Shell::cmdStatus() {
     GraphStats g = p->graph->stats();
     line += fmt::format(", graph {} nodes {} edges, loops closed {}", g.nodes, g.edges,
                         g.loops_accepted);
+    if (g.loops_restored > 0) line += fmt::format(" (+{} restored)", g.loops_restored);
   }
   if (session_)
     line += fmt::format(", session {} ({})", session_->manifest.dir,
@@ -474,7 +512,7 @@ void Shell::cmdSet(const std::string& rest) {
   // A deep copy: yaml-cpp nodes share their data, and assigning one overwrites what it refers to.
   ConfigDocument doc = *doc_;
   doc.root.reset(YAML::Clone(doc_->root));
-  applyOverride(doc, assignment);
+  applyOverride(doc, assignment, "set " + rest);  // errors quote what was typed
   const std::string path = assignment.substr(0, assignment.find('='));
   commit(std::move(doc));
   // The value as the rebuilt module holds it; a list slot (e.g. "outputs") echoes the input.
@@ -574,8 +612,8 @@ void Shell::cmdSwap(const Args& a) {
                      (near.empty() ? std::string("") : "; did you mean '" + near + "'?"));
   }
   if (info->kind != t.slot->kind())
-    throw InputError("'" + type + "' is a " + info->kind + ", but '" + path + "' takes a " +
-                     t.slot->kind());
+    throw InputError("'" + type + "' is " + withArticle(info->kind) + ", but '" + path +
+                     "' takes " + withArticle(t.slot->kind()));
   // The new node keeps the keys the new type also has (and the instance name).
   std::vector<std::string> keys{"name"};
   {
@@ -619,7 +657,7 @@ void Shell::cmdSwap(const Args& a) {
   }
   YAML::Emitter e;
   e << YAML::Flow << node;
-  applyOverride(doc, path + "=" + e.c_str());
+  applyOverride(doc, path + "=" + e.c_str(), "swap " + path + " " + type);
   doc.overrides.erase(path);
   const std::string from = t.module->typeName();
   commit(std::move(doc));

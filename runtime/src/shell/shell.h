@@ -26,6 +26,7 @@ namespace plugslam::runtime {
 struct ShellOptions {
   std::string out_dir = "out";  ///< where runs write their outputs and run.json
   bool echo = false;            ///< print each command before its output (scripts)
+  double rate = 0;              ///< playback rate of runs (--rate, `rate R`; RunOptions::rate)
   /// Watches every run (the viewer stream); may be null.
   RunObserver* observer = nullptr;
   /// Told when a run starts ("running"), pauses ("paused") or resumes, between frames; may be
@@ -85,6 +86,7 @@ class Shell {
   void cmdSave(const Args& a);
   void cmdLoadSession(const Args& a);
   void cmdHelp();
+  void cmdRate(const Args& a);
 
   // Builds a module tree from `doc` (plus the loaded session); throws on any error.
   std::shared_ptr<RunConfig> build(const ConfigDocument& doc);

@@ -209,6 +209,10 @@ std::string serviceCallFailure(uint32_t service_id, uint32_t call_id, const std:
       .dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
+std::string serviceResponse(const std::string& message) {
+  return json{{"message", message}}.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
 std::string messageDataHeader(uint32_t subscription, uint64_t log_time) {
   std::string o;
   o.push_back('\x01');

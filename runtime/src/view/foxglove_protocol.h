@@ -5,13 +5,13 @@
 // them. Client input is untrusted: every malformed message is a ProtocolError saying why.
 #include <cstdint>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <variant>
 #include <vector>
 
+#include "plugslam/errors.h"
 #include "view/view_hub.h"
 
 namespace plugslam::runtime::foxglove {
@@ -20,9 +20,9 @@ namespace plugslam::runtime::foxglove {
 inline constexpr const char* kSubprotocols[] = {"foxglove.sdk.v1", "foxglove.websocket.v1"};
 
 /// A client message the server cannot act on; what() is sent back in a status message.
-class ProtocolError : public std::runtime_error {
+class ProtocolError : public InputError {
  public:
-  using std::runtime_error::runtime_error;
+  using InputError::InputError;
 };
 
 /// subscribe: (subscription id, channel id) pairs.
@@ -104,6 +104,8 @@ std::string advertiseServices(const std::vector<Service>& services);
 std::string serviceCallFailure(uint32_t service_id, uint32_t call_id, const std::string& message);
 /// The binary Message Data header (opcode, subscription id, timestamp); the payload follows.
 std::string messageDataHeader(uint32_t subscription, uint64_t log_time);
+/// A service's JSON response: {"message": ...}.
+std::string serviceResponse(const std::string& message);
 /// A binary Service Call Response.
 std::string serviceCallResponse(uint32_t service_id, uint32_t call_id, const std::string& encoding,
                                 const std::string& payload);

@@ -285,42 +285,34 @@ struct FoxgloveServer::Impl {
       return v;
     }
 
+    // The reply to a parameter request, on the I/O thread: errors as statuses with the request's
+    // id, then the values; after a set, the other clients that follow those parameters.
+    ViewControl::ParametersDone parametersReply(const std::optional<std::string>& id, bool set) {
+      return [this_server = &server, weak = weak_from_this(), id, set](
+                 std::vector<foxglove::Parameter> values, std::vector<std::string> errors) {
+        net::post(this_server->ioc, [this_server, weak, id, set, values = std::move(values),
+                                     errors = std::move(errors)] {
+          auto self = weak.lock();
+          if (self && !self->closed) {
+            for (const auto& e : errors) {
+              this_server->count(&ViewServerStats::bad_messages);
+              self->reply(2, e, id.value_or(""));
+            }
+            self->sendText(foxglove::parameterValues(values, id));
+          }
+          if (set) this_server->parametersChanged(values, self.get());
+        });
+      };
+    }
+
     void on(foxglove::GetParameters& g) {
       if (!server.control) return reply(2, "this host has no parameters");
-      auto weak = weak_from_this();
-      auto id = g.id;
-      server.control->getParameters(
-          g.names, [this_server = &server, weak, id](std::vector<foxglove::Parameter> values,
-                                                    std::vector<std::string> errors) {
-            net::post(this_server->ioc, [weak, id, values = std::move(values),
-                                         errors = std::move(errors)] {
-              auto self = weak.lock();
-              if (!self || self->closed) return;
-              for (const auto& e : errors) self->reply(2, e, id.value_or(""));
-              self->sendText(foxglove::parameterValues(values, id));
-            });
-          });
+      server.control->getParameters(g.names, parametersReply(g.id, false));
     }
 
     void on(foxglove::SetParameters& s) {
       if (!server.control) return reply(2, "this host has no parameters");
-      auto weak = weak_from_this();
-      auto id = s.id;
-      server.control->setParameters(
-          s.parameters, [this_server = &server, weak, id](std::vector<foxglove::Parameter> values,
-                                                         std::vector<std::string> errors) {
-            net::post(this_server->ioc, [this_server, weak, id, values = std::move(values),
-                                         errors = std::move(errors)] {
-              if (auto self = weak.lock(); self && !self->closed) {
-                for (const auto& e : errors) {
-                  this_server->count(&ViewServerStats::bad_messages);
-                  self->reply(2, e, id.value_or(""));
-                }
-                self->sendText(foxglove::parameterValues(values, id));
-              }
-              this_server->parametersChanged(values, weak.lock().get());
-            });
-          });
+      server.control->setParameters(s.parameters, parametersReply(s.id, true));
     }
 
     void on(foxglove::ParameterUpdates& p) {
@@ -360,7 +352,7 @@ struct FoxgloveServer::Impl {
                                if (!self || self->closed) return;
                                if (ok) {
                                  self->sendBinary(foxglove::serviceCallResponse(
-                                     sid, cid, "json", serviceResponse(message)));
+                                     sid, cid, "json", foxglove::serviceResponse(message)));
                                } else {
                                  this_server->count(&ViewServerStats::bad_messages);
                                  self->sendText(foxglove::serviceCallFailure(sid, cid, message));
@@ -455,7 +447,6 @@ struct FoxgloveServer::Impl {
     }
   };
 
-  static std::string serviceResponse(const std::string& message);
   uint64_t totalDropped() {
     std::lock_guard<std::mutex> lock(mutex);
     return stats.dropped;
@@ -620,24 +611,6 @@ struct FoxgloveServer::Impl {
     return "ws://" + host + ":" + std::to_string(ep.port());
   }
 };
-
-std::string FoxgloveServer::Impl::serviceResponse(const std::string& message) {
-  std::string out = "{\"message\":\"";
-  for (const char c : message) {
-    const auto u = static_cast<unsigned char>(c);
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (u < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof(buf), "\\u%04x", u);
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"}";
-}
 
 FoxgloveServer::FoxgloveServer(ViewHub& hub, ViewControl* control, ViewServerOptions options)
     : impl_(std::make_unique<Impl>(hub, control, std::move(options))) {}

@@ -33,7 +33,8 @@ std::string relativeUnder(const std::string& path) {
 
 RunControl::RunControl(RunConfig& run, ConfigDocument& doc, PluginManager& plugins,
                        std::string out_dir, ViewStream& stream, SaveSession save_session,
-                       std::function<bool()> interrupted, std::string* config_yaml)
+                       std::function<bool()> interrupted, std::string* config_yaml,
+                       bool start_paused)
     : run_(run),
       doc_(doc),
       plugins_(plugins),
@@ -42,7 +43,9 @@ RunControl::RunControl(RunConfig& run, ConfigDocument& doc, PluginManager& plugi
       save_session_(std::move(save_session)),
       interrupted_(std::move(interrupted)),
       config_yaml_(config_yaml),
-      services_(standardServices(&run)) {
+      services_(standardServices(&run)),
+      paused_(start_paused) {
+  if (paused_) stream_.setState("paused");
   validator_ = std::thread([this] { validatorLoop(); });
 }
 

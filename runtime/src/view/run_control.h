@@ -30,7 +30,7 @@ class RunControl final : public ViewControl, public RunObserver {
   /// `config_yaml` (may be null) is kept equal to configYaml() on the run's thread.
   RunControl(RunConfig& run, ConfigDocument& doc, PluginManager& plugins, std::string out_dir,
              ViewStream& stream, SaveSession save_session, std::function<bool()> interrupted,
-             std::string* config_yaml = nullptr);
+             std::string* config_yaml = nullptr, bool start_paused = false);
   ~RunControl() override;
   RunControl(const RunControl&) = delete;
   RunControl& operator=(const RunControl&) = delete;

@@ -52,6 +52,7 @@ int ViewHub::declare(const std::string& topic, size_t kind, view::Latch latch) {
     channels_.emplace_back();
     channels_.back().info = info;
     by_topic_[topic] = info.id;
+    refreshWants();  // a recording wants it from its first message
   }
   // Receivers learn of the channel on the worker thread, in order with the messages.
   std::lock_guard<std::mutex> deliver(deliver_mutex_);
@@ -116,6 +117,13 @@ void ViewHub::publish(int id, view::Drawable&& message, int64_t key) {
 std::shared_ptr<const std::string> ViewHub::encode(const Channel& c,
                                                    const view::Drawable& d) const {
   try {
+    if (const auto* grid = std::get_if<view::Grid>(&d); grid && grid->fill) {
+      // A grid computed on demand: here, off the pipeline's thread.
+      view::Grid filled = *grid;
+      filled.fill = nullptr;
+      grid->fill(filled);
+      return std::make_shared<const std::string>(encodeJson(view::Drawable(std::move(filled))));
+    }
     return std::make_shared<const std::string>(encodeJson(d));
   } catch (const std::exception& e) {
     spdlog::warn("viewer: cannot encode a message on {}: {}", c.info.topic, e.what());

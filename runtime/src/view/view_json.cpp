@@ -150,14 +150,36 @@ json encode(const view::CameraImage& m) {
               {"format", "jpeg"}};
 }
 
+// The camera's lens model as foxglove.CameraCalibration names it, with the coefficient count its
+// schema documents (plumb_bob 5, rational_polynomial 8, kannala_brandt 4). OpenCV's thin-prism and
+// tilt terms (12 or 14 coefficients) have no Foxglove model: the first 8 are sent.
+std::pair<const char*, json> distortion(const Distortion& d) {
+  auto first = [&d](size_t n) {
+    json out = json::array();
+    for (size_t i = 0; i < n; ++i) out.push_back(i < d.coefficients.size() ? d.coefficients[i] : 0.0);
+    return out;
+  };
+  switch (d.model) {
+    case Distortion::Model::kRadialTangential:
+      if (d.coefficients.size() > 5) return {"rational_polynomial", first(8)};
+      return {"plumb_bob", first(5)};
+    case Distortion::Model::kEquidistant:
+      return {"kannala_brandt", first(4)};
+    case Distortion::Model::kNone:
+      break;
+  }
+  return {"plumb_bob", first(5)};  // all zero: an ideal pinhole
+}
+
 json encode(const view::CameraCalibration& m) {
   const CameraInfo& c = m.info;
+  auto [model, coefficients] = distortion(c.distortion);
   return json{{"timestamp", time(m.stamp)},
               {"frame_id", m.frame},
               {"width", c.width},
               {"height", c.height},
-              {"distortion_model", "plumb_bob"},
-              {"D", json::array({0, 0, 0, 0, 0})},
+              {"distortion_model", model},
+              {"D", std::move(coefficients)},
               {"K", {c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1}},
               {"R", {1, 0, 0, 0, 1, 0, 0, 0, 1}},
               {"P", {c.fx, 0, c.cx, 0, 0, c.fy, c.cy, 0, 0, 0, 1, 0}}};  // the left (or only) camera: no baseline term

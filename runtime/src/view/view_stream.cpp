@@ -97,37 +97,42 @@ void ViewStream::frame(const Frame& frame, const Pipeline& pipeline, uint64_t fr
     cloud.frame = "base_link";
     if (drawers.draw(m, cloud)) channel.publish(std::move(cloud));
   }
-  // Camera images as the source gave them.
+  // Camera images as the source gave them. A source names its images (left/right, rgb/depth)
+  // apart from the one CameraInfo that calibrates them (raw["camera"]): the images are then drawn
+  // in that camera's frame, the one /tf places (a stereo pair's right image at the left camera's
+  // pose: the frame only anchors the image in the 3D view). Several CameraInfo entries: each
+  // image is in the frame of its own name.
+  std::string info_frame;
+  int infos = 0;
+  for (const auto& p : frame.raw)
+    if (p.type() == typeid(CameraInfo) && ++infos == 1) info_frame = "camera/" + p.name();
   for (const auto& p : frame.raw) {
     if (p.type() != typeid(Image)) continue;
     auto& channel = channelFor(images_, "/camera/" + p.name() + "/image", view::Latch::kNone);
     if (!channel.wanted()) continue;
-    channel.publish(view::CameraImage{"camera/" + p.name(),
+    channel.publish(view::CameraImage{infos == 1 ? info_frame : "camera/" + p.name(),
                                       static_cast<const Property<Image>&>(p).value()});
   }
 
-  // Local maps: a new current map closes the previous one, which goes out whole, once.
-  if (pipeline.tracker) {
-    if (auto current = pipeline.tracker->current()) {
-      if (current->id != current_map_) {
-        if (current_map_ >= 0 && static_cast<size_t>(current_map_) < maps_.size() &&
-            maps_[static_cast<size_t>(current_map_)])
-          publishMap(*maps_[static_cast<size_t>(current_map_)]);
-        current_map_ = current->id;
-        if (current->id >= 0) {
-          const auto i = static_cast<size_t>(current->id);
-          if (maps_.size() <= i) {
-            maps_.resize(i + 1);
-            published_origins_.resize(i + 1, Eigen::Isometry3d::Identity());
-            origin_published_.resize(i + 1, false);
-          }
-          maps_[i] = current;
-        }
-        graph_dirty_ = true;
-        last_current_map_ = Clock::now();
-      } else if (elapsed(last_current_map_, kCurrentMapPeriod)) {
-        publishMap(*current);
+  // Local maps: a frame in a new map closes the previous one, which goes out whole, once.
+  if (frame.estimate.valid && frame.estimate.local_map >= 0) {
+    const int64_t id = frame.estimate.local_map;
+    if (id != current_map_) {
+      if (current_map_ >= 0 && static_cast<size_t>(current_map_) < maps_.size() &&
+          maps_[static_cast<size_t>(current_map_)])
+        publishMap(*maps_[static_cast<size_t>(current_map_)]);
+      current_map_ = id;
+      const auto i = static_cast<size_t>(id);
+      if (maps_.size() <= i) {
+        maps_.resize(i + 1);
+        published_origins_.resize(i + 1, Eigen::Isometry3d::Identity());
+        origin_published_.resize(i + 1, false);
       }
+      if (!maps_[i]) maps_[i] = pipeline.findLocalMap(id);
+      graph_dirty_ = true;
+      last_current_map_ = Clock::now();
+    } else if (elapsed(last_current_map_, kCurrentMapPeriod)) {
+      if (const auto& map = maps_[static_cast<size_t>(id)]) publishMap(*map);
     }
   }
   // The graph and the origins, when the back-end changed something.

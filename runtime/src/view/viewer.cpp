@@ -12,17 +12,28 @@ namespace plugslam::runtime {
 
 namespace {
 
-// The log, as the /log channel (foxglove.Log); lines from any thread.
+// A viewer that connects late still gets this many of the last log lines.
+constexpr uint64_t kLogLinesKept = 200;
+
+// The log, as the /log channel (foxglove.Log); lines from any thread. The last lines are latched
+// in a ring of keys, so a late viewer sees what happened (ordered by their timestamps).
 class LogChannel final : public spdlog::sinks::base_sink<std::mutex> {
  public:
   explicit LogChannel(ViewHub& hub)
-      : hub_(hub), channel_(hub.declare("/log", view::kindOf<view::LogLine>(), view::Latch::kNone)) {
+      : hub_(&hub),
+        channel_(hub.declare("/log", view::kindOf<view::LogLine>(), view::Latch::kPerKey)) {
     set_level(spdlog::level::info);
+  }
+  // After this, lines go nowhere. The sink stays in the logger (removing it would race with
+  // threads logging meanwhile); it costs a lock per line.
+  void detach() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    hub_ = nullptr;
   }
 
  protected:
   void sink_it_(const spdlog::details::log_msg& msg) override {
-    if (!hub_.wants(channel_)) return;
+    if (!hub_ || !hub_->wants(channel_)) return;
     view::LogLine line;
     line.stamp = std::chrono::duration<double>(msg.time.time_since_epoch()).count();
     switch (msg.level) {
@@ -34,13 +45,15 @@ class LogChannel final : public spdlog::sinks::base_sink<std::mutex> {
       default: line.level = view::LogLine::Level::kInfo;
     }
     line.message.assign(msg.payload.data(), msg.payload.size());
-    hub_.publish(channel_, view::Drawable(std::move(line)), 0);
+    hub_->publish(channel_, view::Drawable(std::move(line)),
+                 static_cast<int64_t>(lines_++ % kLogLinesKept));
   }
   void flush_() override {}
 
  private:
-  ViewHub& hub_;
+  ViewHub* hub_;
   int channel_;
+  uint64_t lines_ = 0;
 };
 
 }  // namespace
@@ -49,7 +62,7 @@ bool ViewerOptions::enabled() const {
   return (serve_flag && serve_flag->count() > 0) || !record.empty();
 }
 
-void addViewerOptions(CLI::App& cmd, ViewerOptions& o) {
+void addViewerOptions(CLI::App& cmd, ViewerOptions& o, bool run_options) {
   o.serve_flag =
       cmd.add_option("--serve", o.serve,
                      "stream the run to viewers (Foxglove, Lichtblick, the built-in page) over the "
@@ -71,6 +84,11 @@ void addViewerOptions(CLI::App& cmd, ViewerOptions& o) {
                  "(recordings get every message)")
       ->capture_default_str()
       ->check(CLI::Range(0.1, 1000.0));
+  if (!run_options) return;
+  cmd.add_flag("--paused", o.paused,
+               "with --serve: wait before the first frame until a viewer resumes or steps the run");
+  cmd.add_flag("--keep-serving", o.keep_serving,
+               "with --serve: when the run ends, keep serving its result until Ctrl-C");
 }
 
 Viewer::Viewer(const ViewerOptions& options) : options_(options) {
@@ -115,13 +133,14 @@ void Viewer::stop() {
   if (stopped_ || !hub_) return;
   stopped_ = true;
   view::installPublisher(nullptr);
-  auto& sinks = spdlog::default_logger()->sinks();
-  for (auto it = sinks.begin(); it != sinks.end(); ++it)
-    if (it->get() == log_sink_.get()) {
-      sinks.erase(it);
-      break;
-    }
+  static_cast<LogChannel*>(log_sink_.get())->detach();
   hub_->flush();
+  if (server_) {
+    const ViewServerStats s = server_->stats();
+    spdlog::info("viewer: {} client(s) served, {:.1f} MB sent, {} stream messages dropped for slow "
+                 "clients, {} bad client messages answered",
+                 s.connections, s.sent_bytes / 1e6, s.dropped, s.bad_messages);
+  }
   server_.reset();
   if (recorder_) {
     auto recorder = std::move(recorder_);

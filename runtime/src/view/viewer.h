@@ -26,12 +26,15 @@ struct ViewerOptions {
   std::string edit_root;              ///< --root: where the config editor may save
   std::string record;                 ///< --record FILE.mcap
   double rate = ViewHubOptions{}.stream_rate;  ///< --view-rate
+  bool paused = false;                ///< --paused: wait for a viewer before the first frame
+  bool keep_serving = false;          ///< --keep-serving: serve the result until Ctrl-C
   /// True when anything was asked for.
   bool enabled() const;
 };
 
-/// Adds --serve, --serve-remote, --web-root, --record and --view-rate to `cmd`.
-void addViewerOptions(CLI::App& cmd, ViewerOptions& options);
+/// Adds --serve, --serve-remote, --web-root, --record and --view-rate to `cmd`, and with
+/// `run_options` --paused and --keep-serving (plugslam run).
+void addViewerOptions(CLI::App& cmd, ViewerOptions& options, bool run_options = false);
 
 /// The viewer of one command; inactive (and free) when no option asked for it.
 class Viewer {

@@ -1,7 +1,8 @@
 // A 2D session of N local maps, as plugslam's channels carry it (foxglove.FrameTransforms,
 // PointCloud, PosesInFrame, SceneUpdate): a robot driving a lawn-mower path through a building,
-// one local map per metre, each holding the wall points its laser saw. For the page's frame-rate
-// bench: the rendering cost depends on how much is drawn, not on where it came from.
+// one local map per metre (its origin on /tf/maps, as the host sends it), each holding the wall
+// points its laser saw. For the page's frame-rate bench: the rendering cost depends on how much is
+// drawn, not on where it came from.
 
 function b64(bytes) {
   return Buffer.from(bytes.buffer, bytes.byteOffset, bytes.byteLength).toString("base64");
@@ -20,7 +21,7 @@ export function syntheticSession({ maps = 1000, points = 600, loopsPerMap = 2 } 
     const yaw = row % 2 === 0 ? 0 : Math.PI;
     origins.push([x, y]);
     const frame = `map/${i}`;
-    out.push(["/tf", { transforms: [{ timestamp: { sec: i, nsec: 0 }, parent_frame_id: "world", child_frame_id: frame, translation: { x, y, z: 0 }, rotation: q(yaw) }] }]);
+    out.push(["/tf/maps", { transforms: [{ timestamp: { sec: i, nsec: 0 }, parent_frame_id: "world", child_frame_id: frame, translation: { x, y, z: 0 }, rotation: q(yaw) }] }]);
     // Walls 1.5 m either side of the lane, seen over the metre of this map, plus clutter.
     const cloud = new Float32Array(points * 3);
     for (let k = 0; k < points; ++k) {

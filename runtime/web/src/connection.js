@@ -49,7 +49,7 @@ export class Connection {
       if (!ch) return;
       try {
         const msg = JSON.parse(decoder.decode(data));
-        this.session.ingest(ch.topic, msg);
+        this.session.ingest(ch.topic, msg, ch.schemaName);
       } catch (e) {
         console.warn(`bad message on ${ch.topic}: ${e}`);
       }

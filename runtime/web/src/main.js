@@ -15,7 +15,7 @@ const view = new SceneView($("view"), session);
 window.plugslamView = {
   session,
   view,
-  ingest: (topic, msg) => session.ingest(topic, msg),
+  ingest: (topic, msg, schema) => session.ingest(topic, msg, schema),
   fps: () => view.fps(),
   counts: () => view.counts(),
 };

@@ -84,6 +84,7 @@ export class SceneView {
     this.frames = 0;
     this.frameTimes = [];
     this.setMode("2d");
+    this.watchPan();
     new ResizeObserver(() => this.resize()).observe(canvas);
     this.resize();
   }
@@ -106,16 +107,49 @@ export class SceneView {
     this.controls = new OrbitControls(this.camera, this.canvas);
     this.controls.enableRotate = mode === "3d";
     this.controls.screenSpacePanning = true;
+    if (mode === "2d") {
+      // A top view has nothing to rotate: the left button (and one finger) pan.
+      this.controls.mouseButtons = { LEFT: THREE.MOUSE.PAN, MIDDLE: THREE.MOUSE.DOLLY, RIGHT: THREE.MOUSE.PAN };
+      this.controls.touches = { ONE: THREE.TOUCH.PAN, TWO: THREE.TOUCH.DOLLY_PAN };
+    }
     this.controls.target.copy(target);
-    // Dragging is the user taking the camera: follow-the-robot stops (the button turns it on).
-    this.controls.addEventListener("start", () => {
-      if (this.follow && this.onFollowChange) {
-        this.follow = false;
-        this.onFollowChange(false);
-      }
-    });
     this.controls.update();
     this.resize();
+  }
+
+  // Panning is the user taking the camera: follow-the-robot stops (the checkbox turns it on
+  // again). Zooming (wheel, pinch) and orbiting keep following: they do not move the target.
+  // A pan is a drag that starts a pan in OrbitControls' own mapping of buttons and modifiers.
+  watchPan() {
+    const pointers = new Set();
+    let candidate = false;
+    const startsPan = (e) => {
+      const c = this.controls;
+      if (!c.enablePan) return false;
+      if (e.pointerType === "touch") return c.touches.ONE === THREE.TOUCH.PAN;
+      const action = [c.mouseButtons.LEFT, c.mouseButtons.MIDDLE, c.mouseButtons.RIGHT][e.button];
+      const modified = e.ctrlKey || e.metaKey || e.shiftKey;
+      return (action === THREE.MOUSE.PAN && !modified) || (action === THREE.MOUSE.ROTATE && modified);
+    };
+    this.canvas.addEventListener("pointerdown", (e) => {
+      pointers.add(e.pointerId);
+      candidate = pointers.size === 1 && startsPan(e);
+    });
+    this.canvas.addEventListener("pointermove", () => {
+      // A second finger first makes it a pinch; a click that does not move pans nothing.
+      if (!candidate || pointers.size !== 1) return;
+      candidate = false;
+      if (this.follow) {
+        this.follow = false;
+        if (this.onFollowChange) this.onFollowChange(false);
+      }
+    });
+    const up = (e) => {
+      pointers.delete(e.pointerId);
+      if (pointers.size !== 1) candidate = false;
+    };
+    this.canvas.addEventListener("pointerup", up);
+    this.canvas.addEventListener("pointercancel", up);
   }
 
   resize() {

@@ -136,11 +136,18 @@ export class Session {
     return m;
   }
 
-  /** Takes one decoded message of a channel. */
-  ingest(topic, msg) {
+  /**
+   * Takes one decoded message of a channel. Transforms are known by their schema, as Foxglove and
+   * Lichtblick know them, whatever the topic: the host sends the robot on /tf and the local maps'
+   * origins on /tf/maps. Without a schema (messages fed by hand), /tf and /tf/... carry them.
+   */
+  ingest(topic, msg, schema = "") {
     ++this.messages;
-    if (topic === "/tf") {
-      for (const t of msg.transforms || []) {
+    const transforms = schema
+      ? schema === "foxglove.FrameTransforms" || schema === "foxglove.FrameTransform"
+      : topic === "/tf" || topic.startsWith("/tf/");
+    if (transforms) {
+      for (const t of schema === "foxglove.FrameTransform" ? [msg] : msg.transforms || []) {
         this.frames.set(t.child_frame_id, {
           parent: t.parent_frame_id,
           T: makeTransform(t.translation, t.rotation),

@@ -31,21 +31,27 @@ struct AlignContext {
   using Pose = typename S::Pose;  ///< the pose type
   /// Previous pose and guess at the scene's origin, no measured motion.
   AlignContext() = default;
-  /// The previous pose, the initial estimate and the motion model's measured motion.
+  /// The previous pose, the initial estimate, the motion model's measured motion and the raw
+  /// entry it was measured from.
   AlignContext(const Pose& previous_pose, const Pose& initial_guess,
-               std::optional<Pose> measured_motion = std::nullopt)
-      : previous(previous_pose), guess(initial_guess), motion(std::move(measured_motion)) {}
+               std::optional<Pose> measured_motion = std::nullopt,
+               std::string measured_entry = std::string())
+      : previous(previous_pose),
+        guess(initial_guess),
+        motion(std::move(measured_motion)),
+        motion_entry(std::move(measured_entry)) {}
 
   Pose previous = Pose::Identity();  ///< the previous frame's pose in the scene frame
   Pose guess = Pose::Identity();     ///< the initial estimate (the motion prediction)
   /// The motion since the previous frame as the tracker's motion model measured it (in the
   /// previous robot frame); empty without a motion model or a reading this frame.
   std::optional<typename S::Pose> motion;
-  /// The raw entry `motion` was measured from, when the motion model reads exactly one (a slice
-  /// that reads the same entry can take `motion` instead of computing it again); else empty.
-  std::string motion_entry;
   uint64_t seq = 0;  ///< the frame's index in the run (set by bind from the frame)
   double stamp = 0;  ///< the frame's time [s] (set by bind from the frame)
+  /// The raw entry `motion` was measured from, when the motion model reads exactly one (a slice
+  /// that reads the same entry can take `motion` instead of computing it again); else empty.
+  /// Last member (ABI 2.3: appended).
+  std::string motion_entry;
 };
 
 /// One cue's contribution to the Multi-Aligner.

@@ -93,8 +93,11 @@ class SlotBase {
   const std::string& doc() const { return doc_; }
   /// Interface kind the items must implement ("AlignerSlice").
   const std::string& kind() const { return kind_; }
-  /// Type built when the YAML omits `type:` (or the key entirely); empty = no default.
+  /// Type built when the YAML omits `type:` (or the key entirely); empty = no default. For a
+  /// list: the types built when the YAML omits the key, comma-separated.
   const std::string& defaultType() const { return default_type_; }
+  /// The default types one by one (one at most for a single slot).
+  std::vector<std::string> defaultTypes() const;
   /// True for SlotList.
   bool isList() const { return is_list_; }
 
@@ -111,6 +114,8 @@ class SlotBase {
   SlotBase(Configurable* owner, std::string name, std::string kind, std::string default_type,
            std::string doc, bool is_list);
   [[noreturn]] void wrongKind(const Configurable& item) const;
+  /// "a, b, c": how a list's default types are kept in defaultType().
+  static std::string joinTypes(const std::vector<std::string>& types);
 
  private:
   std::string name_, doc_, kind_, default_type_;
@@ -157,6 +162,11 @@ class SlotList final : public SlotBase {
   /// Declares the list on `owner`.
   SlotList(Configurable* owner, std::string name, std::string doc)
       : SlotBase(owner, std::move(name), I::kKind, "", std::move(doc), true) {}
+  /// Declares the list with the types built, in order, when the YAML omits the key.
+  SlotList(Configurable* owner, std::string name, std::string doc,
+           const std::vector<std::string>& default_types)
+      : SlotBase(owner, std::move(name), I::kKind, joinTypes(default_types), std::move(doc),
+                 true) {}
 
   size_t size() const { return items_.size(); }
   bool empty() const { return items_.empty(); }

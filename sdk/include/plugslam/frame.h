@@ -13,7 +13,8 @@ struct FrameEstimate {
   bool valid = false;                                     ///< a tracker ran on this frame
   int64_t local_map = -1;                                 ///< id of the local map it belongs to
   Eigen::Isometry3d in_map = Eigen::Isometry3d::Identity();  ///< pose in the local map's frame
-  Eigen::Isometry3d world = Eigen::Isometry3d::Identity();   ///< pose in the world, at the time
+  /// Pose in the world at the time: the pipeline composes it from the map's origin.
+  Eigen::Isometry3d world = Eigen::Isometry3d::Identity();
   /// The local map is frozen (localization in saved maps): nothing will correct `world` later,
   /// so a sink may use it as final. Last members: plugins built before them read the rest.
   bool frozen = false;
@@ -27,7 +28,7 @@ struct Frame {
   double stamp = 0;               ///< seconds
   PropertyContainer raw;          ///< readings by sensor name, filled by the Source
   PropertyContainer measurement;  ///< one entry per cue, filled by the PreProcessors
-  FrameEstimate estimate;         ///< filled by the tracker
+  FrameEstimate estimate;         ///< filled by the tracker (and the pipeline: world)
 };
 
 }  // namespace abi_v1

@@ -1,10 +1,8 @@
 #pragma once
 // The Multi-Tracker (seed, section IV-B): one local map (a scene container with one entry per
 // cue), a Multi-Aligner, tracker slices that merge each cue, an optional motion model and a
-// splitter. compute() reads like the seed: predict, align, merge, split.
+// splitter. track() reads like the seed: predict, align, merge, split.
 #include <memory>
-#include <optional>
-#include <string>
 
 #include "plugslam/motion_model.h"
 #include "plugslam/multi_aligner.h"
@@ -48,48 +46,46 @@ class MultiTracker : public Tracker {
 
   Param<double> localize_tie{
       this, "localize_tie", 0.02, "",
-      "localization: saved maps whose alignment's inlier ratio is within this of the best are "
-      "equally good, and the one nearest the motion prediction wins",
+      "localization (the sdk.Localizer this tracker hands over): saved maps whose alignment's "
+      "inlier ratio is within this of the best are equally good, and the one nearest the "
+      "motion prediction wins",
       Range{0, 1}};
 
   void configure() override;
   int dimension() const override { return S::kDim; }
-  void track(Frame& frame) override;
-  std::vector<std::shared_ptr<LocalMap>> takeClosed() override;
-  std::shared_ptr<const LocalMap> current() const override {
-    return frozen_.empty() ? std::shared_ptr<const LocalMap>(map_) : located_;
-  }
-  void setCurrentOrigin(const Eigen::Isometry3d& origin) override;
+  TrackEvents track(Frame& frame) override;
   /// The robot's pose in the current local map.
   const Pose& pose() const { return pose_; }
   /// Starts over: the current map is closed, no motion history; the next frame starts a new map
   /// (a new graph component, at the world origin). Also the action "reset".
   void reset();
   void continueSession(int64_t next_id) override;
-  void localizeIn(std::vector<std::shared_ptr<const LocalMap>> maps) override;
+  std::shared_ptr<Tracker> localizer(
+      std::vector<std::shared_ptr<const LocalMap>> maps) const override;
 
  private:
-  Pose predict(const Frame& frame);
-  // The aligner's context: the poses, and the motion model's measured motion with its entry.
-  AlignContext<S> alignContext(const Pose& previous, const Pose& guess) const;
+  // The aligner's solution for this frame, marked invalid when it moved the motion model's
+  // prediction farther than max_correction.
+  AlignResult<S> align(const Frame& frame, const Pose& previous, const Pose& guess);
+  // Counts the frame as aligned or failed.
+  void count(const Frame& frame, const AlignResult<S>& aligned);
+  // What the splitter is asked after the frame was merged.
+  SplitQuery splitQuery(const Frame& frame, const AlignResult<S>& aligned) const;
+  // Information of the edge into a map started by a failed frame (fallback_sigma).
+  typename S::Matrix fallbackInformation() const;
   void merge(const Frame& frame);
   void writeEstimate(Frame& frame, bool lost) const;
-  void startLocalMap(const Frame& frame, const typename S::Matrix& information);
-  void trackFrozen(Frame& frame);
+  // Closes the current map (if any) and starts the next at the robot's pose, joined to it by
+  // `information`.
+  void startLocalMap(const Frame& frame, const typename S::Matrix& information,
+                     TrackEvents& events);
 
   std::shared_ptr<LocalMap> map_;
-  std::vector<std::shared_ptr<LocalMap>> closed_;
-  Pose pose_ = Pose::Identity();         // robot in the current local map
-  Pose last_motion_ = Pose::Identity();  // for the constant-velocity prediction
+  std::vector<std::shared_ptr<LocalMap>> closed_;  // by reset(), reported by the next track()
+  Pose pose_ = Pose::Identity();  // robot in the current local map
+  MotionPrediction<S> prediction_;
   size_t frames_in_map_ = 0;
-  // The motion model's measured motion this frame (empty: the prediction did not come from it);
-  // the aligner's slices get it in their AlignContext.
-  std::optional<Pose> model_motion_;
-  std::string model_motion_entry_;  // the raw entry it was measured from (see AlignContext)
   int64_t next_id_ = 0;
-  // Localization mode: the frozen maps and the one the robot is in.
-  std::vector<std::shared_ptr<const LocalMap>> frozen_;
-  std::shared_ptr<const LocalMap> located_;
 };
 
 extern template class MultiTracker<Space2D>;

@@ -47,9 +47,13 @@ class Pipeline : public Configurable {
   Timings& timings() { return timings_; }
   /// Restores a saved session before the first frame: the local maps (ids 0..n-1) and the graph
   /// edges. Mapping (`localize` false) appends new maps after them, joined by loops; localization
-  /// tracks against them frozen and adds nothing to the graph. Throws InputError.
+  /// tracks against them frozen with the tracker's localizer (Tracker::localizer), which takes
+  /// the tracker's place, and adds nothing to the graph. Throws InputError.
   void restoreSession(const std::vector<std::shared_ptr<LocalMap>>& maps,
                       const std::vector<GraphEdge>& edges, bool localize);
+  /// The local map `id` the tracker started or the session restored (its scene, its current
+  /// origin), nullptr if none. Read it only between frames.
+  std::shared_ptr<const LocalMap> findLocalMap(int64_t id) const;
 
  protected:
   /// Runs `step` as module `m`, timing it and wrapping its exceptions in ModuleError (also
@@ -77,6 +81,8 @@ class Pipeline : public Configurable {
   std::map<int64_t, std::shared_ptr<LocalMap>> local_maps_;
 
  private:
+  // The local map `id` the tracker started (or the session restored); throws ModuleError.
+  const LocalMap& localMap(int64_t id) const;
   Timings timings_;
 };
 

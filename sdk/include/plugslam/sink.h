@@ -6,7 +6,7 @@
 
 #include "plugslam/configurable.h"
 #include "plugslam/frame.h"
-#include "plugslam/graph_slam.h"
+#include "plugslam/graph_edge.h"
 #include "plugslam/local_map.h"
 #include "plugslam/trajectory.h"
 

@@ -1,5 +1,7 @@
 #pragma once
-// Tracker: the dimension-agnostic face of the Multi-Tracker that the pipeline drives.
+// Tracker: the dimension-agnostic face of the front-end that the pipeline drives. A tracker
+// knows poses in its local maps only: each map's place in the world is the pipeline's and the
+// graph back-end's (see TrackEvents).
 #include <memory>
 #include <vector>
 
@@ -19,6 +21,16 @@ struct TrackerStats {
   double inlier_ratio_sum = 0;  ///< for the mean inlier ratio
 };
 
+/// What one track() did to the local maps, in the order the graph back-end takes it.
+struct TrackEvents {
+  /// The local map this frame started, if any: its `previous`, `relative` and `information`
+  /// say how it follows its predecessor. The pipeline places it (origin = the predecessor's
+  /// origin times `relative`); from then its origin belongs to the graph back-end.
+  std::shared_ptr<LocalMap> started;
+  /// Local maps closed since the last frame, oldest first: complete, nothing merges into them.
+  std::vector<std::shared_ptr<LocalMap>> closed;
+};
+
 /// Tracks frames against a local map and splits local maps off.
 class Tracker : public Configurable {
  public:
@@ -26,23 +38,22 @@ class Tracker : public Configurable {
   ~Tracker() override;
   /// 2 or 3.
   virtual int dimension() const = 0;
-  /// Predicts, aligns, merges and splits for one preprocessed frame; fills frame.estimate.
-  virtual void track(Frame& frame) = 0;
-  /// Local maps closed since the last call, oldest first (ownership moves to the caller).
-  virtual std::vector<std::shared_ptr<LocalMap>> takeClosed() = 0;
-  /// The local map being built (nullptr before the first frame).
-  virtual std::shared_ptr<const LocalMap> current() const = 0;
-  /// Moves the current map's world origin (after the back-end corrected the graph).
-  virtual void setCurrentOrigin(const Eigen::Isometry3d& origin) = 0;
+  /// Predicts, aligns, merges and splits for one preprocessed frame; fills frame.estimate (all
+  /// but `world`, which the pipeline composes from the map's origin) and says which local maps
+  /// started and closed.
+  virtual TrackEvents track(Frame& frame) = 0;
   /// Counters so far.
   const TrackerStats& stats() const { return stats_; }
   /// Continues a restored session: the next local map gets id `next_id` and starts a new
   /// component of the graph (no edge to the restored maps until a loop joins them). The default
   /// throws InputError: the tracker cannot extend a session.
   virtual void continueSession(int64_t next_id);
-  /// Localization only: tracks against these frozen maps (world origins fixed), never merging
-  /// into them nor creating maps. The default throws InputError: the tracker cannot localize.
-  virtual void localizeIn(std::vector<std::shared_ptr<const LocalMap>> maps);
+  /// A tracker that localizes in these frozen maps (world origins fixed) with this tracker's
+  /// aligner and motion model, never merging into them nor creating maps: the pipeline tracks
+  /// with it instead (`run --localize`). The default throws InputError: the tracker cannot
+  /// localize.
+  virtual std::shared_ptr<Tracker> localizer(
+      std::vector<std::shared_ptr<const LocalMap>> maps) const;
 
  protected:
   TrackerStats stats_;

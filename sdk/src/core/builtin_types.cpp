@@ -1,10 +1,18 @@
 #include "builtin_types.h"
 
+#include "modules/graph/consistency_filter.h"
+#include "modules/graph/odometry_audit.h"
+#include "modules/graph/residual_veto.h"
+#include "plugslam/alignment_validator.h"
+#include "plugslam/graph_slam.h"
 #include "plugslam/graph_writer.h"
+#include "plugslam/landmarks/landmark_map_writer.h"
 #include "plugslam/landmarks/landmark_slices.h"
+#include "plugslam/localizer.h"
 #include "plugslam/loop_closure.h"
 #include "plugslam/multi_tracker.h"
 #include "plugslam/pipeline.h"
+#include "plugslam/proximity_detector.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
@@ -18,6 +26,10 @@ void registerBuiltinTypes(Registrar& registrar) {
                                        "2D local map + slices: predict, align, merge, split");
   registrar.add<MultiTracker<Space3D>>("MultiTracker3D",
                                        "3D local map + slices: predict, align, merge, split");
+  registrar.add<Localizer<Space2D>>(
+      "Localizer2D", "tracks in the frozen 2D maps of a saved session (run --localize)");
+  registrar.add<Localizer<Space3D>>(
+      "Localizer3D", "tracks in the frozen 3D maps of a saved session (run --localize)");
   registrar.add<GraphSlam<Space2D>>("GraphSlam2D",
                                     "pose graph of 2D local maps, loop closing, global optimization");
   registrar.add<GraphSlam<Space3D>>("GraphSlam3D",
@@ -28,6 +40,13 @@ void registerBuiltinTypes(Registrar& registrar) {
       "AlignmentValidator2D", "accepts a loop when the maps' scenes align with enough overlap");
   registrar.add<AlignmentValidator<Space3D>>(
       "AlignmentValidator3D", "accepts a loop when the maps' scenes align with enough overlap");
+  registrar.add<detail::ConsistencyFilter>(
+      "ConsistencyFilter", "keeps the largest mutually consistent set of recently closed loops");
+  registrar.add<detail::ResidualVeto>(
+      "ResidualVeto", "after each optimization, rejects the loops the graph disagrees with most");
+  registrar.add<detail::OdometryAudit>(
+      "OdometryAudit",
+      "when the run ends, rejects the loops that stretch an odometry edge beyond its bounds");
   registrar.add<GraphWriter>("GraphWriter", "writes the pose graph of local maps as g2o");
   registrar.add<ReprojectionSlice<Space2D>>(
       "ReprojectionSlice2D", "landmark cue: (u, v, 1/z) reprojection factors, planar robot pose");
@@ -37,6 +56,8 @@ void registerBuiltinTypes(Registrar& registrar) {
       "LandmarkMapSlice2D", "landmark cue: merges keypoints into the local map's landmarks (2D)");
   registrar.add<LandmarkMapSlice<Space3D>>(
       "LandmarkMapSlice3D", "landmark cue: merges keypoints into the local map's landmarks");
+  registrar.add<LandmarkMapWriter>(
+      "LandmarkMapWriter", "landmark cue: the run's landmarks in the world as a binary PLY cloud");
   registrar.add<DistanceSplitter>("DistanceSplitter",
                                   "closes a local map on distance, angle, time or lost overlap");
 }

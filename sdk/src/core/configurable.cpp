@@ -56,6 +56,27 @@ SlotBase::SlotBase(Configurable* owner, std::string name, std::string kind,
 
 SlotBase::~SlotBase() = default;
 
+std::vector<std::string> SlotBase::defaultTypes() const {
+  std::vector<std::string> out;
+  size_t start = 0;
+  while (start < default_type_.size()) {
+    size_t end = default_type_.find(',', start);
+    if (end == std::string::npos) end = default_type_.size();
+    const size_t first = default_type_.find_first_not_of(' ', start);
+    const size_t last = default_type_.find_last_not_of(' ', end - 1);
+    if (first < end && last != std::string::npos && last >= first)
+      out.push_back(default_type_.substr(first, last - first + 1));
+    start = end + 1;
+  }
+  return out;
+}
+
+std::string SlotBase::joinTypes(const std::vector<std::string>& types) {
+  std::string out;
+  for (const auto& t : types) out += (out.empty() ? "" : ", ") + t;
+  return out;
+}
+
 void SlotBase::wrongKind(const Configurable& item) const {
   throw ValueError("'" + name_ + "' expects a " + kind_ + ", but " + item.typeName() +
                    " is not one");

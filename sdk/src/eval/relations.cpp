@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "eval/text_file.h"
+#include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
 
 namespace plugslam {
@@ -60,7 +61,7 @@ void writeRelations(const std::vector<Relation>& relations, const std::string& p
     text += format("%.9f %.9f %.10g %.10g %.10g %.10g %.10g %.10g\n", r.t1, r.t2, t.x(), t.y(),
                    t.z(), roll, pitch, yaw);
   }
-  eval_detail::writeFileAtomically(path, text);
+  writeFileAtomically(path, text);
 }
 
 std::vector<Relation> relationsFromTrajectory(const Trajectory& reference, double max_distance) {

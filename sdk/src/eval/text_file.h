@@ -1,5 +1,5 @@
 #pragma once
-// Line-oriented reading of numeric text files and atomic writing, shared by the eval readers.
+// Line-oriented reading of numeric text files, shared by the eval readers.
 #include <string>
 #include <vector>
 
@@ -20,9 +20,6 @@ std::vector<TextLine> readDataLines(const std::string& path);
 /// Parses a token as a finite double; throws ParseError(path, line, ...) naming the column.
 double parseNumber(const std::string& path, const TextLine& line, std::size_t column,
                    const char* what);
-
-/// Writes text to path through a temp file in the same folder and a rename; throws InputError.
-void writeFileAtomically(const std::string& path, const std::string& text);
 
 /// printf-style formatting into a std::string.
 std::string format(const char* fmt, ...) __attribute__((format(printf, 1, 2)));

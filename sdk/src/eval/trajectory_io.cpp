@@ -7,6 +7,7 @@
 #include <string>
 
 #include "eval/text_file.h"
+#include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
 #include "plugslam/trajectory.h"
 
@@ -259,7 +260,7 @@ Trajectory readG2oTrajectory(const std::string& path) {
 void writeTumTrajectory(const Trajectory& trajectory, const std::string& path) {
   std::string text = "# timestamp tx ty tz qx qy qz qw\n";
   for (const StampedPose& p : trajectory) text += tumLine(p);
-  eval_detail::writeFileAtomically(path, text);
+  writeFileAtomically(path, text);
 }
 
 void writeKittiTrajectory(const Trajectory& trajectory, const std::string& path,
@@ -276,8 +277,8 @@ void writeKittiTrajectory(const Trajectory& trajectory, const std::string& path,
     }
     times += format("%.9f\n", p.t);
   }
-  eval_detail::writeFileAtomically(path, text);
-  if (!times_path.empty()) eval_detail::writeFileAtomically(times_path, times);
+  writeFileAtomically(path, text);
+  if (!times_path.empty()) writeFileAtomically(times_path, times);
 }
 
 }  // namespace abi_v1

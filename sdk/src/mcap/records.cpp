@@ -34,6 +34,14 @@ void str(std::string& o, const std::string& s) {
   u32(o, static_cast<uint32_t>(s.size()));
   o += s;
 }
+// A Map<uint16, uint64>: its uint32 byte length, then the pairs.
+void u16u64Map(std::string& o, const std::vector<std::pair<uint16_t, uint64_t>>& map) {
+  u32(o, static_cast<uint32_t>(map.size() * 10));
+  for (const auto& [key, value] : map) {
+    u16(o, key);
+    u64(o, value);
+  }
+}
 // Writes a uint32 byte-length prefix placeholder; returns where it is.
 size_t beginLength32(std::string& o) {
   const size_t at = o.size();
@@ -122,11 +130,7 @@ void appendRecord(std::string& o, const ChunkIndex& r) {
   u64(o, r.message_end_time);
   u64(o, r.chunk_start_offset);
   u64(o, r.chunk_length);
-  u32(o, static_cast<uint32_t>(r.message_index_offsets.size() * 10));
-  for (const auto& [channel, offset] : r.message_index_offsets) {
-    u16(o, channel);
-    u64(o, offset);
-  }
+  u16u64Map(o, r.message_index_offsets);
   u64(o, r.message_index_length);
   str(o, r.compression);
   u64(o, r.compressed_size);
@@ -144,11 +148,7 @@ void appendRecord(std::string& o, const Statistics& r) {
   u32(o, r.chunk_count);
   u64(o, r.message_start_time);
   u64(o, r.message_end_time);
-  u32(o, static_cast<uint32_t>(r.channel_message_counts.size() * 10));
-  for (const auto& [channel, count] : r.channel_message_counts) {
-    u16(o, channel);
-    u64(o, count);
-  }
+  u16u64Map(o, r.channel_message_counts);
   endRecord(o, at);
 }
 

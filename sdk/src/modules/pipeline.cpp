@@ -21,19 +21,37 @@ void Pipeline::process(Frame& frame) {
     reference_->push_back({frame.stamp, 0, frame.raw.get<Eigen::Isometry3d>(reference())});
   for (auto& p : preprocessors) guarded(*p, [&] { return p->process(frame); });
   if (!tracker) return;
-  guarded(*tracker, [&] { tracker->track(frame); });
-  auto closed = tracker->takeClosed();
-  if (auto current = tracker->current()) {
-    auto map = std::const_pointer_cast<LocalMap>(current);
-    if (local_maps_.emplace(map->id, map).second && graph)
-      guarded(*graph, [&] { graph->mapStarted(map); });
+  const TrackEvents events = guarded(*tracker, [&] { return tracker->track(frame); });
+  if (const auto& map = events.started) {
+    // Placed where the tracker measured it from its predecessor (as the graph has that one now);
+    // from here on the graph back-end owns its origin.
+    if (map->previous >= 0) map->origin = localMap(map->previous).origin * map->relative;
+    if (!local_maps_.emplace(map->id, map).second)
+      throw ModuleError(tracker->name(), tracker->typeName(),
+                        "started local map " + std::to_string(map->id) + " twice");
+    if (graph) guarded(*graph, [&] { graph->mapStarted(map); });
   }
+  if (frame.estimate.valid)
+    frame.estimate.world = localMap(frame.estimate.local_map).origin * frame.estimate.in_map;
   if (graph) {
-    for (auto& map : closed) guarded(*graph, [&] { graph->mapClosed(map); });
+    for (const auto& map : events.closed) guarded(*graph, [&] { graph->mapClosed(map); });
     guarded(*graph, [&] { return graph->poll(); });
   }
   if (frame.estimate.valid)
     tracked_->push_back({frame.stamp, frame.estimate.local_map, frame.estimate.in_map});
+}
+
+std::shared_ptr<const LocalMap> Pipeline::findLocalMap(int64_t id) const {
+  const auto it = local_maps_.find(id);
+  return it == local_maps_.end() ? nullptr : it->second;
+}
+
+const LocalMap& Pipeline::localMap(int64_t id) const {
+  const auto it = local_maps_.find(id);
+  if (it == local_maps_.end())
+    throw ModuleError(tracker->name(), tracker->typeName(),
+                      "refers to local map " + std::to_string(id) + ", which it never started");
+  return *it->second;
 }
 
 void Pipeline::configure() {
@@ -55,7 +73,7 @@ void Pipeline::restoreSession(const std::vector<std::shared_ptr<LocalMap>>& maps
                        "D but the tracker is " + std::to_string(tracker->dimension()) + "D");
   if (graph) graph->restore(maps, edges);
   if (localize) {
-    tracker->localizeIn({maps.begin(), maps.end()});
+    tracker.assign(tracker->localizer({maps.begin(), maps.end()}));
   } else {
     tracker->continueSession(static_cast<int64_t>(maps.size()));
   }

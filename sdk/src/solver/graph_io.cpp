@@ -14,6 +14,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
 #include "plugslam/solver/pose_factors.h"
 
@@ -417,19 +418,8 @@ size_t writeGraph(std::ostream& stream, const FactorGraph& graph) {
 }
 
 size_t writeGraphFile(const std::string& path, const FactorGraph& graph) {
-  const std::string tmp = path + ".tmp";
   size_t skipped = 0;
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError("cannot write graph file '" + tmp + "'");
-    skipped = writeGraph(out, graph);
-    out.flush();
-    if (!out) throw InputError("error writing graph file '" + tmp + "'");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw InputError("cannot move '" + tmp + "' to '" + path + "'");
-  }
+  writeFileAtomically(path, [&](std::ostream& out) { skipped = writeGraph(out, graph); });
   return skipped;
 }
 

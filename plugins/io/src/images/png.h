@@ -1,9 +1,11 @@
 #pragma once
-// Minimal PNG I/O through libpng: 8-bit grey / RGB images and 16-bit grey depth images.
+// PNG files of image sequences and camera datasets: 8-bit grey / RGB images and 16-bit grey depth
+// images, written with the SDK's encoder (plugslam/png.h), read through libpng.
 #include <cstdint>
 #include <string>
 #include <vector>
 
+#include "images/image_file.h"
 #include "plugslam/sensor_data.h"
 
 namespace plugslam {
@@ -26,6 +28,18 @@ void writePng16(const std::string& path, int width, int height,
 /// Reads a PNG (any colour type is expanded to 8 or 16 bit samples; palette to RGB); throws
 /// InputError if unreadable, ParseError if not a valid PNG.
 PngImage readPng(const std::string& path);
+
+/// True when the bytes start with the PNG signature.
+bool isPng(const std::uint8_t* data, std::size_t size);
+/// Decodes a PNG into an 8-bit grey or RGB Image (see ImageChannels); ParseError(name) when it
+/// is corrupt, truncated or too large.
+Image decodePng(const std::uint8_t* data, std::size_t size, const std::string& name,
+                ImageChannels channels = ImageChannels::kAsStored);
+/// Decodes a 16-bit single-channel PNG whose values are depths in 1/units_per_metre metres;
+/// 0 and 65535 (the "no reading" codes of TUM, 7-Scenes and the Kinect drivers) become 0.
+/// Throws ParseError(name) for anything else (8-bit or colour PNGs included).
+DepthImage decodeDepthPng(const std::uint8_t* data, std::size_t size, const std::string& name,
+                          double units_per_metre);
 
 /// Depth in metres to 16-bit TUM units (scale per metre, 0 = no reading, too far = 0).
 std::vector<uint16_t> depthToUint16(const DepthImage& depth, double scale = 5000.0);

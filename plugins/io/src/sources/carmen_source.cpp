@@ -61,9 +61,7 @@ void CarmenSource::open() {
   restarts_ = 0;
   skipped_warned_ = 0;
   summarized_ = false;
-  replay_ = 1;
-  stamp_offset_ = 0.0;
-  replay_frames_ = 0;
+  replay_.restart("CARMEN log '" + path() + "'");
 }
 
 void CarmenSource::openReader() {
@@ -101,9 +99,6 @@ void CarmenSource::rewind() {
   // the counters of what was synthesised carry on, so the replay looks like the robot jumping
   // back to its start pose (the odometry increment from the log's last reading to its first)
   // at a later time. Skipped-line warnings are given for the first pass only.
-  frame_period_ = replay_frames_ > 1 ? (last_stamp_ - replay_first_stamp_) / (replay_frames_ - 1)
-                                     : fallback_period();
-  if (!(frame_period_ > 0)) frame_period_ = fallback_period();
   openReader();
   pending_rear_.reset();
   laser_before_odom_.reset();
@@ -112,12 +107,6 @@ void CarmenSource::rewind() {
   last_odom_has_stamp_ = false;
   held_.reset();
   pushed_back_.reset();
-  stamp_offset_.reset();
-  replay_frames_ = 0;
-  ++replay_;
-  spdlog::info("CARMEN log '{}': replay {}{} from t = {:.3f} s", path(), replay_,
-               repeat() > 0 ? " of " + std::to_string(repeat()) : std::string(" (endless)"),
-               last_stamp_ + frame_period_);
 }
 
 void CarmenSource::summarize() {
@@ -154,7 +143,7 @@ int64_t CarmenSource::sizeHint() const {
     while (counter.next(record)) {
       if (record.kind == CarmenRecord::Kind::kLaser && isFront(record.laser)) ++n;
     }
-    size_hint_ = repeat() == 0 ? -1 : n * repeat();
+    size_hint_ = Replay::total(n, repeat());
   } catch (const Error&) {
     size_hint_ = -1;  // the real read reports the problem with its line number
   }
@@ -268,7 +257,7 @@ bool CarmenSource::next(Frame& frame) {
                  : std::string()));
       }
       if (!held_) {
-        if (repeat() != 0 && replay_ >= repeat()) return false;
+        if (!replay_.next(repeat(), fallback_period())) return false;
         rewind();
         continue;
       }
@@ -317,8 +306,8 @@ bool CarmenSource::next(Frame& frame) {
     held.stamp = laser.timestamp;
     if (laser.has_timestamp && std::isfinite(laser.timestamp)) {
       // A replay continues the clock one frame period after the previous pass.
-      if (!stamp_offset_) stamp_offset_ = last_stamp_ + frame_period_ - laser.timestamp;
-      held.stamp += *stamp_offset_;
+      replay_.anchor(laser.timestamp);
+      held.stamp = replay_.shift(laser.timestamp);
     }
     if (!laser.has_timestamp || !std::isfinite(held.stamp) ||
         (any_frame_ && held.stamp <= last_stamp_)) {
@@ -328,7 +317,7 @@ bool CarmenSource::next(Frame& frame) {
     }
     last_stamp_ = held.stamp;
     any_frame_ = true;
-    if (replay_frames_++ == 0) replay_first_stamp_ = held.stamp;
+    replay_.frame(held.stamp);
     held.rear = std::move(pending_rear_);
     pending_rear_.reset();
     held.laser = laser;

@@ -10,6 +10,7 @@
 #include "plugslam/sensor_data.h"
 #include "plugslam/source.h"
 #include "readers/carmen_reader.h"
+#include "sources/replay.h"
 
 namespace plugslam {
 namespace io {
@@ -79,7 +80,7 @@ class CarmenSource : public Source {
   /// -1 when replaying endlessly.
   int64_t sizeHint() const override;
   /// Replays started so far (1 during the first pass over the log).
-  int64_t replay() const { return replay_; }
+  int64_t replay() const { return replay_.pass(); }
 
   /// Frames whose timestamp was missing (0) or not after the previous one and was synthesised.
   std::size_t synthesizedStamps() const { return synthesized_stamps_; }
@@ -137,13 +138,8 @@ class CarmenSource : public Source {
   std::size_t skipped_seen_ = 0;  // malformed lines + empty scans + truncation already reported
   std::size_t skipped_warned_ = 0;
   bool summarized_ = false;
-  // Replays: the current one (1-based), the offset added to the log's stamps in it (set at its
-  // first timed laser), and the stamp range of the frames of the previous pass.
-  int64_t replay_ = 1;
-  std::optional<double> stamp_offset_;
-  double replay_first_stamp_ = 0;
-  uint64_t replay_frames_ = 0;
-  double frame_period_ = 0;
+  // The pass over the log and the clock across passes.
+  Replay replay_;
 };
 
 }  // namespace io

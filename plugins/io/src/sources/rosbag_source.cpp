@@ -81,22 +81,13 @@ void RosbagSource::open() {
   frames_without_odometry_ = 0;
   frames_ = 0;
   summarized_ = false;
-  replay_ = 1;
-  stamp_offset_ = 0.0;
-  first_frame_in_bag_.reset();
-  replay_frames_ = 0;
+  replay_.restart("ROS bag '" + path() + "'");
 }
 
 void RosbagSource::rewind() {
   // Queued readings of the previous pass are all older than the replay: drop them. Frames
   // without odometry are counted across replays; the end-of-bag warnings were given once.
-  // The replay's first frame comes one frame period (the previous pass's mean) after the
-  // previous pass's last frame; every stream of the bag is shifted by the same offset.
-  double period = replay_frames_ > 1 ? (replay_last_stamp_ - replay_first_stamp_) /
-                                           static_cast<double>(replay_frames_ - 1)
-                                     : 0.1;
-  if (!(period > 0)) period = 0.1;
-  stamp_offset_ = replay_last_stamp_ + period - first_frame_in_bag_.value_or(0.0);
+  // Every stream of the bag is shifted by the replay's one offset.
   RosbagReaderOptions options;
   options.topics.insert(scan_topics_.begin(), scan_topics_.end());
   if (!odom_topic_.empty()) options.topics.insert(odom_topic_);
@@ -105,11 +96,6 @@ void RosbagSource::rewind() {
   primary_.clear();
   for (auto& q : secondary_) q.clear();
   odom_.clear();
-  replay_frames_ = 0;
-  ++replay_;
-  spdlog::info("ROS bag '{}': replay {}{} from t = {:.3f} s", path(), replay_,
-               repeat() > 0 ? " of " + std::to_string(repeat()) : std::string(" (endless)"),
-               replay_last_stamp_ + period);
 }
 
 void RosbagSource::noFramesError() const {
@@ -138,7 +124,7 @@ int64_t RosbagSource::sizeHint() const {
     for (const auto& info : summarizeRosbag(path())) {
       if (info.topic == scan_topics_[0]) size_hint_ = static_cast<int64_t>(info.count);
     }
-    *size_hint_ = repeat() == 0 ? -1 : *size_hint_ * repeat();
+    *size_hint_ = Replay::total(*size_hint_, repeat());
   } catch (const Error&) {
     size_hint_ = -1;
   }
@@ -154,7 +140,7 @@ bool RosbagSource::readOne() {
   auto stampOf = [&](const RosHeader& h) {
     double t =
         header_stamps() && h.stamp.toNsec() != 0 ? h.stamp.toSec() : message.time.toSec();
-    t += stamp_offset_;  // replays continue the clock
+    t = replay_.shift(t);  // replays continue the clock
     latest_stamp_ = std::max(latest_stamp_, t);
     return t;
   };
@@ -234,7 +220,8 @@ bool RosbagSource::next(Frame& frame) {
             path(), reader_->stats().out_of_order);
       }
       summarized_ = true;
-      if (repeat() != 0 && replay_ >= repeat()) return false;
+      // A pass of fewer than two frames is spaced like a 10 Hz scanner.
+      if (!replay_.next(repeat(), 0.1)) return false;
       rewind();
       continue;
     }
@@ -244,9 +231,8 @@ bool RosbagSource::next(Frame& frame) {
   Stamped s = std::move(primary_.front());
   primary_.pop_front();
   const double t = s.t;
-  if (!first_frame_in_bag_) first_frame_in_bag_ = t;
-  if (replay_frames_++ == 0) replay_first_stamp_ = t;
-  replay_last_stamp_ = t;
+  replay_.anchor(t);
+  replay_.frame(t);
   frame.stamp = t;
   frame.raw.set<LaserScan>(scan_entries_[0], std::move(s.scan));
 

@@ -12,6 +12,7 @@
 #include "plugslam/sensor_data.h"
 #include "plugslam/source.h"
 #include "readers/rosbag_reader.h"
+#include "sources/replay.h"
 
 namespace plugslam {
 namespace io {
@@ -67,7 +68,7 @@ class RosbagSource : public Source {
   /// The raw entries next() writes (for the builder's wiring check).
   std::vector<ProvidedEntry> provides() const override;
   /// Replays started so far (1 during the first pass over the bag).
-  int64_t replay() const { return replay_; }
+  int64_t replay() const { return replay_.pass(); }
 
   /// Frames emitted without odometry (no message within max_odometry_gap).
   std::size_t framesWithoutOdometry() const { return frames_without_odometry_; }
@@ -102,13 +103,8 @@ class RosbagSource : public Source {
   mutable std::optional<int64_t> size_hint_;
   std::size_t frames_without_odometry_ = 0;
   std::size_t frames_ = 0;
-  // Replays: the current one (1-based), the offset added to the bag's stamps in it, the bag's
-  // own stamp of its first frame, and the stamps of the frames of the current pass.
-  int64_t replay_ = 1;
-  double stamp_offset_ = 0;
-  std::optional<double> first_frame_in_bag_;
-  double replay_first_stamp_ = 0, replay_last_stamp_ = 0;
-  std::size_t replay_frames_ = 0;
+  // The pass over the bag and the clock across passes.
+  Replay replay_;
 };
 
 /// Splits "topic:entry" at its last colon; throws ParamError(param, ...) when malformed.

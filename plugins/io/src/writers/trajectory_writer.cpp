@@ -2,13 +2,14 @@
 
 #include <filesystem>
 
+#include <spdlog/spdlog.h>
+
 #include "plugslam/errors.h"
 
 namespace plugslam {
 namespace io {
 
 void TrajectoryWriter::configure() {
-  if (file().empty()) throw ParamError("file", "needs a file name");
   if (!times_file().empty() && format() != "kitti") {
     throw ParamError("times_file", "only the kitti format keeps timestamps apart");
   }
@@ -24,10 +25,22 @@ std::string TrajectoryWriter::resolve(const std::string& name) const {
   return (std::filesystem::path(out_dir_) / p).string();
 }
 
-std::string TrajectoryWriter::outputPath() const { return resolve(file()); }
+std::string TrajectoryWriter::outputPath() const {
+  return resolve(file().empty() ? "trajectory." + format() : file());
+}
 
 void TrajectoryWriter::end(const RunResult& result) {
   const Trajectory& t = trajectory() == "reference" ? result.reference : result.trajectory;
+  if (t.empty()) {
+    // An empty file would read as a run that estimated nothing without saying why.
+    const bool stale = std::filesystem::exists(outputPath());
+    spdlog::warn("{}: no {} to write ({}); {} not written{}", name(),
+                 trajectory() == "reference" ? "reference poses" : "poses",
+                 trajectory() == "reference" ? "the source gives no reference"
+                                             : "the pipeline estimated none: has it a tracker?",
+                 outputPath(), stale ? " (the file there is from an earlier run)" : "");
+    return;
+  }
   if (format() == "kitti") {
     writeKittiTrajectory(t, outputPath(), times_file().empty() ? std::string() : resolve(times_file()));
   } else {

@@ -7,11 +7,13 @@
 namespace plugslam {
 namespace io {
 
-/// Writes RunResult::trajectory (or ::ground_truth) atomically at the end of the run.
+/// Writes RunResult::trajectory (or ::reference) atomically at the end of the run; an empty
+/// trajectory is warned about, not written.
 class TrajectoryWriter : public Sink {
  public:
-  Param<std::string> file{this, "file", "trajectory.tum", "",
-                          "file name, relative to the run's output folder"};
+  Param<std::string> file{this, "file", "", "",
+                          "file name, relative to the run's output folder (empty: trajectory.tum "
+                          "or trajectory.kitti, by format)"};
   Param<std::string> format{this,
                             "format",
                             "tum",
@@ -32,7 +34,7 @@ class TrajectoryWriter : public Sink {
   void begin(const std::string& out_dir) override;
   void end(const RunResult& result) override;
 
-  /// Where the trajectory goes (after begin()).
+  /// Where the trajectory goes (after begin()): `file`, or trajectory.<format>.
   std::string outputPath() const;
 
  private:

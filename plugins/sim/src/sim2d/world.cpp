@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <limits>
 
+#include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
 
 namespace plugslam {
@@ -198,14 +198,13 @@ double World::clearance(const Eigen::Vector2d& p, double max_distance) const {
 }
 
 void World::saveSegments(const std::string& path) const {
-  std::ofstream out(path);
-  if (!out) throw InputError("sim2d world: cannot write '" + path + "'");
-  out << "# plugslam sim2d segment list: x1 y1 x2 y2 (metres) per line\n";
-  out.precision(17);
-  for (const Segment& s : segments_) {
-    out << s.a.x() << ' ' << s.a.y() << ' ' << s.b.x() << ' ' << s.b.y() << '\n';
-  }
-  if (!out) throw InputError("sim2d world: failed writing '" + path + "'");
+  writeFileAtomically(path, [&](std::ostream& out) {
+    out << "# plugslam sim2d segment list: x1 y1 x2 y2 (metres) per line\n";
+    out.precision(17);
+    for (const Segment& s : segments_) {
+      out << s.a.x() << ' ' << s.a.y() << ' ' << s.b.x() << ' ' << s.b.y() << '\n';
+    }
+  });
 }
 
 }  // namespace sim2d

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -72,6 +73,10 @@ struct Grid {
   /// Row-major from cell (0, 0) (x fastest): occupancy probability in percent (0 free .. 100
   /// occupied), or kUnknown.
   std::vector<uint8_t> cells;
+  /// When set, fills every field but stamp and frame later, off the pipeline's thread (ray
+  /// tracing is too slow for it): the receiver calls it once before encoding. It must own what
+  /// it reads.
+  std::function<void(Grid&)> fill;
 };
 
 /// Line segments or a polyline (foxglove.LinePrimitive).
@@ -106,7 +111,7 @@ struct CameraImage {
   Image image;        ///< pixels and stamp
 };
 
-/// A camera's intrinsics (foxglove.CameraCalibration, pinhole without distortion).
+/// A camera's intrinsics and lens distortion (foxglove.CameraCalibration).
 struct CameraCalibration {
   double stamp = 0;   ///< seconds
   std::string frame;  ///< the camera's frame

@@ -1,0 +1,61 @@
+#include "sources/tum_rgbd_source.h"
+
+#include <spdlog/spdlog.h>
+
+#include <filesystem>
+
+#include "plugslam/errors.h"
+#include "readers/text_table.h"
+#include "readers/tum_files.h"
+
+namespace plugslam {
+namespace io {
+namespace fs = std::filesystem;
+
+std::string TumRgbdSource::describe() const { return "TUM RGB-D sequence '" + path() + "'"; }
+
+std::size_t TumRgbdSource::index() {
+  const fs::path dir = folder();
+  const std::string rgb_file = (dir / rgb_list()).string();
+  const std::string depth_file = (dir / depth_list()).string();
+  const auto colour = parseTumList(readTextFile(rgb_file), rgb_file);
+  const auto depths = parseTumList(readTextFile(depth_file), depth_file);
+  pairs_.clear();
+  for (const TumPair& p : associateByTime(colour, depths, max_difference()))
+    pairs_.push_back({colour[p.rgb].stamp, (dir / colour[p.rgb].file).string(),
+                      (dir / depths[p.depth].file).string()});
+  if (pairs_.empty())
+    throw InputError(describe() + ": no colour image has a depth image within " +
+                     std::to_string(max_difference()) + " s (" + std::to_string(colour.size()) +
+                     " colour, " + std::to_string(depths.size()) + " depth)");
+  if (pairs_.size() < colour.size())
+    spdlog::info("{}: {} of {} colour images have a depth image within {} s", describe(),
+                 pairs_.size(), colour.size(), max_difference());
+  setCalibration(dir.string(), pairs_.front().rgb, pairs_.front().depth);
+
+  truth_ = Trajectory();
+  std::string gt = ground_truth_file();
+  std::error_code ec;
+  if (gt.empty() && fs::is_regular_file(dir / "groundtruth.txt", ec))
+    gt = (dir / "groundtruth.txt").string();
+  if (gt == "none") gt.clear();
+  if (!gt.empty()) {
+    truth_ = readTumTrajectory(gt);
+    spdlog::info("{}: ground truth from '{}' ({} rows)", describe(), gt, truth_.size());
+  }
+  return pairs_.size();
+}
+
+void TumRgbdSource::read(std::size_t i, Frame& frame) {
+  frame.stamp = pairs_[i].stamp;
+  readPair(pairs_[i].rgb, pairs_[i].depth, pairs_[i].stamp, frame);
+}
+
+std::optional<Eigen::Isometry3d> TumRgbdSource::groundTruth(std::size_t, double stamp) const {
+  auto pose = interpolatePose(truth_, stamp, ground_truth_max_gap());
+  if (pose) return fromDataset(*pose);
+  return std::nullopt;
+}
+
+}  // namespace io
+}  // namespace plugslam

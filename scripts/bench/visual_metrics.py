@@ -1,0 +1,152 @@
+#!/usr/bin/env python3
+"""Trajectory figures of the visual bench, from TUM files (reference, estimate), pure Python.
+
+  visual_metrics.py kitti REF EST    KITTI devkit drift: mean translation error [%] and rotation
+                                     error [deg/100 m] over every segment of 100, 200, ..., 800 m
+                                     starting every 10 frames (the devkit's evaluate_odometry)
+  visual_metrics.py f2f REF EST [PEER TIMES]
+                                     frame-to-frame errors: translation [% of the step], rotation
+                                     [deg per frame], as mean and max; with PEER (KITTI poses of
+                                     another system, one a frame) and TIMES (the frames' stamps),
+                                     also against that system's estimate (peer_* keys)
+  visual_metrics.py static REF EST   the largest departure of the estimate from its first pose
+                                     [m, deg] over every frame of the estimate, and the
+                                     reference's own over its rows (it may start later)
+Prints one JSON object. Poses are associated by equal timestamps (both files come from one run).
+"""
+import bisect
+import json
+import math
+import sys
+
+
+def quat_to_matrix(qx, qy, qz, qw):
+    n = math.sqrt(qx * qx + qy * qy + qz * qz + qw * qw)
+    x, y, z, w = qx / n, qy / n, qz / n, qw / n
+    return [[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]]
+
+
+def read_kitti(path, times_path):
+    poses = {}
+    times = [float(line.split()[0]) for line in open(times_path) if line.strip()]
+    for t, line in zip(times, open(path)):
+        v = list(map(float, line.split()))
+        if len(v) != 12:
+            continue
+        poses[round(t, 6)] = ([v[0:3], v[4:7], v[8:11]], [v[3], v[7], v[11]])
+    return poses
+
+
+def read_tum(path):
+    poses = {}
+    for line in open(path):
+        f = line.split()
+        if not f or f[0].startswith('#'):
+            continue
+        t, x, y, z, qx, qy, qz, qw = map(float, f[:8])
+        poses[round(t, 6)] = (quat_to_matrix(qx, qy, qz, qw), [x, y, z])
+    return poses
+
+
+def inverse(p):
+    r, t = p
+    rt = [[r[j][i] for j in range(3)] for i in range(3)]
+    return rt, [-sum(rt[i][k] * t[k] for k in range(3)) for i in range(3)]
+
+
+def compose(a, b):
+    ra, ta = a
+    rb, tb = b
+    r = [[sum(ra[i][k] * rb[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
+    t = [sum(ra[i][k] * tb[k] for k in range(3)) + ta[i] for i in range(3)]
+    return r, t
+
+
+def relative(a, b):
+    return compose(inverse(a), b)
+
+
+def angle(p):
+    r = p[0]
+    c = (r[0][0] + r[1][1] + r[2][2] - 1) / 2
+    return math.acos(max(-1.0, min(1.0, c)))
+
+
+def norm(p):
+    return math.sqrt(sum(v * v for v in p[1]))
+
+
+def associated(ref_path, est_path):
+    ref, est = read_tum(ref_path), read_tum(est_path)
+    stamps = sorted(set(ref) & set(est))
+    if len(stamps) < 2:
+        sys.exit(f"visual_metrics: {ref_path} and {est_path} share fewer than 2 timestamps")
+    return [ref[s] for s in stamps], [est[s] for s in stamps]
+
+
+def kitti(gt, est):
+    dist = [0.0]
+    for i in range(1, len(gt)):
+        dist.append(dist[-1] + math.dist(gt[i][1], gt[i - 1][1]))
+    t_err, r_err = [], []
+    for first in range(0, len(gt), 10):
+        for length in range(100, 900, 100):
+            last = bisect.bisect_right(dist, dist[first] + length, lo=first)
+            if last >= len(gt):
+                continue
+            err = relative(relative(est[first], est[last]), relative(gt[first], gt[last]))
+            t_err.append(norm(err) / length)
+            r_err.append(angle(err) / length)
+    if not t_err:
+        return {"segments": 0, "length_m": dist[-1]}
+    return {"segments": len(t_err), "length_m": dist[-1],
+            "translation_percent": 100 * sum(t_err) / len(t_err),
+            "rotation_deg_per_100m": 100 * math.degrees(sum(r_err) / len(r_err))}
+
+
+def f2f(gt, est):
+    t, r = [], []
+    for i in range(1, len(gt)):
+        g, e = relative(gt[i - 1], gt[i]), relative(est[i - 1], est[i])
+        err = relative(e, g)
+        step = norm(g)
+        if step > 1e-6:
+            t.append(100 * norm(err) / step)
+        r.append(math.degrees(angle(err)))
+    return {"frames": len(gt), "translation_percent_mean": sum(t) / max(1, len(t)),
+            "translation_percent_max": max(t, default=0.0),
+            "rotation_deg_mean": sum(r) / max(1, len(r)), "rotation_deg_max": max(r, default=0.0)}
+
+
+def static(gt, est):
+    return {"frames": len(est),
+            "estimate_max_m": max(norm(relative(est[0], e)) for e in est),
+            "estimate_max_deg": max(math.degrees(angle(relative(est[0], e))) for e in est),
+            "reference_max_m": max(norm(relative(gt[0], g)) for g in gt),
+            "reference_max_deg": max(math.degrees(angle(relative(gt[0], g))) for g in gt)}
+
+
+if __name__ == "__main__":
+    if sys.argv[1:2] == ["f2f"] and len(sys.argv) == 6:
+        gt, est = associated(sys.argv[2], sys.argv[3])
+        out = f2f(gt, est)
+        peer, mine = read_kitti(sys.argv[4], sys.argv[5]), read_tum(sys.argv[3])
+        stamps = sorted(set(peer) & set(mine))
+        if len(stamps) >= 2:
+            p = f2f([peer[s] for s in stamps], [mine[s] for s in stamps])
+            out.update({"peer_" + k: v for k, v in p.items()})
+        print(json.dumps(out))
+        sys.exit(0)
+    if len(sys.argv) != 4 or sys.argv[1] not in ("kitti", "f2f", "static"):
+        sys.exit(__doc__)
+    if sys.argv[1] == "static":
+        # Every estimated frame counts, also those before the reference's first row.
+        ref, est = read_tum(sys.argv[2]), read_tum(sys.argv[3])
+        if not ref or not est:
+            sys.exit(f"visual_metrics: {sys.argv[2]} or {sys.argv[3]} has no pose")
+        print(json.dumps(static([ref[s] for s in sorted(ref)], [est[s] for s in sorted(est)])))
+        sys.exit(0)
+    gt, est = associated(sys.argv[2], sys.argv[3])
+    print(json.dumps({"kitti": kitti, "f2f": f2f, "static": static}[sys.argv[1]](gt, est)))

@@ -1,0 +1,204 @@
+#include "plugslam/multi_tracker.h"
+
+#include <spdlog/spdlog.h>
+
+#include "plugslam/errors.h"
+#include "plugslam/localizer.h"
+
+namespace plugslam {
+inline namespace abi_v1 {
+
+template <class S>
+MultiTracker<S>::MultiTracker() {
+  addAction("reset", "close the current local map and start over from the next frame",
+            [this](const std::vector<std::string>&) {
+              reset();
+              return std::string("tracker reset; the next frame starts local map ") +
+                     std::to_string(next_id_);
+            });
+}
+template <class S>
+MultiTracker<S>::~MultiTracker() = default;
+
+template <class S>
+void MultiTracker<S>::configure() {
+  // Without aligner slices no frame yields a factor: the tracker would "track" every frame at
+  // the motion prediction. (Tracker slices are optional: an odometry prior alone needs no map.)
+  if (!aligner)
+    throw ParamError("aligner", std::string("a tracker needs an aligner (sdk.MultiAligner") +
+                                    S::kSuffix + ")");
+  if (aligner->slices.empty())
+    throw ParamError("aligner.slices",
+                     std::string("the aligner has no slices, so no frame could be aligned: add "
+                                 "one per cue (`plugslam plugins` lists the AlignerSlice") +
+                         S::kSuffix + " types)");
+  if (fallback_sigma().size() != static_cast<size_t>(S::kDof))
+    throw ParamError("fallback_sigma", "expected " + std::to_string(S::kDof) + " values, got " +
+                                           std::to_string(fallback_sigma().size()));
+  for (double s : fallback_sigma())
+    if (!(s > 0)) throw ParamError("fallback_sigma", "every value must be > 0");
+  if (!max_correction().empty() && max_correction().size() != 2)
+    throw ParamError("max_correction",
+                     "expected 2 values (translation m, rotation rad) or an empty list, got " +
+                         std::to_string(max_correction().size()));
+  for (double v : max_correction())
+    if (!(v > 0)) throw ParamError("max_correction", "every value must be > 0");
+}
+
+template <class S>
+TrackEvents MultiTracker<S>::track(Frame& frame) {
+  TrackEvents events;
+  events.closed.swap(closed_);  // closed by reset() since the last frame
+  ++stats_.frames;
+  const Pose previous = pose_;
+  const Pose guess = prediction_.predict(motion.get(), constant_velocity(), frame, pose_);
+  if (!map_) {  // the first frame, or the first after a reset: it starts a map
+    startLocalMap(frame, S::Matrix::Zero(), events);
+    merge(frame);
+    writeEstimate(frame, false);
+    return events;
+  }
+  const AlignResult<S> aligned = align(frame, previous, guess);
+  if (!aligned.valid && map_->scene.empty()) {
+    // The map was started by a frame that brought no data: seed it again from this one.
+    pose_ = guess;
+    prediction_.last_motion = S::normalized(previous.inverse() * pose_);
+    merge(frame);
+    writeEstimate(frame, false);
+    return events;
+  }
+  // Without a valid solution the prediction is kept and a fresh local map starts from here, so
+  // a bad stretch cannot corrupt the map built so far.
+  const bool lost = !aligned.valid;
+  pose_ = lost ? guess : aligned.pose;
+  prediction_.last_motion = S::normalized(previous.inverse() * pose_);
+  count(frame, aligned);
+  merge(frame);
+  if (lost)
+    startLocalMap(frame, fallbackInformation(), events);
+  else if (splitter && splitter->split(splitQuery(frame, aligned)))
+    startLocalMap(frame, aligned.H, events);
+  if (frames_in_map_ == 0) merge(frame);  // the frame seeds the new map
+  writeEstimate(frame, lost);
+  return events;
+}
+
+template <class S>
+AlignResult<S> MultiTracker<S>::align(const Frame& frame, const Pose& previous,
+                                      const Pose& guess) {
+  AlignResult<S> aligned = aligner->align(
+      frame, map_->scene,
+      AlignContext<S>{previous, guess, prediction_.model_motion, prediction_.model_entry});
+  if (aligned.valid && prediction_.model_motion && !max_correction().empty()) {
+    const Pose correction = S::normalized(guess.inverse() * aligned.pose);
+    if (S::distance(correction) > max_correction()[0] ||
+        S::angle(correction) > max_correction()[1]) {
+      spdlog::debug("frame {}: alignment moved the prediction by {:.3f} m, {:.3f} rad; rejected",
+                    frame.seq, S::distance(correction), S::angle(correction));
+      aligned.valid = false;
+    }
+  }
+  return aligned;
+}
+
+template <class S>
+void MultiTracker<S>::count(const Frame& frame, const AlignResult<S>& aligned) {
+  if (aligned.valid) {
+    ++stats_.aligned;
+    stats_.inlier_ratio_sum += aligned.inlierRatio();
+  } else {
+    ++stats_.failed;
+    spdlog::debug("frame {}: alignment failed ({} inliers of {} factors: {}); new local map",
+                  frame.seq, aligned.inliers, aligned.factors, describeCues(aligned.cues));
+  }
+}
+
+template <class S>
+SplitQuery MultiTracker<S>::splitQuery(const Frame& frame, const AlignResult<S>& aligned) const {
+  SplitQuery q;
+  q.distance = S::distance(pose_);
+  q.angle = S::angle(pose_);
+  q.elapsed = frame.stamp - map_->first_stamp;
+  q.inlier_ratio = aligned.inlierRatio();
+  q.frames = frames_in_map_;
+  return q;
+}
+
+template <class S>
+typename S::Matrix MultiTracker<S>::fallbackInformation() const {
+  typename S::Matrix information = S::Matrix::Zero();
+  for (int i = 0; i < S::kDof; ++i)
+    information(i, i) = 1.0 / (fallback_sigma()[i] * fallback_sigma()[i]);
+  return information;
+}
+
+template <class S>
+void MultiTracker<S>::merge(const Frame& frame) {
+  for (auto& slice : slices) slice->merge(frame, map_->scene, pose_);
+  ++frames_in_map_;
+  map_->last_seq = frame.seq;
+  map_->last_stamp = frame.stamp;
+}
+
+template <class S>
+void MultiTracker<S>::writeEstimate(Frame& frame, bool lost) const {
+  frame.estimate.valid = true;
+  frame.estimate.local_map = map_->id;
+  frame.estimate.in_map = S::to3D(pose_);
+  frame.estimate.frozen = false;  // the back-end may still move this map
+  frame.estimate.lost = lost;
+}
+
+template <class S>
+void MultiTracker<S>::startLocalMap(const Frame& frame, const typename S::Matrix& information,
+                                    TrackEvents& events) {
+  auto next = std::make_shared<LocalMap>();
+  next->id = next_id_++;
+  next->dimension = S::kDim;
+  next->first_seq = next->last_seq = frame.seq;
+  next->first_stamp = next->last_stamp = frame.stamp;
+  if (map_) {
+    // The new map's frame is the robot's pose now; the edge from the old map is that pose.
+    next->previous = map_->id;
+    next->relative = S::to3D(pose_);
+    next->information = information;
+    events.closed.push_back(map_);
+  }
+  map_ = next;
+  events.started = next;
+  pose_ = Pose::Identity();
+  frames_in_map_ = 0;
+  ++stats_.local_maps;
+}
+
+template <class S>
+void MultiTracker<S>::reset() {
+  // The current map is handed over as closed, so the back-end still looks for loops from it.
+  if (map_) closed_.push_back(map_);
+  map_.reset();
+  pose_ = Pose::Identity();
+  prediction_.reset();
+  frames_in_map_ = 0;
+  if (motion) motion->reset();
+}
+
+template <class S>
+void MultiTracker<S>::continueSession(int64_t next_id) {
+  if (map_) throw InputError("a session can only be restored before the first frame");
+  if (next_id < 0) throw InputError("next local map id must be >= 0");
+  next_id_ = next_id;
+}
+
+template <class S>
+std::shared_ptr<Tracker> MultiTracker<S>::localizer(
+    std::vector<std::shared_ptr<const LocalMap>> maps) const {
+  if (map_) throw InputError("localization can only start before the first frame");
+  return Localizer<S>::create(name(), aligner.shared(), motion.shared(), constant_velocity(),
+                              localize_tie(), std::move(maps));
+}
+
+template class MultiTracker<Space2D>;
+template class MultiTracker<Space3D>;
+
+}  // namespace abi_v1
+}  // namespace plugslam

@@ -1,0 +1,209 @@
+// The viewer stream's hub: latching, rate limits, full-rate recordings, and that publishing never
+// waits for a receiver. Also the drawables' JSON encoding and the drawer table.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+#include "plugslam/view/drawers.h"
+#include "plugslam/view/publisher.h"
+#include "view/view_hub.h"
+#include "view/view_json.h"
+
+namespace plugslam::runtime {
+namespace {
+
+// Records what the hub delivers; may block in deliver() to act as a stalled receiver.
+class Recorder final : public ViewReceiver {
+ public:
+  explicit Recorder(bool full_rate = false) : full_rate_(full_rate) {}
+  void channelAdded(const ViewChannel& c) override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    channels.push_back(c);
+  }
+  void deliver(const ViewMessage& m) override {
+    if (block_ms > 0) std::this_thread::sleep_for(std::chrono::milliseconds(block_ms));
+    std::lock_guard<std::mutex> lock(mutex_);
+    messages.push_back(m);
+  }
+  bool wants(int) const override { return true; }
+  bool fullRate() const override { return full_rate_; }
+  size_t count() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return messages.size();
+  }
+  std::vector<ViewChannel> channels;
+  std::vector<ViewMessage> messages;
+  int block_ms = 0;
+
+ private:
+  bool full_rate_;
+  std::mutex mutex_;
+};
+
+view::Status status(uint64_t frame) {
+  view::Status s;
+  s.frame = frame;
+  s.state = "running";
+  return s;
+}
+
+TEST(ViewChannel, WithoutAPublisherNothingHappens) {
+  view::installPublisher(nullptr);
+  view::Channel<view::Status> channel("/status", view::Latch::kLast);
+  EXPECT_FALSE(channel.wanted());
+  channel.publish(status(1));  // no publisher: dropped, no crash
+}
+
+TEST(ViewChannel, DeclaresWithTheInstalledPublisher) {
+  ViewHub hub;
+  view::installPublisher(&hub);
+  view::Channel<view::Status> channel("/status", view::Latch::kLast);
+  EXPECT_TRUE(channel.wanted());  // latched: kept for later receivers
+  channel.publish(status(3));
+  view::installPublisher(nullptr);
+  ASSERT_EQ(hub.channels().size(), 1u);
+  EXPECT_EQ(hub.channels()[0].topic, "/status");
+  EXPECT_EQ(hub.channels()[0].schema_name, "plugslam.Status");
+  const auto latched = hub.latched(hub.channels()[0].id);
+  ASSERT_EQ(latched.size(), 1u);
+  EXPECT_NE(latched[0].payload->find("\"frame\":3"), std::string::npos);
+}
+
+TEST(ViewHub, TheSameTopicWithAnotherKindIsRefused) {
+  ViewHub hub;
+  const int id = hub.declare("/a", view::kindOf<view::Status>(), view::Latch::kLast);
+  EXPECT_EQ(hub.declare("/a", view::kindOf<view::Status>(), view::Latch::kLast), id);
+  EXPECT_THROW(hub.declare("/a", view::kindOf<view::Grid>(), view::Latch::kLast), InputError);
+}
+
+TEST(ViewHub, LatchedLastAndPerKeyKeepTheNewest) {
+  ViewHub hub;
+  const int last = hub.declare("/last", view::kindOf<view::Status>(), view::Latch::kLast);
+  const int keyed = hub.declare("/keyed", view::kindOf<view::Status>(), view::Latch::kPerKey);
+  for (uint64_t i = 1; i <= 3; ++i) hub.publish(last, status(i), 0);
+  hub.publish(keyed, status(10), 0);
+  hub.publish(keyed, status(11), 1);
+  hub.publish(keyed, status(12), 0);
+  const auto l = hub.latched(last);
+  ASSERT_EQ(l.size(), 1u);
+  EXPECT_NE(l[0].payload->find("\"frame\":3"), std::string::npos);
+  const auto k = hub.latched(keyed);
+  ASSERT_EQ(k.size(), 2u);
+  EXPECT_NE(k[0].payload->find("\"frame\":12"), std::string::npos);
+  EXPECT_NE(k[1].payload->find("\"frame\":11"), std::string::npos);
+  hub.clearLatched();
+  EXPECT_TRUE(hub.latched(keyed).empty());
+}
+
+TEST(ViewHub, LiveStreamsAreRateLimitedRecordingsAreNot) {
+  ViewHubOptions options;
+  options.stream_rate = 2.0;  // one message per 0.5 s
+  ViewHub hub(options);
+  Recorder live, recording(/*full_rate=*/true);
+  hub.attach(&live);
+  hub.attach(&recording);
+  // Declared after the receivers attached: the recording must still get it from the start.
+  const int id = hub.declare("/pose", view::kindOf<view::PoseInFrame>(), view::Latch::kNone);
+  ASSERT_TRUE(hub.wants(id));
+  for (int i = 0; i < 50; ++i) hub.publish(id, view::PoseInFrame{}, 0);
+  hub.flush();
+  EXPECT_EQ(recording.count(), 50u);
+  // 50 publishes in far less than 0.5 s: the live receiver got the first one only (2 if this
+  // machine took over half a second for them).
+  EXPECT_GE(live.count(), 1u);
+  EXPECT_LE(live.count(), 2u);
+  hub.detach(&live);
+  hub.detach(&recording);
+}
+
+TEST(ViewHub, AStalledReceiverNeverBlocksThePublisher) {
+  ViewHubOptions options;
+  options.inbox_capacity = 64;
+  ViewHub hub(options);
+  Recorder stalled(/*full_rate=*/true);
+  stalled.block_ms = 50;  // each delivery takes 50 ms
+  hub.attach(&stalled);
+  const int id = hub.declare("/scan", view::kindOf<view::PoseInFrame>(), view::Latch::kNone);
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < 2000; ++i) hub.publish(id, view::PoseInFrame{}, 0);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // Waiting for the receiver would take 2000 x 50 ms = 100 s; queueing takes milliseconds (bound
+  // with a wide margin for a loaded machine).
+  EXPECT_LT(seconds, 2.0);
+  EXPECT_GT(hub.dropped(), 1000u);  // the inbox kept at most 64 + one batch in flight
+  hub.detach(&stalled);
+}
+
+TEST(ViewHub, GridsAreFilledOffThePublishersThread) {
+  ViewHub hub;
+  Recorder recording(/*full_rate=*/true);
+  hub.attach(&recording);
+  const int id = hub.declare("/grid", view::kindOf<view::Grid>(), view::Latch::kPerKey);
+  std::atomic<bool> same_thread{true};
+  const auto publisher = std::this_thread::get_id();
+  view::Grid grid;
+  grid.fill = [&](view::Grid& g) {
+    same_thread = std::this_thread::get_id() == publisher;
+    g.width = 2;
+    g.height = 1;
+    g.cells = {0, 100};
+  };
+  hub.publish(id, std::move(grid), 7);
+  hub.flush();
+  ASSERT_EQ(recording.count(), 1u);
+  EXPECT_FALSE(same_thread.load());
+  EXPECT_NE(recording.messages[0].payload->find("\"column_count\":2"), std::string::npos);
+  EXPECT_EQ(recording.messages[0].key, 7);
+  hub.detach(&recording);
+}
+
+TEST(ViewJson, Base64MatchesRfc4648) {
+  EXPECT_EQ(base64("", 0), "");
+  EXPECT_EQ(base64("f", 1), "Zg==");
+  EXPECT_EQ(base64("fo", 2), "Zm8=");
+  EXPECT_EQ(base64("foo", 3), "Zm9v");
+  EXPECT_EQ(base64("foobar", 6), "Zm9vYmFy");
+}
+
+TEST(ViewJson, PointCloudsPackFloatsAndColours) {
+  view::PointCloud c;
+  c.stamp = 1.5;
+  c.frame = "map/3";
+  c.points = {{1, 2, 3}, {4, 5, 6}};
+  const std::string plain = encodeJson(c);
+  EXPECT_NE(plain.find("\"point_stride\":12"), std::string::npos);
+  EXPECT_NE(plain.find("\"timestamp\":{\"nsec\":500000000,\"sec\":1}"), std::string::npos);
+  EXPECT_NE(plain.find("\"data\":\"" + base64(c.points.data(), 24) + "\""), std::string::npos);
+  c.colors = {{{255, 0, 0, 255}}, {{0, 255, 0, 255}}};
+  const std::string colored = encodeJson(c);
+  EXPECT_NE(colored.find("\"point_stride\":16"), std::string::npos);
+  EXPECT_NE(colored.find("\"red\""), std::string::npos);
+}
+
+TEST(ViewJson, EveryKindHasANameAndASchema) {
+  for (size_t k = 0; k < std::variant_size_v<view::Drawable>; ++k) {
+    EXPECT_FALSE(schemaName(k).empty()) << k;
+    EXPECT_NE(jsonSchema(k).find("\"title\":\"" + schemaName(k) + "\""), std::string::npos) << k;
+  }
+}
+
+TEST(ViewDrawers, DrawByTypeAndForgetAnOwner) {
+  auto& drawers = view::Drawers::instance();
+  drawers.add<double>("test_owner", [](const double& v, view::PointCloud& out) {
+    out.points.emplace_back(static_cast<float>(v), 0.0f, 0.0f);
+  });
+  Property<double> p("x", 2.5);
+  view::PointCloud cloud;
+  ASSERT_TRUE(drawers.draw(p, cloud));
+  ASSERT_EQ(cloud.points.size(), 1u);
+  EXPECT_FLOAT_EQ(cloud.points[0].x(), 2.5f);
+  EXPECT_EQ(drawers.removeOwner("test_owner"), 1u);
+  EXPECT_FALSE(drawers.canDraw(typeid(double)));
+  EXPECT_FALSE(drawers.draw(p, cloud));
+}
+
+}  // namespace
+}  // namespace plugslam::runtime
