@@ -246,6 +246,24 @@ TEST(PriorSlice, TakesTheMotionModelsDeltaWhenItReadTheSameEntry) {
   }
 }
 
+// The tracker's prediction names the one raw entry the wheel odometry read, so a PriorSlice
+// reading that entry takes the model's delta (AlignContext::motion_entry); nothing without a
+// reading.
+TEST(WheelOdometry, ThePredictionNamesTheEntryItsDeltaCameFrom) {
+  WheelOdometry model;
+  model.input = std::string("wheels");
+  model.configure();
+  plugslam::MotionPrediction<Space2D> prediction;
+  prediction.predict(&model, false, odomFrame(0, se2(1, 0, 0), "wheels"), se2(0, 0, 0));
+  prediction.predict(&model, false, odomFrame(1, se2(2, 0, 0), "wheels"), se2(0, 0, 0));
+  ASSERT_TRUE(prediction.model_motion);
+  expectPose(se2(1, 0, 0), *prediction.model_motion, 1e-12);
+  EXPECT_EQ(prediction.model_entry, "wheels");
+  prediction.predict(&model, false, odomFrame(2, se2(2, 0, 0), "other"), se2(0, 0, 0));
+  EXPECT_FALSE(prediction.model_motion);
+  EXPECT_EQ(prediction.model_entry, "");
+}
+
 // In a tracker with wheel odometry as the motion model and the prior as the only cue, the poses
 // follow the odometry exactly, with the tracker's context (motion and its entry) as the delta.
 TEST(PriorSlice, InATrackerThePosesFollowTheOdometry) {
@@ -265,7 +283,9 @@ TEST(PriorSlice, InATrackerThePosesFollowTheOdometry) {
     Frame f = odomFrame(i, odom);
     tracker.track(f);
     ASSERT_TRUE(f.estimate.valid);
-    expectPose(start.inverse() * odom, Space2D::from3D(f.estimate.world), 1e-9);
+    // One local map (no splitter), started at the first frame: its frame is the run's.
+    ASSERT_EQ(f.estimate.local_map, 0);
+    expectPose(start.inverse() * odom, Space2D::from3D(f.estimate.in_map), 1e-9);
   }
   // Frame 1 is the prior's first reading: no factor, the prediction stands (not aligned).
   EXPECT_EQ(tracker.stats().aligned, 6u);
