@@ -68,16 +68,19 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
     return events;
   }
   // Without a valid solution the prediction is kept and a fresh local map starts from here, so
-  // a bad stretch cannot corrupt the map built so far.
+  // a bad stretch cannot corrupt the map built so far: the frame that failed against the map
+  // does not enter it (its data would sit there at an unverified pose), it seeds the next one.
   const bool lost = !aligned.valid;
   pose_ = lost ? guess : aligned.pose;
   prediction_.last_motion = S::normalized(previous.inverse() * pose_);
   count(frame, aligned);
-  merge(frame);
-  if (lost)
+  if (lost) {
     startLocalMap(frame, fallbackInformation(), events);
-  else if (splitter && splitter->split(splitQuery(frame, aligned)))
-    startLocalMap(frame, aligned.H, events);
+  } else {
+    merge(frame);
+    if (splitter && splitter->split(splitQuery(frame, aligned)))
+      startLocalMap(frame, aligned.H, events);
+  }
   if (frames_in_map_ == 0) merge(frame);  // the frame seeds the new map
   writeEstimate(frame, lost);
   return events;
