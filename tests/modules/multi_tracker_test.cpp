@@ -434,6 +434,65 @@ TEST(MultiTracker, MaxCorrectionKeepsThePredictionWhenTheAlignmentMovesItTooFar)
   EXPECT_EQ(limited->stats().local_maps, 2u);
 }
 
+// Item 18.6: a frame that failed to align must not enter the map it failed against (its data
+// would sit there at the unverified predicted pose); it seeds the next map instead.
+TEST(MultiTracker, AFrameThatFailedToAlignLeavesTheOldMapUnchanged) {
+  auto tracker = makeTracker(100.0);
+  tracker->max_correction = std::vector<double>{0.2, 0.5};
+  tracker->configure();
+  auto motion = std::make_shared<ScriptedMotion>();
+  // 0.1 m per frame, but frame 15 is predicted 0.5 m too far: its (exact) alignment corrects
+  // that by 0.5 m > max_correction, so the frame fails and keeps the wrong prediction.
+  for (uint64_t i = 1; i < 20; ++i) motion->script[i] = se2(i == 15 ? 0.6 : 0.1, 0, 0);
+  tracker->motion.assign(motion);
+  const Landmarks world = grid(1.5, 12.0);
+  std::shared_ptr<LocalMap> first;
+  Landmarks before;  // the first map's landmarks after frame 14
+  for (int i = 0; i < 20; ++i) {
+    Frame f;
+    f.seq = i;
+    f.stamp = 0.1 * i;
+    Landmarks seen = observe(world, se2(0.1 * i, 0, 0), 6.0);
+    // Frame 15 also sees a landmark no other frame sees, so merging it would change the old map.
+    if (i == 15) seen.emplace_back(2.0, 1.0);
+    f.measurement.set<Landmarks>("landmarks", seen);
+    const TrackEvents events = tracker->track(f);
+    if (i == 0) first = events.started;
+    ASSERT_TRUE(first);
+    if (i == 14) before = *first->scene.find<Landmarks>("landmarks");
+    if (i != 15) continue;
+    ASSERT_EQ(events.closed.size(), 1u);
+    EXPECT_TRUE(events.closed[0] == first);
+    ASSERT_TRUE(events.started);
+    EXPECT_TRUE(f.estimate.lost);
+    // The failed frame had something new to add...
+    int unseen = 0;
+    for (size_t k = 0; k < seen.size(); ++k)
+      unseen += seen[k].allFinite() && (k >= before.size() || !before[k].allFinite());
+    EXPECT_GT(unseen, 0);
+    // ...but the old map is exactly as frame 14 left it (NaN = not mapped),
+    const Landmarks& after = *first->scene.find<Landmarks>("landmarks");
+    ASSERT_EQ(after.size(), before.size());  // the extra landmark's id is not in it
+    for (size_t k = 0; k < after.size(); ++k) {
+      EXPECT_EQ(after[k].allFinite(), before[k].allFinite()) << k;
+      if (after[k].allFinite()) {
+        EXPECT_TRUE(after[k] == before[k]) << k;
+      }
+    }
+    EXPECT_EQ(first->last_seq, 14u);
+    // and the frame seeds the new map: every landmark it saw, in the new map's frame (the
+    // frame's own pose is its origin).
+    const Landmarks& seeded = *events.started->scene.find<Landmarks>("landmarks");
+    for (size_t k = 0; k < seen.size(); ++k) {
+      if (!seen[k].allFinite()) continue;
+      ASSERT_LT(k, seeded.size());
+      EXPECT_LT((seeded[k] - seen[k]).norm(), 1e-9) << k;
+    }
+  }
+  EXPECT_EQ(tracker->stats().failed, 1u);
+  EXPECT_EQ(tracker->stats().local_maps, 2u);
+}
+
 TEST(MultiTracker, MaxCorrectionIsValidated) {
   auto tracker = makeTracker(1.0);
   tracker->max_correction = std::vector<double>{0.2};

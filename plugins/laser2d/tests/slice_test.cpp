@@ -168,16 +168,21 @@ TEST(PointToLineSlice, PointsPastTheEndOfASurfaceAreNotPaired) {
   EXPECT_EQ(slice.pairs().size(), 3u);
 }
 
+// A scan of the room as the measurement and one 0.1 m, 0.05 rad away as the scene ("front").
+void offsetScans(Frame& frame, PropertyContainer& scene) {
+  const auto world = test::room(8, 6);
+  test::ScanSpec spec;
+  frame.measurement.set("front", cloudOf(test::castScan(world, se2(3.1, 2, 0.05), spec)));
+  scene.set("front", cloudOf(test::castScan(world, se2(3, 2, 0), spec)));
+}
+
 // Every factor the laser slices add passes the SDK's Jacobian check (central differences through
 // the pose variable's oplus, which is the aligner's boxplus), around and away from the solution.
 template <class SliceT>
 void checkEveryFactor() {
-  const auto world = test::room(8, 6);
-  test::ScanSpec spec;
   Frame frame;
-  frame.measurement.set("front", cloudOf(test::castScan(world, se2(3.1, 2, 0.05), spec)));
   PropertyContainer scene;
-  scene.set("front", cloudOf(test::castScan(world, se2(3, 2, 0), spec)));
+  offsetScans(frame, scene);
   SliceT slice;
   slice.range_sigma = 0.01;  // per-pair information, as the CARMEN configs use
   slice.configure();
@@ -202,12 +207,9 @@ TEST(PointToPointSlice, EveryFactorPassesTheJacobianCheck) {
 }
 
 TEST(PointToLineSlice, NormalEquationsAreTheSumOfTheFactors) {
-  const auto world = test::room(8, 6);
-  test::ScanSpec spec;
   Frame frame;
-  frame.measurement.set("front", cloudOf(test::castScan(world, se2(3.1, 2, 0.05), spec)));
   PropertyContainer scene;
-  scene.set("front", cloudOf(test::castScan(world, se2(3, 2, 0), spec)));
+  offsetScans(frame, scene);
   PointToLineSlice slice;
   slice.kernel = "none";
   slice.sigma = 0.1;

@@ -32,7 +32,8 @@ struct MotionPrior2D {
 ///   sigma_r = max(min_sigma_rotation,
 ///                 sigma_rotation_per_rad * |dtheta| + sigma_rotation_per_m * |d|)
 /// log here is (x, y, theta) of the pose, matching Space2D::boxplus (T * se2(dx)), so the
-/// Jacobian is exactly blockdiag(R(E), 1) with E = Z^-1 * T.
+/// Jacobian is exactly blockdiag(R(E), 1) with E = Z^-1 * T. The delta is the tracker's motion
+/// model's (AlignContext::motion) when the model read the same entry, else the slice's own.
 class PriorSlice : public AlignerSlice<Space2D> {
  public:
   Input<Odometry2D> input{this, Container::raw, "input", "odom", "wheel odometry to read"};

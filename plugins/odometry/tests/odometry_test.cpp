@@ -8,6 +8,7 @@
 #include "plugslam/errors.h"
 #include "plugslam/geometry.h"
 #include "plugslam/multi_aligner.h"
+#include "plugslam/multi_tracker.h"
 #include "plugslam/slice_check.h"
 #include "prior_slice.h"
 #include "wheel_odometry.h"
@@ -213,6 +214,81 @@ TEST(PriorSlice, FramesWithoutSequenceNumbersAreToldApartByStamp) {
   expectPose(se2(1, 0, 0), slice.prior(), 1e-12);
   ASSERT_TRUE(slice.bind(c, scene, ctx));
   expectPose(se2(2, 0, 0), slice.prior(), 1e-12);
+}
+
+// Item 18.3: the odometry delta is computed once. In a tracker, the motion model measures it and
+// the prior takes it from the AlignContext, but only when the model read the same entry.
+TEST(PriorSlice, TakesTheMotionModelsDeltaWhenItReadTheSameEntry) {
+  PropertyContainer scene;
+  // The context's motion differs from the readings' delta, to tell which one the slice took.
+  AlignContext<Space2D> ctx{se2(1.0, 1.0, 0.2), se2(0, 0, 0), se2(0.5, 0.0, 0.1)};
+  ctx.motion_entry = "odom";
+  {
+    PriorSlice slice;
+    slice.configure();
+    // The first reading the slice sees adds no prior (as before the delta was shared).
+    EXPECT_FALSE(slice.bind(odomFrame(0, se2(7, 7, 1)), scene, ctx));
+    ASSERT_TRUE(slice.bind(odomFrame(1, se2(9, 7, 1)), scene, ctx));
+    expectPose(se2(1.0, 1.0, 0.2) * se2(0.5, 0.0, 0.1), slice.prior(), 1e-12);
+    // Without a motion, its own readings' delta.
+    ctx.motion.reset();
+    ASSERT_TRUE(slice.bind(odomFrame(2, se2(9, 8, 1)), scene, ctx));
+    expectPose(se2(1.0, 1.0, 0.2) * se2(9, 7, 1).inverse() * se2(9, 8, 1), slice.prior(), 1e-12);
+  }
+  {
+    PriorSlice slice;  // reads "wheels": the model's motion is not its odometry
+    slice.input = std::string("wheels");
+    slice.configure();
+    ctx.motion = se2(0.5, 0.0, 0.1);
+    EXPECT_FALSE(slice.bind(odomFrame(0, se2(0, 0, 0), "wheels"), scene, ctx));
+    ASSERT_TRUE(slice.bind(odomFrame(1, se2(2, 0, 0), "wheels"), scene, ctx));
+    expectPose(se2(1.0, 1.0, 0.2) * se2(2, 0, 0), slice.prior(), 1e-12);
+  }
+}
+
+// The tracker's prediction names the one raw entry the wheel odometry read, so a PriorSlice
+// reading that entry takes the model's delta (AlignContext::motion_entry); nothing without a
+// reading.
+TEST(WheelOdometry, ThePredictionNamesTheEntryItsDeltaCameFrom) {
+  WheelOdometry model;
+  model.input = std::string("wheels");
+  model.configure();
+  plugslam::MotionPrediction<Space2D> prediction;
+  prediction.predict(&model, false, odomFrame(0, se2(1, 0, 0), "wheels"), se2(0, 0, 0));
+  prediction.predict(&model, false, odomFrame(1, se2(2, 0, 0), "wheels"), se2(0, 0, 0));
+  ASSERT_TRUE(prediction.model_motion);
+  expectPose(se2(1, 0, 0), *prediction.model_motion, 1e-12);
+  EXPECT_EQ(prediction.model_entry, "wheels");
+  prediction.predict(&model, false, odomFrame(2, se2(2, 0, 0), "other"), se2(0, 0, 0));
+  EXPECT_FALSE(prediction.model_motion);
+  EXPECT_EQ(prediction.model_entry, "");
+}
+
+// In a tracker with wheel odometry as the motion model and the prior as the only cue, the poses
+// follow the odometry exactly, with the tracker's context (motion and its entry) as the delta.
+TEST(PriorSlice, InATrackerThePosesFollowTheOdometry) {
+  plugslam::MultiTracker<Space2D> tracker;
+  tracker.motion.assign(std::make_shared<WheelOdometry>());
+  auto aligner = std::make_shared<plugslam::MultiAligner<Space2D>>();
+  aligner->slices.assign(std::make_shared<PriorSlice>());
+  aligner->min_inliers = 1;
+  tracker.aligner.assign(aligner);
+  for (auto* m : std::initializer_list<plugslam::Configurable*>{
+           tracker.motion.get(), &aligner->slices[0], aligner.get(), &tracker})
+    m->configure();
+  const Eigen::Isometry2d start = se2(3.0, -2.0, 0.7);
+  Eigen::Isometry2d odom = start;
+  for (uint64_t i = 0; i < 8; ++i) {
+    if (i > 0) odom = odom * se2(0.4, 0.05, 0.1);
+    Frame f = odomFrame(i, odom);
+    tracker.track(f);
+    ASSERT_TRUE(f.estimate.valid);
+    // One local map (no splitter), started at the first frame: its frame is the run's.
+    ASSERT_EQ(f.estimate.local_map, 0);
+    expectPose(start.inverse() * odom, Space2D::from3D(f.estimate.in_map), 1e-9);
+  }
+  // Frame 1 is the prior's first reading: no factor, the prediction stands (not aligned).
+  EXPECT_EQ(tracker.stats().aligned, 6u);
 }
 
 }  // namespace

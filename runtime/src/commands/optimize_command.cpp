@@ -124,8 +124,10 @@ void addOptimizeCommand(CLI::App& root, int& exit_code) {
   auto* cmd = root.add_subcommand(
       "optimize", "Optimise a pose graph (g2o, TORO) and write it as g2o, with a summary");
   cmd->footer(
-      "Reads g2o (VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, EDGE_SE3:QUAT, FIX) and TORO (VERTEX2,\n"
-      "EDGE2); a file with edges only is initialised (--init).");
+      "Reads g2o (VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, EDGE_SE3:QUAT, FIX) and TORO / HOG-Man\n"
+      "(VERTEX2, EDGE2, VERTEX3, EDGE3); a file with edges only is initialised (--init). EDGE2\n"
+      "information is read in TORO's order (xx xy yy tt xt yt), or in g2o's (xx xy xt yy yt tt)\n"
+      "when only that order is positive definite for every edge (with a warning).");
   cmd->add_option("IN", a.input, "input pose graph (g2o or TORO)")->required();
   cmd->add_option("-o,--output", a.output,
                   "optimised graph to write (g2o); the summary goes to OUT.json unless --summary");

@@ -31,10 +31,15 @@ struct AlignContext {
   using Pose = typename S::Pose;  ///< the pose type
   /// Previous pose and guess at the scene's origin, no measured motion.
   AlignContext() = default;
-  /// The previous pose, the initial estimate and the motion model's measured motion.
+  /// The previous pose, the initial estimate, the motion model's measured motion and the raw
+  /// entry it was measured from.
   AlignContext(const Pose& previous_pose, const Pose& initial_guess,
-               std::optional<Pose> measured_motion = std::nullopt)
-      : previous(previous_pose), guess(initial_guess), motion(std::move(measured_motion)) {}
+               std::optional<Pose> measured_motion = std::nullopt,
+               std::string measured_entry = std::string())
+      : previous(previous_pose),
+        guess(initial_guess),
+        motion(std::move(measured_motion)),
+        motion_entry(std::move(measured_entry)) {}
 
   Pose previous = Pose::Identity();  ///< the previous frame's pose in the scene frame
   Pose guess = Pose::Identity();     ///< the initial estimate (the motion prediction)
@@ -47,6 +52,9 @@ struct AlignContext {
   /// (measured^-1 * solved, in the robot frame); empty when that frame had no measurement or
   /// failed. A motion prior weighs itself by it (slip, bad scale, a kidnap: issue 20).
   std::optional<typename S::Pose> motion_residual;
+  /// The raw entry `motion` was measured from, when the motion model reads exactly one (a slice
+  /// that reads the same entry can take `motion` instead of computing it again); else empty.
+  std::string motion_entry;
 };
 
 /// One cue's contribution to the Multi-Aligner.

@@ -2,6 +2,7 @@
 // MotionModel: predicts the robot's motion between two frames (e.g. from wheel odometry), and
 // the prediction a tracker makes from it.
 #include <optional>
+#include <string>
 
 #include "plugslam/configurable.h"
 #include "plugslam/entry.h"
@@ -34,12 +35,19 @@ struct MotionPrediction {
   /// The motion model's measured motion for the last frame (empty: the prediction did not come
   /// from it); the aligner's slices get it in their AlignContext.
   std::optional<Pose> model_motion;
+  /// The raw entry `model_motion` was measured from when the model reads exactly one (a slice
+  /// reading the same entry then takes that delta rather than computing it again); else empty.
+  std::string model_entry;
 
   /// The pose predicted for `frame` from the robot's pose `from`.
   Pose predict(MotionModel<S>* model, bool constant_velocity, const Frame& frame,
                const Pose& from) {
     model_motion.reset();
-    if (model) model_motion = model->predict(frame);
+    model_entry.clear();
+    if (model) {
+      model_motion = model->predict(frame);
+      if (model_motion) model_entry = soleRawInput(*model);
+    }
     const Pose delta =
         model_motion ? *model_motion : constant_velocity ? last_motion : Pose::Identity();
     return S::normalized(from * delta);
@@ -48,6 +56,20 @@ struct MotionPrediction {
   void reset() {
     last_motion = Pose::Identity();
     model_motion.reset();
+    model_entry.clear();
+  }
+
+ private:
+  // The name of the one raw entry `model` reads; empty when it reads none or several.
+  static std::string soleRawInput(const MotionModel<S>& model) {
+    std::string name;
+    int inputs = 0;
+    for (const EntryBase* e : model.entries())
+      if (!e->writes() && e->container() == Container::raw) {
+        ++inputs;
+        name = e->name();
+      }
+    return inputs == 1 ? name : std::string();
   }
 };
 

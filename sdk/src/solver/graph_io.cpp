@@ -1,6 +1,9 @@
 #include "plugslam/solver/graph_io.h"
 
+#include <spdlog/spdlog.h>
+
 #include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -31,7 +34,10 @@ struct VertexRecord {
 struct EdgeRecord {
   int64_t from, to;
   int line;
-  std::array<double, 28> values;  // measurement then information entries
+  std::array<double, 28> values;  // measurement then information entries (g2o's order)
+  // A TORO EDGE2: values[3..8] hold the information as the file wrote it, in an order decided
+  // once the whole file is read (see resolveEdge2Order).
+  bool edge2 = false;
 };
 
 class LineParser {
@@ -123,7 +129,18 @@ Eigen::Matrix<double, N, N> upperToMatrix(const double* v) {
   return m;
 }
 
-}  // namespace
+// TORO/HOG-Man 3D rotation: roll, pitch, yaw about the fixed x, y, z axes, R = Rz Ry Rx.
+Eigen::Quaterniond fromRollPitchYaw(double roll, double pitch, double yaw) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) *
+                            Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                            Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()));
+}
+
+// EDGE2 information, as written, into g2o's upper triangle (xx xy xt yy yt tt).
+std::array<double, 6> edge2Information(const double* v, bool toro_order) {
+  if (!toro_order) return {v[0], v[1], v[2], v[3], v[4], v[5]};
+  return {v[0], v[1], v[4], v[2], v[5], v[3]};  // TORO: xx xy yy tt xt yt
+}
 
 template <int N>
 bool isPositiveDefiniteFixed(const Eigen::Matrix<double, N, N>& m) {
@@ -131,6 +148,39 @@ bool isPositiveDefiniteFixed(const Eigen::Matrix<double, N, N>& m) {
   Eigen::LLT<Eigen::Matrix<double, N, N>> llt(m);
   return llt.info() == Eigen::Success && llt.matrixLLT().diagonal().minCoeff() > 0.0;
 }
+
+// EDGE2 information is TORO's order (xx xy yy tt xt yt), but some writers (GTSAM's w20000.txt)
+// use g2o's (xx xy xt yy yt tt) under the same tag. When every EDGE2 matrix is positive definite
+// in g2o's order and some is not in TORO's, the file is read in g2o's order (said once);
+// otherwise in TORO's, and matrices that are not positive definite stay counted as before.
+void resolveEdge2Order(const std::string& name, std::vector<EdgeRecord>& edges,
+                       GraphFileInfo& info) {
+  size_t count = 0, toro_pd = 0, g2o_pd = 0;
+  for (const auto& e : edges) {
+    if (!e.edge2) continue;
+    ++count;
+    const std::array<double, 6> t = edge2Information(e.values.data() + 3, true);
+    const std::array<double, 6> g = edge2Information(e.values.data() + 3, false);
+    toro_pd += isPositiveDefiniteFixed<3>(upperToMatrix<3>(t.data()));
+    g2o_pd += isPositiveDefiniteFixed<3>(upperToMatrix<3>(g.data()));
+  }
+  if (count == 0) return;
+  const bool toro_order = !(g2o_pd == count && toro_pd < count);
+  info.edge2_information_order = toro_order ? "toro" : "g2o";
+  if (!toro_order) {
+    spdlog::warn(
+        "{}: EDGE2 information read in g2o's order (xx xy xt yy yt tt), not TORO's (xx xy yy tt "
+        "xt yt): in TORO's order {} of {} edges are not positive definite, in g2o's none is",
+        name, count - toro_pd, count);
+  }
+  for (auto& e : edges) {
+    if (!e.edge2) continue;
+    const std::array<double, 6> m = edge2Information(e.values.data() + 3, toro_order);
+    std::copy(m.begin(), m.end(), e.values.begin() + 3);
+  }
+}
+
+}  // namespace
 
 bool isPositiveDefinite(const Eigen::MatrixXd& m) {
   Eigen::LLT<Eigen::MatrixXd> llt(m);
@@ -201,22 +251,46 @@ GraphFileInfo readGraph(std::istream& in, const std::string& name, FactorGraph& 
       const double qn = Eigen::Vector4d(v.values[3], v.values[4], v.values[5], v.values[6]).norm();
       if (qn < 1e-6) p.fail("quaternion of vertex " + std::to_string(v.id) + " has zero norm");
       vertices.push_back(std::move(v));
+    } else if (tag == "VERTEX3") {
+      // TORO / HOG-Man 3D: x y z roll pitch yaw.
+      toro = true;
+      setDim(3, p, line);
+      VertexRecord v{p.id("vertex id"), line, {}};
+      double r[6];
+      for (int k = 0; k < 6; ++k) r[k] = p.number(tag.c_str(), k, 6);
+      p.end();
+      const Eigen::Quaterniond q = fromRollPitchYaw(r[3], r[4], r[5]);
+      v.values = {r[0], r[1], r[2], q.x(), q.y(), q.z(), q.w()};
+      vertices.push_back(std::move(v));
     } else if (tag == "EDGE_SE2" || tag == "EDGE2" || tag == "EDGE") {
       const bool is_toro = tag != "EDGE_SE2";
       (is_toro ? toro : g2o) = true;
       setDim(2, p, line);
+      EdgeRecord e{p.id("first vertex id"), 0, line, {}, is_toro};
+      e.to = p.id("second vertex id");
+      for (int k = 0; k < 9; ++k) e.values[k] = p.number(tag.c_str(), k, 9);
+      p.end();
+      edges.push_back(std::move(e));
+    } else if (tag == "EDGE3") {
+      // TORO / HOG-Man 3D: x y z roll pitch yaw, then the information's upper triangle over the
+      // error (x y z roll pitch yaw) of the measured relative pose.
+      toro = true;
+      setDim(3, p, line);
       EdgeRecord e{p.id("first vertex id"), 0, line, {}};
       e.to = p.id("second vertex id");
-      double v[9];
-      for (int k = 0; k < 9; ++k) v[k] = p.number(tag.c_str(), k, 9);
+      double v[27];
+      for (int k = 0; k < 27; ++k) v[k] = p.number(tag.c_str(), k, 27);
       p.end();
-      if (is_toro) {
-        // TORO: xx xy yy tt xt yt -> g2o upper triangle xx xy xt yy yt tt.
-        const double g[9] = {v[0], v[1], v[2], v[3], v[4], v[7], v[5], v[8], v[6]};
-        std::copy(g, g + 9, e.values.begin());
-      } else {
-        std::copy(v, v + 9, e.values.begin());
-      }
+      const Eigen::Quaterniond q = fromRollPitchYaw(v[3], v[4], v[5]);
+      const double m[7] = {v[0], v[1], v[2], q.x(), q.y(), q.z(), q.w()};
+      std::copy(m, m + 7, e.values.begin());
+      // The error's rotation part is the relative rotation's roll/pitch/yaw there, ours its
+      // quaternion's vector part: at the solution (small rotations) angles = 2 q.vec, so each
+      // information entry gains a factor 2 per rotation index (g2o's EDGE_SE3:QUAT convention).
+      int k = 0;
+      for (int r = 0; r < 6; ++r)
+        for (int c = r; c < 6; ++c, ++k)
+          e.values[7 + k] = v[6 + k] * (r >= 3 ? 2.0 : 1.0) * (c >= 3 ? 2.0 : 1.0);
       edges.push_back(std::move(e));
     } else if (tag == "EDGE_SE3:QUAT") {
       g2o = true;
@@ -242,7 +316,7 @@ GraphFileInfo readGraph(std::istream& in, const std::string& name, FactorGraph& 
       throw ParseError(name, line,
                        "unknown record '" + tag.substr(0, 40) +
                            "'; expected VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, "
-                           "EDGE_SE3:QUAT, FIX, VERTEX2 or EDGE2");
+                           "EDGE_SE3:QUAT, FIX, VERTEX2, EDGE2, VERTEX3 or EDGE3");
     }
   }
   if (in.bad()) throw ParseError(name, line, "read error");
@@ -250,6 +324,7 @@ GraphFileInfo readGraph(std::istream& in, const std::string& name, FactorGraph& 
     throw ParseError(name, 0, "no vertex or edge records found");
   }
   info.format = toro && !g2o ? "toro" : "g2o";
+  resolveEdge2Order(name, edges, info);
   info.vertices = vertices.size();
   info.edges = edges.size();
   info.has_vertices = !vertices.empty();

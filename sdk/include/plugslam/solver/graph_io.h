@@ -1,6 +1,7 @@
 #pragma once
 // Pose-graph files: g2o (VERTEX_SE2, EDGE_SE2, VERTEX_SE3:QUAT, EDGE_SE3:QUAT, FIX) read and
-// write; TORO 2D (VERTEX2, EDGE2) read. Malformed input throws ParseError with the 1-based line.
+// write; TORO / HOG-Man 2D (VERTEX2, EDGE2) and 3D (VERTEX3, EDGE3) read. Malformed input throws
+// ParseError with the 1-based line.
 #include <Eigen/Core>
 #include <cstddef>
 #include <iosfwd>
@@ -29,6 +30,10 @@ struct GraphFileInfo {
   size_t non_pd_information = 0;     ///< edges whose information is not positive definite
   size_t projected_information = 0;  ///< of those, how many were projected
   size_t skipped_records = 0;        ///< records of other known-looking types (e.g. EQUIV)
+  /// The order EDGE2 information was read in: "toro" (xx xy yy tt xt yt), "g2o" (xx xy xt yy yt
+  /// tt: only when that order is positive definite for every EDGE2 and TORO's is not), or empty
+  /// without EDGE2 records. Appended in ABI 2.3.
+  std::string edge2_information_order;
 };
 
 /// Reads a g2o or TORO file into an empty graph (SE2/SE3 variables, between factors).

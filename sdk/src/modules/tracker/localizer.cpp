@@ -109,7 +109,8 @@ TrackEvents Localizer<S>::track(Frame& frame) {
     const Pose guess = S::normalized(S::from3D(to_map * guess_world));
     if (m == fallback) fallback_guess = guess;
     AlignResult<S> r = aligner->align(
-        frame, m->scene, AlignContext<S>{previous, guess, st.prediction.model_motion});
+        frame, m->scene, AlignContext<S>{previous, guess, st.prediction.model_motion,
+                                          st.prediction.model_entry});
     if (!r.valid) {
       if (m == fallback) fallback_failure = r.failure;
       continue;

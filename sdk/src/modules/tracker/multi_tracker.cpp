@@ -93,7 +93,8 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
     return events;
   }
   // Without a valid solution the prediction is kept and a fresh local map starts from here, so
-  // a bad stretch cannot corrupt the map built so far.
+  // a bad stretch cannot corrupt the map built so far: the frame that failed against the map
+  // does not enter it (its data would sit there at an unverified pose), it seeds the next one.
   const bool lost = !aligned.valid;
   pose_ = lost ? guess : aligned.pose;
   prediction_.last_motion = S::normalized(previous.inverse() * pose_);
@@ -101,11 +102,13 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
   if (!lost && prediction_.model_motion)
     motion_residual_ = S::normalized(prediction_.model_motion->inverse() * prediction_.last_motion);
   count(frame, aligned);
-  merge(frame);
-  if (lost)
+  if (lost) {
     startLocalMap(frame, fallbackInformation(), events);
-  else if (splitter && splitter->split(splitQuery(frame, aligned)))
-    startLocalMap(frame, aligned.H, events);
+  } else {
+    merge(frame);
+    if (splitter && splitter->split(splitQuery(frame, aligned)))
+      startLocalMap(frame, aligned.H, events);
+  }
   if (frames_in_map_ == 0) merge(frame);  // the frame seeds the new map
   writeEstimate(frame, lost);
   return events;
@@ -114,7 +117,7 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
 template <class S>
 AlignResult<S> MultiTracker<S>::align(const Frame& frame, const Pose& previous,
                                       const Pose& guess) {
-  AlignContext<S> context{previous, guess, prediction_.model_motion};
+  AlignContext<S> context{previous, guess, prediction_.model_motion, prediction_.model_entry};
   context.motion_residual = motion_residual_;
   AlignResult<S> aligned = aligner->align(frame, map_->scene, context);
   // A solution from a seed stands on the aligner's search around the prediction: the gate is
