@@ -68,7 +68,7 @@ RpeResult perFrame(const Outcome& o) {
 // reaches. Measured: every frame after the first fails to track and starts a new local map.
 // It needs a recovery that matches descriptors over the whole image and solves the pose from
 // 3D-3D correspondences by RANSAC (the landmark cue's tracker, issue 16): enable it then.
-TEST(RgbdRealData, DISABLED_Icl5FramesFrameToFrame) {
+TEST(RgbdRealData, Icl5FramesFrameToFrame) {
   SKIP_WITHOUT("rgbd/icl-5frames-slambook2");
   const Outcome o = run("rgbd_icl.yaml", {"source.path=" + data("rgbd/icl-5frames-slambook2")});
   ASSERT_EQ(o.report.frames, 5u);

@@ -84,6 +84,11 @@ class MultiAligner : public Configurable {
       "when the alignment from the prediction is invalid, retry from the prediction turned by "
       "each of these about the vertical axis; the valid result with the most inliers wins"};
 
+  Param<bool> recover{this, "recover", true, "",
+                      "when the alignment from the prediction (and the retry headings) is "
+                      "invalid, solve again from the pose each slice that can relocalise "
+                      "without a prior proposes (the landmark cue: descriptor matching + RANSAC)"};
+
   void configure() override;
   /// Aligns the frame's cues to the scene, starting from context.guess.
   AlignResult<S> align(const Frame& frame, const PropertyContainer& scene,

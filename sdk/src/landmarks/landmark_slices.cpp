@@ -5,7 +5,10 @@
 #include <chrono>
 #include <cmath>
 
+#include <spdlog/spdlog.h>
+
 #include "plugslam/landmarks/observation_factor.h"
+#include "plugslam/landmarks/point_registration.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
@@ -131,10 +134,34 @@ void ReprojectionSlice<S>::linearize(const Pose& t, NormalEquations<S>& eq) cons
 }
 
 template <class S>
+std::optional<typename ReprojectionSlice<S>::Pose> ReprojectionSlice<S>::recoverPose() {
+  if (!measurement.bound() || !scene.bound()) return std::nullopt;
+  Stopwatch watch(recovery_s_);
+  ++recoveries_tried_;
+  DescriptorMatchOptions mo;
+  mo.max_hamming = recover_max_hamming();
+  mo.ratio = recover_ratio();
+  RansacOptions ro;
+  ro.min_inliers = recover_min_inliers();
+  ro.seed = frames_;  // repeatable run to run, different frame to frame
+  const PointRegistration r =
+      registerPoints(describedPoints(*measurement), describedPoints(*scene), mo, ro);
+  spdlog::debug("{}: recovery: {} descriptor matches, {} RANSAC inliers{}", this->name(),
+                r.matches, r.inliers.size(), r.valid ? "" : " (no pose)");
+  if (!r.valid) return std::nullopt;
+  ++recoveries_;
+  // scene <- camera, and the camera is at `mount` in the robot frame.
+  return S::from3D(r.target_from_source * measurement->mount.inverse());
+}
+
+template <class S>
 std::vector<Statistic> ReprojectionSlice<S>::statistics() const {
   return {{"frames", static_cast<double>(frames_)},
           {"alignment_s", time_s_},
-          {"matches_per_frame", perFrame(matched_ + matches_.size(), frames_)}};
+          {"matches_per_frame", perFrame(matched_ + matches_.size(), frames_)},
+          {"recoveries_tried", static_cast<double>(recoveries_tried_)},
+          {"recoveries", static_cast<double>(recoveries_)},
+          {"recovery_s", recovery_s_}};
 }
 
 template <class S>
