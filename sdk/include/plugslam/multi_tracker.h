@@ -44,6 +44,11 @@ class MultiTracker : public Tracker {
       "prediction counts as failed and the prediction is kept (empty: no limit; not applied "
       "when the motion model has no prediction)"};
 
+  Param<bool> hand_over{this, "hand_over", true, "",
+                        "on a split, slices that can (the landmark cue) start the new local map "
+                        "with what the splitting frame sees of the old one, not from that frame "
+                        "alone"};
+
   Param<double> localize_tie{
       this, "localize_tie", 0.02, "",
       "localization (the sdk.Localizer this tracker hands over): saved maps whose alignment's "
@@ -74,6 +79,9 @@ class MultiTracker : public Tracker {
   // Information of the edge into a map started by a failed frame (fallback_sigma).
   typename S::Matrix fallbackInformation() const;
   void merge(const Frame& frame);
+  // Seeds the map just started at `origin` (in `previous`'s frame) by a split: slices that hand
+  // over carry what the frame sees, the others merge the frame.
+  void seedAfterSplit(const Frame& frame, const LocalMap& previous, const Pose& origin);
   void writeEstimate(Frame& frame, bool lost) const;
   // Closes the current map (if any) and starts the next at the robot's pose, joined to it by
   // `information`.

@@ -175,6 +175,30 @@ std::vector<Statistic> LandmarkMapSlice<S>::statistics() const {
 }
 
 template <class S>
+void LandmarkMapSlice<S>::handOver(const PropertyContainer& previous, PropertyContainer& next,
+                                   const Pose& origin, uint64_t seq) {
+  const LandmarkMap* old = previous.find<LandmarkMap>(scene.name());
+  LandmarkMap& map = next.emplace<LandmarkMap>(scene.name());
+  if (!old) return;
+  map.descriptor_bytes = old->descriptor_bytes;
+  const Eigen::Isometry3d to_new = S::to3D(origin).inverse();
+  const Eigen::Matrix3d r = to_new.linear();
+  const size_t bytes = static_cast<size_t>(old->descriptor_bytes);
+  for (size_t j = 0; j < old->size(); ++j) {
+    if (old->last_seen[j] != seq) continue;
+    map.positions.push_back(to_new * old->positions[j]);
+    map.covariances.push_back(r * old->covariances[j] * r.transpose());
+    map.ids.push_back(old->ids[j]);
+    map.observations.push_back(old->observations[j]);
+    map.visible.push_back(old->visible[j]);
+    map.last_seen.push_back(old->last_seen[j]);
+    map.colours.push_back(old->colours[j]);
+    map.descriptors.insert(map.descriptors.end(), old->descriptor(j), old->descriptor(j) + bytes);
+  }
+  map.touch();
+}
+
+template <class S>
 void LandmarkMapSlice<S>::integrate(const MergeContext<S>& context) {
   const Pose& t = context.pose;
   last_matched_ = last_created_ = last_pruned_ = 0;

@@ -114,7 +114,9 @@ class ReprojectionSlice final : public AlignerSlice<S>,
 /// descriptor, unmatched keypoints with depth become landmarks with a new track id, landmarks
 /// found in too few of the frames they projected into are pruned.
 template <class S>
-class LandmarkMapSlice final : public TrackerSlice<S>, public StatisticsSource {
+class LandmarkMapSlice final : public TrackerSlice<S>,
+                               public HandoverSlice<S>,
+                               public StatisticsSource {
  public:
   using Pose = typename S::Pose;
   Input<FeatureSet> measurement{this, Container::measurement, "measurement", "features",
@@ -139,6 +141,11 @@ class LandmarkMapSlice final : public TrackerSlice<S>, public StatisticsSource {
                                 "judged landmarks matched in fewer of the frames they projected "
                                 "into are pruned",
                                 Range{0, 1}};
+
+  /// On a split: the landmarks frame `seq` matched or created (their fused positions,
+  /// covariances, track ids and counters) move into the new map's frame.
+  void handOver(const PropertyContainer& previous, PropertyContainer& next, const Pose& origin,
+                uint64_t seq) override;
 
   /// Counters of the last merge: matched landmarks, new landmarks, pruned landmarks.
   size_t lastMatched() const { return last_matched_; }

@@ -76,8 +76,12 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
   merge(frame);
   if (lost)
     startLocalMap(frame, fallbackInformation(), events);
-  else if (splitter && splitter->split(splitQuery(frame, aligned)))
+  else if (splitter && splitter->split(splitQuery(frame, aligned))) {
+    const std::shared_ptr<LocalMap> previous_map = map_;
+    const Pose origin = pose_;
     startLocalMap(frame, aligned.H, events);
+    seedAfterSplit(frame, *previous_map, origin);
+  }
   if (frames_in_map_ == 0) merge(frame);  // the frame seeds the new map
   writeEstimate(frame, lost);
   return events;
@@ -134,6 +138,21 @@ typename S::Matrix MultiTracker<S>::fallbackInformation() const {
 template <class S>
 void MultiTracker<S>::merge(const Frame& frame) {
   for (auto& slice : slices) slice->merge(frame, map_->scene, pose_);
+  ++frames_in_map_;
+  map_->last_seq = frame.seq;
+  map_->last_stamp = frame.stamp;
+}
+
+template <class S>
+void MultiTracker<S>::seedAfterSplit(const Frame& frame, const LocalMap& previous,
+                                     const Pose& origin) {
+  if (!hand_over()) return;  // merge() seeds it from the frame alone
+  for (auto& slice : slices) {
+    if (auto* carrier = dynamic_cast<HandoverSlice<S>*>(slice.get()))
+      carrier->handOver(previous.scene, map_->scene, origin, frame.seq);
+    else
+      slice->merge(frame, map_->scene, pose_);
+  }
   ++frames_in_map_;
   map_->last_seq = frame.seq;
   map_->last_stamp = frame.stamp;
