@@ -58,7 +58,16 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
     writeEstimate(frame, false);
     return events;
   }
-  const AlignResult<S> aligned = align(frame, previous, guess);
+  AlignResult<S> aligned = align(frame, map_->scene, Pose::Identity(), previous, guess);
+  if (!aligned.valid && previous_map_ && align_previous_map() && !previous_map_->scene.empty()) {
+    AlignResult<S> behind =
+        align(frame, previous_map_->scene, origin_in_previous_, previous, guess);
+    if (behind.valid) {
+      spdlog::debug("frame {}: aligned in the previous local map {} ({} inliers)", frame.seq,
+                    previous_map_->id, behind.inliers);
+      aligned = behind;
+    }
+  }
   if (!aligned.valid && map_->scene.empty()) {
     // The map was started by a frame that brought no data: seed it again from this one.
     pose_ = guess;
@@ -88,10 +97,15 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
 }
 
 template <class S>
-AlignResult<S> MultiTracker<S>::align(const Frame& frame, const Pose& previous,
+AlignResult<S> MultiTracker<S>::align(const Frame& frame, const PropertyContainer& scene,
+                                      const Pose& to_scene, const Pose& previous,
                                       const Pose& guess) {
   AlignResult<S> aligned = aligner->align(
-      frame, map_->scene, AlignContext<S>{previous, guess, prediction_.model_motion});
+      frame, scene,
+      AlignContext<S>{S::normalized(to_scene * previous), S::normalized(to_scene * guess),
+                      prediction_.model_motion});
+  // The tangent is the robot's own (boxplus multiplies on the right), so H needs no change.
+  aligned.pose = S::normalized(to_scene.inverse() * aligned.pose);
   if (aligned.valid && prediction_.model_motion && !max_correction().empty()) {
     const Pose correction = S::normalized(guess.inverse() * aligned.pose);
     if (S::distance(correction) > max_correction()[0] ||
@@ -175,6 +189,8 @@ void MultiTracker<S>::startLocalMap(const Frame& frame, const typename S::Matrix
   next->dimension = S::kDim;
   next->first_seq = next->last_seq = frame.seq;
   next->first_stamp = next->last_stamp = frame.stamp;
+  previous_map_ = map_;
+  origin_in_previous_ = pose_;
   if (map_) {
     // The new map's frame is the robot's pose now; the edge from the old map is that pose.
     next->previous = map_->id;
@@ -194,6 +210,7 @@ void MultiTracker<S>::reset() {
   // The current map is handed over as closed, so the back-end still looks for loops from it.
   if (map_) closed_.push_back(map_);
   map_.reset();
+  previous_map_.reset();
   pose_ = Pose::Identity();
   prediction_.reset();
   frames_in_map_ = 0;
