@@ -3,6 +3,7 @@
 // map's merge (tracks, refinement, pruning).
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <random>
 
 #include "plugslam/geometry.h"
@@ -311,18 +312,25 @@ TEST(PointRegistration, FindsAWideMotionWithoutAPrior) {
   const PointRegistration r = registerPoints(describedPoints(b), describedPoints(a));
   ASSERT_TRUE(r.valid);
   const Vector6d err = toVector(truth.inverse() * r.target_from_source);
+  std::printf("registration: %zu matches, %zu inliers, %d samples, error %.4f m %.4f deg\n",
+              r.matches, r.inliers.size(), r.iterations, err.head<3>().norm(),
+              err.tail<3>().norm() * 180 / M_PI);
   // Bounds: measured ERR_T / ERR_R; 10 cm and 0.5 deg still fail a wrong sample or a broken fit
   // (a wrong one is metres off). Stereo depth at 4-40 m is the noise here.
   EXPECT_LT(err.head<3>().norm(), 0.10);
   EXPECT_LT(err.tail<3>().norm(), 0.5 * M_PI / 180);
-  // Inliers are true pairs: the same world point (an outlier keypoint has another's descriptor,
-  // so it is matched to that point's landmark, and RANSAC must drop it).
+  // Inliers are true pairs, the same world point seen twice (an outlier keypoint carries another
+  // point's descriptor, so it matches that point's keypoint and RANSAC must drop the pair): at the
+  // true motion a true pair lies within chi-square 99.9 % (3 dof) of both covariances, a wrong
+  // one metres away.
   const DescribedPoints da = describedPoints(a), db = describedPoints(b);
   size_t wrong = 0;
   for (const PointMatch& m : r.inliers) {
-    const Eigen::Vector3d pa = da.points[static_cast<size_t>(m.target)];
-    const Eigen::Vector3d pb = db.points[static_cast<size_t>(m.source)];
-    if ((pa - truth * pb).norm() > 0.05 * pa.z()) ++wrong;
+    const size_t ia = static_cast<size_t>(m.target), ib = static_cast<size_t>(m.source);
+    const Eigen::Vector3d d = da.points[ia] - truth * db.points[ib];
+    const Eigen::Matrix3d c =
+        da.covariances[ia] + truth.linear() * db.covariances[ib] * truth.linear().transpose();
+    if (d.dot(c.ldlt().solve(d)) > 16.27) ++wrong;
   }
   EXPECT_LT(wrong, r.inliers.size() / 50 + 1);
   EXPECT_GT(r.inliers.size(), 100u);
@@ -365,6 +373,8 @@ TEST(ReprojectionSlice, RecoversAWideMotionByDescriptorMatching) {
     // The reprojection solve refines the RANSAC pose: measured ERR_T / ERR_R, bounds as in
     // RecoversAKnownMotionIn3D (5 cm, 0.3 deg).
     const Vector6d err = toVector(truth.inverse() * r.pose);
+    std::printf("recovered and refined: %zu inliers, error %.4f m %.4f deg\n", r.inliers,
+                err.head<3>().norm(), err.tail<3>().norm() * 180 / M_PI);
     EXPECT_LT(err.head<3>().norm(), 0.05);
     EXPECT_LT(err.tail<3>().norm(), 0.3 * M_PI / 180);
     double recoveries = -1;
