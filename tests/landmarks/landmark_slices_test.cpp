@@ -294,20 +294,31 @@ TEST(LandmarkMapSlice, KeepsTracksRefinesAndPrunes) {
 
 // A wide motion: 2.5 m sideways and forward with a 25 degree turn, far beyond what projective
 // association from an identity prediction bridges (the 20 px first radius).
-Eigen::Isometry3d wideMotion() {
+struct WidePair {
+  Eigen::Isometry3d truth;  // camera b in camera a's frame
+  FeatureSet a, b;
+};
+
+// Two stereo views of one random world across that motion (1 px / 0.3 px noise, a fraction
+// `outliers` of the keypoints carrying another point's descriptor).
+WidePair widePair(unsigned seed, double outliers) {
+  std::mt19937 rng(seed);
+  const World w = makeWorld(rng, 1500);
+  const Eigen::Isometry3d id = Eigen::Isometry3d::Identity();
   Vector6d motion;
   motion << 1.5, 0.1, 2.0, 0.02, 25.0 * M_PI / 180, 0.01;
-  return se3(motion);
+  WidePair p;
+  p.truth = se3(motion);
+  p.a = observe(w, id, id, rng, 1.0, 0.3, outliers);
+  p.b = observe(w, p.truth, id, rng, 1.0, 0.3, outliers);
+  return p;
 }
 
 TEST(PointRegistration, FindsAWideMotionWithoutAPrior) {
-  std::mt19937 rng(7);
-  const World w = makeWorld(rng, 1500);
-  const Eigen::Isometry3d id = Eigen::Isometry3d::Identity();
-  const Eigen::Isometry3d truth = wideMotion();
-  // 1 px / 0.3 px noise, 30 % of the keypoints carry another point's descriptor.
-  const FeatureSet a = observe(w, id, id, rng, 1.0, 0.3, 0.3);
-  const FeatureSet b = observe(w, truth, id, rng, 1.0, 0.3, 0.3);
+  // 30 % of the keypoints carry another point's descriptor.
+  const WidePair pair = widePair(7, 0.3);
+  const Eigen::Isometry3d& truth = pair.truth;
+  const FeatureSet &a = pair.a, &b = pair.b;
   // b's points into a's frame: a <- b is the motion itself.
   const PointRegistration r = registerPoints(describedPoints(b), describedPoints(a));
   ASSERT_TRUE(r.valid);
@@ -336,18 +347,17 @@ TEST(PointRegistration, FindsAWideMotionWithoutAPrior) {
   EXPECT_GT(r.inliers.size(), 100u);
   // Unrelated descriptors on both sides: nothing to register.
   FeatureSet c = b;
+  std::mt19937 rng(7);
   std::uniform_int_distribution<int> byte(0, 255);
   for (auto& d : c.descriptors) d = static_cast<uint8_t>(byte(rng));
   EXPECT_FALSE(registerPoints(describedPoints(c), describedPoints(a)).valid);
 }
 
 TEST(ReprojectionSlice, RecoversAWideMotionByDescriptorMatching) {
-  std::mt19937 rng(8);
-  const World w = makeWorld(rng, 1500);
+  const WidePair pair = widePair(8, 0.1);
+  const Eigen::Isometry3d& truth = pair.truth;
+  const FeatureSet &a = pair.a, &b = pair.b;
   const Eigen::Isometry3d id = Eigen::Isometry3d::Identity();
-  const Eigen::Isometry3d truth = wideMotion();
-  const FeatureSet a = observe(w, id, id, rng, 1.0, 0.3, 0.1);
-  const FeatureSet b = observe(w, truth, id, rng, 1.0, 0.3, 0.1);
   PropertyContainer scene;
   Frame ref;
   ref.measurement.set<FeatureSet>("features", a);
@@ -381,6 +391,42 @@ TEST(ReprojectionSlice, RecoversAWideMotionByDescriptorMatching) {
     for (const Statistic& st : slice->statistics())
       if (st.name == "recoveries") recoveries = st.value;
     EXPECT_EQ(recoveries, 1.0);
+  }
+}
+
+TEST(LandmarkMapSlice, HandsOverWhatTheSplittingFrameSawInTheNewMapsFrame) {
+  const WidePair pair = widePair(9, 0.0);
+  const Eigen::Isometry3d id = Eigen::Isometry3d::Identity();
+  PropertyContainer scene;
+  LandmarkMapSlice<Space3D> merger;
+  merger.configure();
+  Frame first;
+  first.seq = 0;
+  first.measurement.set<FeatureSet>("features", pair.a);
+  merger.merge(first, scene, id);
+  Frame second;
+  second.seq = 1;
+  second.measurement.set<FeatureSet>("features", pair.b);
+  merger.merge(second, scene, pair.truth);  // at its true pose: matches a's landmarks in view
+  const LandmarkMap& old = scene.get<LandmarkMap>("landmarks");
+  size_t seen = 0;
+  for (uint64_t s : old.last_seen) seen += s == 1;
+  ASSERT_GT(seen, 100u);
+  ASSERT_LT(seen, old.size());  // some of a's landmarks are out of b's view
+  PropertyContainer next;
+  merger.handOver(scene, next, pair.truth, 1);
+  const LandmarkMap& carried = next.get<LandmarkMap>("landmarks");
+  ASSERT_EQ(carried.size(), seen);
+  carried.checkConsistent();
+  size_t k = 0;
+  for (size_t j = 0; j < old.size(); ++j) {
+    if (old.last_seen[j] != 1) continue;
+    // Same track, same counters, the position in the new map's frame (origin = b's pose).
+    EXPECT_EQ(carried.ids[k], old.ids[j]);
+    EXPECT_EQ(carried.observations[k], old.observations[j]);
+    EXPECT_LT((carried.positions[k] - pair.truth.inverse() * old.positions[j]).norm(), 1e-9);
+    EXPECT_NEAR(carried.covariances[k].trace(), old.covariances[j].trace(), 1e-9);
+    ++k;
   }
 }
 
