@@ -63,7 +63,7 @@ RpeResult perFrame(const Outcome& o) {
 }
 
 // Issue 15's ICL target, not met and disabled: these 5 frames (slambook2's dense-mapping
-// example) are 0.15-1.34 m and 13-91 degrees apart and roll up to 92 degrees against each other
+// example) are 0.15-1.35 m and 13-91 degrees apart and roll up to 92 degrees against each other
 // (pose.txt). The tracker now recovers by descriptor matching over the whole image + 3D-3D
 // RANSAC and retries the previous local map, but the keypoints do not match across these
 // viewpoints: measured (branch visual, rotation-invariant ORB, one scale) 7 mutual ratio-tested
