@@ -326,8 +326,9 @@ TEST(PointRegistration, FindsAWideMotionWithoutAPrior) {
   std::printf("registration: %zu matches, %zu inliers, %d samples, error %.4f m %.4f deg\n",
               r.matches, r.inliers.size(), r.iterations, err.head<3>().norm(),
               err.tail<3>().norm() * 180 / M_PI);
-  // Bounds: measured ERR_T / ERR_R; 10 cm and 0.5 deg still fail a wrong sample or a broken fit
-  // (a wrong one is metres off). Stereo depth at 4-40 m is the noise here.
+  // Bounds: measured 8.4 mm / 0.047 deg (455 matches, 311 inliers, 28 samples); 10 cm and
+  // 0.5 deg still fail a wrong sample or a broken fit (a wrong one is metres off). Stereo depth
+  // at 4-40 m is the noise here.
   EXPECT_LT(err.head<3>().norm(), 0.10);
   EXPECT_LT(err.tail<3>().norm(), 0.5 * M_PI / 180);
   // Inliers are true pairs, the same world point seen twice (an outlier keypoint carries another
@@ -380,8 +381,8 @@ TEST(ReprojectionSlice, RecoversAWideMotionByDescriptorMatching) {
       continue;
     }
     ASSERT_TRUE(r.valid);
-    // The reprojection solve refines the RANSAC pose: measured ERR_T / ERR_R, bounds as in
-    // RecoversAKnownMotionIn3D (5 cm, 0.3 deg).
+    // The reprojection solve refines the RANSAC pose: measured 9.8 mm / 0.033 deg (393
+    // inliers), bounds as in RecoversAKnownMotionIn3D (5 cm, 0.3 deg).
     const Vector6d err = toVector(truth.inverse() * r.pose);
     std::printf("recovered and refined: %zu inliers, error %.4f m %.4f deg\n", r.inliers,
                 err.head<3>().norm(), err.tail<3>().norm() * 180 / M_PI);
