@@ -16,7 +16,7 @@ out="${PLUGSLAM_BENCH_OUT:-$root/out/bench/visual}"
 metrics="$root/scripts/bench/visual_metrics.py"
 mkdir -p "$out"
 
-# One case: NAME|CONFIG|DATA (folder that must exist, or -)|METRIC (kitti, f2f, static, none)|
+# One case: NAME|CONFIG|DATA (folder that must exist, or -)|METRIC (kitti, f2f, static, rpe1, none)|
 # TARGET (text for the table)|extra --set arguments|extra metric arguments. Cameras other than
 # stereo add their rows here. The long simulated KITTI-00 drive runs last.
 k00="$data/stereo/kitti00-trajectories-evo"
@@ -26,6 +26,9 @@ CASES=(
   "kitti00-first5|configs/stereo_kitti.yaml|$data/stereo/kitti00-first5-srrg2|f2f|<= 2 %, <= 0.1 deg per frame|--set source.path=$data/stereo/kitti00-first5-srrg2|$k00/KITTI_00_ORB.txt $k00/KITTI_00_gt_times.txt"
   "euroc-v101-static|configs/stereo_euroc.yaml|$euroc|static|within 1 cm, 0.5 deg; no failure|--set source.path=$euroc --set source.ground_truth_file=$euroc/V101_GT_rows.txt|"
   "kitti-raw-0001|configs/stereo_kitti_raw.yaml|$data/stereo/kitti-raw-0001-stereo-soft|none|no failure, >= 60 Hz|--set source.path=$data/stereo/kitti-raw-0001-stereo-soft|"
+  "7scenes-300|configs/rgbd_7scenes.yaml|$data/rgbd/7scenes-300frames-tsdf-fusion|rpe1|ATE <= 3 cm; RPE <= 5 mm, 0.3 deg per frame; >= 60 Hz|--set source.path=$data/rgbd/7scenes-300frames-tsdf-fusion|"
+  "icl-5|configs/rgbd_icl.yaml|$data/rgbd/icl-5frames-slambook2|rpe1|<= 1 cm, 0.5 deg per frame|--set source.path=$data/rgbd/icl-5frames-slambook2|"
+  "sim-fr1xyz|configs/sim3d_rgbd.yaml|$data/rgbd/tum-fr1_xyz-trajectories-evo|rpe1|ATE <= 1 cm|--set source.trajectory=$data/rgbd/tum-fr1_xyz-trajectories-evo/freiburg1_xyz-groundtruth.txt --set source.rate=30|"
   "sim-kitti00|configs/sim3d_stereo.yaml|$k00|kitti|drift <= 1.5 %|--set source.trajectory=$k00/KITTI_00_gt.txt --set source.kitti_times=$k00/KITTI_00_gt_times.txt|"
 )
 
@@ -77,6 +80,8 @@ elif metric == "f2f":
         got += f"; vs ORB-SLAM2: mean {m['peer_translation_percent_mean']:.2f} % (max {m['peer_translation_percent_max']:.2f}), {m['peer_rotation_deg_mean']:.3f} deg (max {m['peer_rotation_deg_max']:.3f})"
 elif metric == "static":
     got = f"{100 * m['estimate_max_m']:.2f} cm, {m['estimate_max_deg']:.3f} deg (reference moves {100 * m['reference_max_m']:.2f} cm, {m['reference_max_deg']:.3f} deg)"
+elif metric == "rpe1":
+    got = f"per frame: RMSE {1e3 * m['translation_rmse_m']:.2f} mm, {m['rotation_rmse_deg']:.3f} deg (max {1e3 * m['translation_max_m']:.2f} mm, {m['rotation_max_deg']:.3f} deg; {m['pairs']} pairs)"
 else:
     got = "-"
 kp, _ = stat("keypoints_per_frame")

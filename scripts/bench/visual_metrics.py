@@ -12,6 +12,8 @@
   visual_metrics.py static REF EST   the largest departure of the estimate from its first pose
                                      [m, deg] over every frame of the estimate, and the
                                      reference's own over its rows (it may start later)
+  visual_metrics.py rpe1 REF EST     frame-to-frame error of consecutive frames (RPE, delta one
+                                     frame): translation [m] and rotation [deg], RMSE and max
 Prints one JSON object. Poses are associated by equal timestamps (both files come from one run).
 """
 import bisect
@@ -120,6 +122,19 @@ def f2f(gt, est):
             "rotation_deg_mean": sum(r) / max(1, len(r)), "rotation_deg_max": max(r, default=0.0)}
 
 
+def rpe1(gt, est):
+    # Frame-to-frame error of consecutive frames (RPE with delta = 1 frame), RMSE and max.
+    t, r = [], []
+    for i in range(1, len(gt)):
+        err = relative(relative(est[i - 1], est[i]), relative(gt[i - 1], gt[i]))
+        t.append(norm(err))
+        r.append(math.degrees(angle(err)))
+    def rmse(v):
+        return math.sqrt(sum(x * x for x in v) / max(1, len(v)))
+    return {"pairs": len(t), "translation_rmse_m": rmse(t), "translation_max_m": max(t, default=0.0),
+            "rotation_rmse_deg": rmse(r), "rotation_max_deg": max(r, default=0.0)}
+
+
 def static(gt, est):
     return {"frames": len(est),
             "estimate_max_m": max(norm(relative(est[0], e)) for e in est),
@@ -139,7 +154,7 @@ if __name__ == "__main__":
             out.update({"peer_" + k: v for k, v in p.items()})
         print(json.dumps(out))
         sys.exit(0)
-    if len(sys.argv) != 4 or sys.argv[1] not in ("kitti", "f2f", "static"):
+    if len(sys.argv) != 4 or sys.argv[1] not in ("kitti", "f2f", "static", "rpe1"):
         sys.exit(__doc__)
     if sys.argv[1] == "static":
         # Every estimated frame counts, also those before the reference's first row.
@@ -149,4 +164,4 @@ if __name__ == "__main__":
         print(json.dumps(static([ref[s] for s in sorted(ref)], [est[s] for s in sorted(est)])))
         sys.exit(0)
     gt, est = associated(sys.argv[2], sys.argv[3])
-    print(json.dumps({"kitti": kitti, "f2f": f2f, "static": static}[sys.argv[1]](gt, est)))
+    print(json.dumps({"kitti": kitti, "f2f": f2f, "static": static, "rpe1": rpe1}[sys.argv[1]](gt, est)))

@@ -12,6 +12,7 @@
 #include "plugslam/pipeline.h"
 #include "plugslam/registry.h"
 #include "rgbd_preprocessor.h"
+#include "rendered_frames.h"
 #include "sim3d/noise.h"
 #include "sim3d/renderer.h"
 #include "sim3d/simulator.h"
@@ -24,28 +25,6 @@ using sim::sim3d::Simulator3D;
 Simulator3D room() {
   sim::sim3d::ScenarioOptions o;  // the living room, RGB-D, Kinect-like depth noise
   return Simulator3D::fromOptions(o);
-}
-
-Frame frameOf(const Simulator3D& sim, size_t k) {
-  sim::sim3d::Sim3DFrame f;
-  sim.render(k, &f);
-  Frame frame;
-  frame.seq = k;
-  frame.stamp = f.stamp;
-  frame.raw.set<Image>("rgb", std::move(f.left));
-  frame.raw.set<DepthImage>("depth", std::move(f.depth));
-  frame.raw.set<CameraInfo>("camera", sim.cameraInfo());
-  frame.raw.set<Eigen::Isometry3d>("ground_truth", f.pose);
-  return frame;
-}
-
-sim::sim3d::RenderBuffers exactDepth(const Simulator3D& sim, const sim::sim3d::PinholeCamera& cam,
-                                     const Eigen::Isometry3d& pose) {
-  sim::sim3d::RenderBuffers b;
-  sim::sim3d::RenderOptions ro;
-  ro.shade = false;
-  sim::sim3d::render(sim.world(), cam, pose, &b, nullptr, ro);
-  return b;
 }
 
 // |depth error| / sigma of every keypoint with depth, against the exact depth `truth`.
@@ -77,10 +56,11 @@ TEST(RgbdPreprocessor, KeypointDepthIsConsistentWithTheRenderedDepth) {
   const Simulator3D sim = room();
   rgbd::RgbdPreprocessor pre;
   pre.configure();
-  Frame frame = frameOf(sim, 0);
+  Frame frame = testing::renderedFrame(sim, 0);
   ASSERT_TRUE(pre.process(frame));
   const FeatureSet& f = frame.measurement.get<FeatureSet>("features");
-  const auto truth = exactDepth(sim, sim.camera(), frame.raw.get<Eigen::Isometry3d>("ground_truth"));
+  const auto truth =
+      testing::exactDepth(sim, sim.camera(), frame.raw.get<Eigen::Isometry3d>("ground_truth"));
   const auto errors = normalizedErrors(f, truth, f.pixels);  // no distortion: raw = ideal
   size_t with_depth = 0;
   for (size_t i = 0; i < f.size(); ++i) with_depth += f.hasDepth(i);
@@ -99,7 +79,7 @@ TEST(RgbdPreprocessor, KeypointDepthIsConsistentWithTheRenderedDepth) {
 
 TEST(RgbdPreprocessor, DepthFromASeparateDepthCameraIsRegisteredToColour) {
   const Simulator3D sim = room();
-  Frame frame = frameOf(sim, 0);
+  Frame frame = testing::renderedFrame(sim, 0);
   const Eigen::Isometry3d pose = frame.raw.get<Eigen::Isometry3d>("ground_truth");
   // The depth camera: another pinhole and resolution, 2.5 cm to the left, turned by 1 degree.
   sim::sim3d::PinholeCamera dcam;
@@ -111,7 +91,7 @@ TEST(RgbdPreprocessor, DepthFromASeparateDepthCameraIsRegisteredToColour) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = Eigen::Vector3d(-0.025, 0.002, 0.001);
   T.linear() = Eigen::AngleAxisd(M_PI / 180, Eigen::Vector3d(0.2, 1, 0).normalized()).matrix();
-  const auto seen = exactDepth(sim, dcam, pose * T);
+  const auto seen = testing::exactDepth(sim, dcam, pose * T);
   DepthImage d;
   d.resize(dcam.width, dcam.height);
   for (size_t i = 0; i < d.data.size(); ++i) d.data[i] = static_cast<float>(seen.depth[i]);
@@ -125,7 +105,7 @@ TEST(RgbdPreprocessor, DepthFromASeparateDepthCameraIsRegisteredToColour) {
   pre.configure();
   ASSERT_TRUE(pre.process(frame));
   const FeatureSet& f = frame.measurement.get<FeatureSet>("features");
-  const auto truth = exactDepth(sim, sim.camera(), pose);
+  const auto truth = testing::exactDepth(sim, sim.camera(), pose);
   const auto errors = normalizedErrors(f, truth, f.pixels);
   // Exact depth moved half a pixel at most: the error is well within the sensor's sigma. The
   // depth camera's narrower view covers about 82 % of the colour image: measured 477 of 587
@@ -155,7 +135,7 @@ TEST(RgbdTracking, RecoversTheRenderedMotion) {
   pipeline.configure();
   const size_t n = 120;  // 4 s of the hand-held loop at 30 Hz
   for (size_t k = 0; k < n; ++k) {
-    Frame frame = frameOf(sim, k);
+    Frame frame = testing::renderedFrame(sim, k);
     pipeline.process(frame);
   }
   pipeline.finish();

@@ -46,12 +46,12 @@ std::vector<Statistic> StereoPreprocessor::statistics() const {
 }
 
 bool StereoPreprocessor::process(Frame& frame) {
-  const Image* l = frame.raw.find<Image>(left());
-  const Image* r = frame.raw.find<Image>(right());
-  const CameraInfo* cam = frame.raw.find<CameraInfo>(camera());
+  const Image* l = left.find(frame);
+  const Image* r = right.find(frame);
+  const CameraInfo* cam = camera.find(frame);
   if (!l || !r) return false;
   if (!cam)
-    throw InputError("stereo: raw entry '" + camera() + "' (CameraInfo) is missing: the pair "
+    throw InputError("stereo: raw entry '" + camera.name() + "' (CameraInfo) is missing: the pair "
                      "cannot be triangulated without a calibration");
   if (l->width != r->width || l->height != r->height)
     throw InputError("stereo: the left image is " + std::to_string(l->width) + "x" +
@@ -68,7 +68,7 @@ bool StereoPreprocessor::process(Frame& frame) {
     cam = &rectifier_.rectified();
   }
   if (!(cam->baseline > 0) || !(cam->fx > 0) || !(cam->fy > 0))
-    throw InputError("stereo: calibration '" + camera() +
+    throw InputError("stereo: calibration '" + camera.name() +
                      "' needs fx, fy > 0 and a baseline > 0, or a second camera to rectify with");
   configure();  // cheap; picks up parameters changed at run time
   cv::Mat gl = greyOf(*l), gr = greyOf(*r);
@@ -89,7 +89,7 @@ bool StereoPreprocessor::process(Frame& frame) {
   mo.max_hamming = max_hamming();
   StereoMatcher::match(gl, gr, kl_, dl_, kr_, dr_, mo, disparity_);
 
-  FeatureSet& f = frame.measurement.emplace<FeatureSet>(output());
+  FeatureSet& f = output.emplace(frame);
   f.camera.fx = cam->fx;
   f.camera.fy = cam->fy;
   f.camera.cx = cam->cx;

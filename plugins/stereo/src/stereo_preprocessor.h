@@ -20,11 +20,13 @@ namespace visual {
 /// Keypoints with stereo depth from a left/right image pair.
 class StereoPreprocessor final : public KeypointPreprocessor, public StatisticsSource {
  public:
-  Param<std::string> left{this, "left", "left", "", "raw entry of the left image (Image)"};
-  Param<std::string> right{this, "right", "right", "", "raw entry of the right image (Image)"};
-  Param<std::string> camera{this, "camera", "camera", "",
-                            "raw entry of the calibration (CameraInfo: left intrinsics, baseline)"};
-  Param<std::string> output{this, "output", "features", "", "measurement entry (FeatureSet)"};
+  Input<Image> left{this, Container::raw, "left", "left", "the left image"};
+  Input<Image> right{this, Container::raw, "right", "right", "the right image"};
+  Input<CameraInfo> camera{this, Container::raw, "camera", "camera",
+                           "the calibration: left intrinsics and baseline (rectified), or both "
+                           "cameras (second, second_pose) of a raw pair to rectify"};
+  Output<FeatureSet> output{this, Container::measurement, "output", "features",
+                            "keypoints with stereo depth (rectified left camera's pinhole)"};
   Param<int> max_hamming{this, "max_hamming", 50, "bits",
                          "stereo descriptor check: larger distances are no match", Range{0, 256}};
   Param<int> row_tolerance{this, "row_tolerance", 2, "px",

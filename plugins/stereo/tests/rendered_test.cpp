@@ -8,8 +8,7 @@
 #include "landmark_tracker.h"
 #include "plugslam/pipeline.h"
 #include "plugslam/statistics.h"
-#include "sim3d/renderer.h"
-#include "sim3d/simulator.h"
+#include "rendered_frames.h"
 #include "stereo_preprocessor.h"
 
 namespace plugslam {
@@ -25,31 +24,15 @@ Simulator3D street() {
   return Simulator3D::fromOptions(o);
 }
 
-Frame frameOf(const Simulator3D& sim, size_t k) {
-  sim::sim3d::Sim3DFrame f;
-  sim.render(k, &f);
-  Frame frame;
-  frame.seq = k;
-  frame.stamp = f.stamp;
-  frame.raw.set<Image>("left", std::move(f.left));
-  frame.raw.set<Image>("right", std::move(f.right));
-  frame.raw.set<CameraInfo>("camera", sim.cameraInfo());
-  frame.raw.set<Eigen::Isometry3d>("ground_truth", f.pose);
-  return frame;
-}
-
 TEST(StereoPreprocessor, DepthMatchesTheRenderedDepth) {
   const Simulator3D sim = street();
   visual::StereoPreprocessor pre;
   pre.configure();
-  Frame frame = frameOf(sim, 0);
+  Frame frame = testing::renderedFrame(sim, 0);
   ASSERT_TRUE(pre.process(frame));
   const FeatureSet& f = frame.measurement.get<FeatureSet>("features");
-  sim::sim3d::RenderBuffers depth;
-  sim::sim3d::RenderOptions ro;
-  ro.shade = false;
-  sim::sim3d::render(sim.world(), sim.camera(), frame.raw.get<Eigen::Isometry3d>("ground_truth"),
-                    &depth, nullptr, ro);
+  const sim::sim3d::RenderBuffers depth =
+      testing::exactDepth(sim, sim.camera(), frame.raw.get<Eigen::Isometry3d>("ground_truth"));
   std::vector<double> normalized;
   size_t with_depth = 0;
   for (size_t i = 0; i < f.size(); ++i) {
@@ -98,7 +81,7 @@ TEST(StereoTracking, RecoversTheRenderedMotion) {
   double path = 0;
   Eigen::Vector3d last_t = Eigen::Vector3d::Zero();
   for (size_t k = 0; k < n; ++k) {
-    Frame frame = frameOf(sim, k);
+    Frame frame = testing::renderedFrame(sim, k);
     ASSERT_TRUE(pre.process(frame));
     pipeline.process(frame);
     ASSERT_TRUE(frame.estimate.valid);

@@ -84,8 +84,23 @@ class AlignerSlice : public Configurable {
   }
 };
 
+/// Optional second base of an aligner slice that can place the robot without the prediction
+/// (wide-baseline relocalisation, e.g. descriptor matching + RANSAC). The Multi-Aligner asks it,
+/// after bind(), when the solve from the prediction (and its retry headings) is invalid, then
+/// solves again from the pose it proposes: the cue's own alignment refines it.
+template <class S>
+class RecoverableSlice {
+ public:
+  virtual ~RecoverableSlice();
+  /// A guess of the robot in the scene frame from this frame's bound entries alone; empty when
+  /// the slice finds none.
+  virtual std::optional<typename S::Pose> recoverPose() = 0;
+};
+
 extern template class AlignerSlice<Space2D>;
 extern template class AlignerSlice<Space3D>;
+extern template class RecoverableSlice<Space2D>;
+extern template class RecoverableSlice<Space3D>;
 
 }  // namespace abi_v1
 }  // namespace plugslam

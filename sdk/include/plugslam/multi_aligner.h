@@ -93,6 +93,16 @@ class MultiAligner : public Configurable {
       "when the alignment from the prediction is invalid, retry from the prediction turned by "
       "each of these about the vertical axis; the valid result with the most inliers wins"};
 
+  // Two sources of other starting poses, tried in this order while the result is invalid: slices
+  // that relocalise from their own cue without a prior (RecoverableSlice: the landmark cue's
+  // descriptor matching + RANSAC, issue 15), then the seeder's search in a window around the
+  // prediction (AlignSeeder: the laser's correlative search, issue 20).
+  Param<bool> relocalise{this, "relocalise", true, "",
+                         "when the alignment from the prediction (and the retry headings) is "
+                         "invalid, solve again from the pose each slice that can relocalise "
+                         "without a prior proposes (the landmark cue: descriptor matching + "
+                         "RANSAC)"};
+
   // Recovery from a poor prediction (issue 20): a search over a wide window proposes where to
   // start when the solve from the prediction fails (or, asked by the tracker, when it lands too
   // far from the prediction).
@@ -106,7 +116,8 @@ class MultiAligner : public Configurable {
 
   void configure() override;
   /// Aligns the frame's cues to the scene, starting from context.guess (then from the retry
-  /// headings, then from the seeder's poses, while the result is invalid).
+  /// headings, then from the relocalising slices' and the seeder's poses, while the result is
+  /// invalid).
   AlignResult<S> align(const Frame& frame, const PropertyContainer& scene,
                        const AlignContext<S>& context);
   /// Aligns from the seeder's poses only (none: an invalid result); the valid solve with the

@@ -44,6 +44,15 @@ class MultiTracker : public Tracker {
       "prediction counts as failed and the prediction is kept (empty: no limit; not applied "
       "when the motion model has no prediction)"};
 
+  Param<bool> align_previous_map{this, "align_previous_map", true, "",
+                           "when the alignment against the current local map fails, align "
+                           "against the one before it through the edge between them (a split "
+                           "left the views just behind the camera there)"};
+  Param<bool> hand_over{this, "hand_over", true, "",
+                        "on a split, slices that can (the landmark cue) start the new local map "
+                        "with what the splitting frame sees of the old one, not from that frame "
+                        "alone"};
+
   Param<double> localize_tie{
       this, "localize_tie", 0.02, "",
       "localization (the sdk.Localizer this tracker hands over): saved maps whose alignment's "
@@ -64,9 +73,11 @@ class MultiTracker : public Tracker {
       std::vector<std::shared_ptr<const LocalMap>> maps) const override;
 
  private:
-  // The aligner's solution for this frame, marked invalid when it moved the motion model's
-  // prediction farther than max_correction.
-  AlignResult<S> align(const Frame& frame, const Pose& previous, const Pose& guess);
+  // The aligner's solution for this frame against `scene` (`to_scene`: the current map's origin
+  // in the scene's frame), returned in the current map's frame; marked invalid when it moved the
+  // motion model's prediction farther than max_correction.
+  AlignResult<S> align(const Frame& frame, const PropertyContainer& scene, const Pose& to_scene,
+                       const Pose& previous, const Pose& guess);
   // Counts the frame as aligned or failed.
   void count(const Frame& frame, const AlignResult<S>& aligned);
   // What the splitter is asked after the frame was merged.
@@ -74,6 +85,9 @@ class MultiTracker : public Tracker {
   // Information of the edge into a map started by a failed frame (fallback_sigma).
   typename S::Matrix fallbackInformation() const;
   void merge(const Frame& frame);
+  // Seeds the map just started at `origin` (in `previous`'s frame) by a split: slices that hand
+  // over carry what the frame sees, the others merge the frame.
+  void seedAfterSplit(const Frame& frame, const LocalMap& previous, const Pose& origin);
   void writeEstimate(Frame& frame, bool lost) const;
   // Closes the current map (if any) and starts the next at the robot's pose, joined to it by
   // `information`.
@@ -81,6 +95,8 @@ class MultiTracker : public Tracker {
                      TrackEvents& events);
 
   std::shared_ptr<LocalMap> map_;
+  std::shared_ptr<LocalMap> previous_map_;      // the map before map_ (align_previous_map)
+  Pose origin_in_previous_ = Pose::Identity();  // map_'s origin in previous_map_'s frame
   std::vector<std::shared_ptr<LocalMap>> closed_;  // by reset(), reported by the next track()
   Pose pose_ = Pose::Identity();  // robot in the current local map
   MotionPrediction<S> prediction_;

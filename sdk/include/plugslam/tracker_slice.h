@@ -38,8 +38,24 @@ class TrackerSlice : public Configurable {
   virtual void integrate(const MergeContext<S>& context) = 0;
 };
 
+/// Optional second base of a tracker slice that carries part of its scene entry into the next
+/// local map when the tracker splits, so the new map continues with what the splitting frame
+/// sees instead of restarting from that frame's measurement alone.
+template <class S>
+class HandoverSlice {
+ public:
+  virtual ~HandoverSlice();
+  /// Fills this slice's entry of `next` (the new local map's scene, empty so far) from its entry
+  /// of `previous` with what frame `seq` observed, in the new map's frame; `origin` is the new
+  /// map's origin in the previous map's frame. The frame itself was merged into `previous`.
+  virtual void handOver(const PropertyContainer& previous, PropertyContainer& next,
+                        const typename S::Pose& origin, uint64_t seq) = 0;
+};
+
 extern template class TrackerSlice<Space2D>;
 extern template class TrackerSlice<Space3D>;
+extern template class HandoverSlice<Space2D>;
+extern template class HandoverSlice<Space3D>;
 
 }  // namespace abi_v1
 }  // namespace plugslam

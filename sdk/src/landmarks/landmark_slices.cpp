@@ -5,7 +5,10 @@
 #include <chrono>
 #include <cmath>
 
+#include <spdlog/spdlog.h>
+
 #include "plugslam/landmarks/observation_factor.h"
+#include "plugslam/landmarks/point_registration.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
@@ -131,10 +134,34 @@ void ReprojectionSlice<S>::linearize(const Pose& t, NormalEquations<S>& eq) cons
 }
 
 template <class S>
+std::optional<typename ReprojectionSlice<S>::Pose> ReprojectionSlice<S>::recoverPose() {
+  if (!measurement.bound() || !scene.bound()) return std::nullopt;
+  Stopwatch watch(recovery_s_);
+  ++recoveries_tried_;
+  DescriptorMatchOptions mo;
+  mo.max_hamming = recover_max_hamming();
+  mo.ratio = recover_ratio();
+  RansacOptions ro;
+  ro.min_inliers = recover_min_inliers();
+  ro.seed = frames_;  // repeatable run to run, different frame to frame
+  const PointRegistration r =
+      registerPoints(describedPoints(*measurement), describedPoints(*scene), mo, ro);
+  spdlog::debug("{}: recovery: {} descriptor matches, {} RANSAC inliers{}", this->name(),
+                r.matches, r.inliers.size(), r.valid ? "" : " (no pose)");
+  if (!r.valid) return std::nullopt;
+  ++recoveries_;
+  // scene <- camera, and the camera is at `mount` in the robot frame.
+  return S::from3D(r.target_from_source * measurement->mount.inverse());
+}
+
+template <class S>
 std::vector<Statistic> ReprojectionSlice<S>::statistics() const {
   return {{"frames", static_cast<double>(frames_)},
           {"alignment_s", time_s_},
-          {"matches_per_frame", perFrame(matched_ + matches_.size(), frames_)}};
+          {"matches_per_frame", perFrame(matched_ + matches_.size(), frames_)},
+          {"recoveries_tried", static_cast<double>(recoveries_tried_)},
+          {"recoveries", static_cast<double>(recoveries_)},
+          {"recovery_s", recovery_s_}};
 }
 
 template <class S>
@@ -145,6 +172,30 @@ std::vector<Statistic> LandmarkMapSlice<S>::statistics() const {
           {"created_per_frame", perFrame(created_, frames_)},
           {"pruned_per_frame", perFrame(pruned_, frames_)},
           {"landmarks_per_frame", perFrame(landmarks_, frames_)}};
+}
+
+template <class S>
+void LandmarkMapSlice<S>::handOver(const PropertyContainer& previous, PropertyContainer& next,
+                                   const Pose& origin, uint64_t seq) {
+  const LandmarkMap* old = previous.find<LandmarkMap>(scene.name());
+  LandmarkMap& map = next.emplace<LandmarkMap>(scene.name());
+  if (!old) return;
+  map.descriptor_bytes = old->descriptor_bytes;
+  const Eigen::Isometry3d to_new = S::to3D(origin).inverse();
+  const Eigen::Matrix3d r = to_new.linear();
+  const size_t bytes = static_cast<size_t>(old->descriptor_bytes);
+  for (size_t j = 0; j < old->size(); ++j) {
+    if (old->last_seen[j] != seq) continue;
+    map.positions.push_back(to_new * old->positions[j]);
+    map.covariances.push_back(r * old->covariances[j] * r.transpose());
+    map.ids.push_back(old->ids[j]);
+    map.observations.push_back(old->observations[j]);
+    map.visible.push_back(old->visible[j]);
+    map.last_seen.push_back(old->last_seen[j]);
+    map.colours.push_back(old->colours[j]);
+    map.descriptors.insert(map.descriptors.end(), old->descriptor(j), old->descriptor(j) + bytes);
+  }
+  map.touch();
 }
 
 template <class S>

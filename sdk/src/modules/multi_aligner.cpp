@@ -120,6 +120,18 @@ AlignResult<S> MultiAligner<S>::align(const Frame& frame, const PropertyContaine
     AlignResult<S> retry = solve(active, S::boxplus(context.guess, turn));
     if (retry.valid && (!result.valid || retry.inliers > result.inliers)) result = retry;
   }
+  if (!result.valid && relocalise()) {
+    // Wide-baseline recovery: a slice that can place the robot from its cue alone proposes a
+    // pose, and the ordinary solve (every slice) refines it.
+    for (AlignerSlice<S>* slice : active) {
+      auto* recoverable = dynamic_cast<RecoverableSlice<S>*>(slice);
+      if (!recoverable) continue;
+      const std::optional<Pose> proposed = recoverable->recoverPose();
+      if (!proposed) continue;
+      AlignResult<S> retry = solve(active, *proposed);
+      if (retry.valid && (!result.valid || retry.inliers > result.inliers)) result = retry;
+    }
+  }
   if (result.valid || !seeder) return result;
   AlignResult<S> seeded = recoverBound(frame, scene, context, active);
   return seeded.valid ? seeded : result;
@@ -252,10 +264,15 @@ AlignResult<S> MultiAligner<S>::solve(const std::vector<AlignerSlice<S>*>& activ
   return result;
 }
 
+template <class S>
+RecoverableSlice<S>::~RecoverableSlice() = default;
+
 template class AlignerSlice<Space2D>;
 template class AlignerSlice<Space3D>;
 template class AlignSeeder<Space2D>;
 template class AlignSeeder<Space3D>;
+template class RecoverableSlice<Space2D>;
+template class RecoverableSlice<Space3D>;
 template class MultiAligner<Space2D>;
 template class MultiAligner<Space3D>;
 

@@ -38,7 +38,9 @@ struct LandmarkReprojection {
 
 /// "sdk.ReprojectionSlice2D/3D": projective association + descriptor check, robust factors.
 template <class S>
-class ReprojectionSlice final : public AlignerSlice<S>, public StatisticsSource {
+class ReprojectionSlice final : public AlignerSlice<S>,
+                                public RecoverableSlice<S>,
+                                public StatisticsSource {
  public:
   using Pose = typename S::Pose;
   Input<FeatureSet> measurement{this, Container::measurement, "measurement", "features",
@@ -65,15 +67,31 @@ class ReprojectionSlice final : public AlignerSlice<S>, public StatisticsSource 
                              "kernel scale in units of each residual's standard deviation",
                              Range{1e-3, 1e3}};
 
+  Param<int> recover_max_hamming{this, "recover_max_hamming", 64, "bits",
+                                 "recovery (all-against-all matching of keypoints with depth and "
+                                 "landmarks): larger Hamming distances are no match",
+                                 Range{0, 4096}};
+  Param<double> recover_ratio{this, "recover_ratio", 0.8, "",
+                              "recovery: a match's distance must be below this times the second "
+                              "best over the whole map (1: off)",
+                              Range{0.1, 1.0}};
+  Param<int> recover_min_inliers{this, "recover_min_inliers", 12, "",
+                                 "recovery: fewer 3D-3D RANSAC inliers propose no pose",
+                                 Range{3, 1000000}};
+
   ReprojectionSlice();
   ~ReprojectionSlice() override;
   void configure() override;
   void associate(const Pose& t) override;
   void linearize(const Pose& t, NormalEquations<S>& eq) const override;
+  /// Wide-baseline recovery: descriptor matching of the keypoints with depth against the whole
+  /// landmark map, 3D-3D RANSAC (point_registration.h); the robot pose it implies, or none.
+  std::optional<Pose> recoverPose() override;
 
   /// The pairs of the last association.
   const std::vector<LandmarkMatch>& matches() const { return matches_; }
-  /// frames, alignment_s (association and factors), matches_per_frame (at the solution).
+  /// frames, alignment_s (association and factors), matches_per_frame (at the solution),
+  /// recoveries_tried, recoveries (a pose proposed) and recovery_s.
   std::vector<Statistic> statistics() const override;
 
  protected:
@@ -86,8 +104,9 @@ class ReprojectionSlice final : public AlignerSlice<S>, public StatisticsSource 
   std::string made_kernel_;
   double made_scale_ = -1;
   int round_ = 0;
-  uint64_t frames_ = 0, matched_ = 0;
+  uint64_t frames_ = 0, matched_ = 0, recoveries_tried_ = 0, recoveries_ = 0;
   mutable double time_s_ = 0;
+  double recovery_s_ = 0;
 };
 
 /// "sdk.LandmarkMapSlice2D/3D": merges a FeatureSet into the local map's LandmarkMap: matched
@@ -95,7 +114,9 @@ class ReprojectionSlice final : public AlignerSlice<S>, public StatisticsSource 
 /// descriptor, unmatched keypoints with depth become landmarks with a new track id, landmarks
 /// found in too few of the frames they projected into are pruned.
 template <class S>
-class LandmarkMapSlice final : public TrackerSlice<S>, public StatisticsSource {
+class LandmarkMapSlice final : public TrackerSlice<S>,
+                               public HandoverSlice<S>,
+                               public StatisticsSource {
  public:
   using Pose = typename S::Pose;
   Input<FeatureSet> measurement{this, Container::measurement, "measurement", "features",
@@ -120,6 +141,11 @@ class LandmarkMapSlice final : public TrackerSlice<S>, public StatisticsSource {
                                 "judged landmarks matched in fewer of the frames they projected "
                                 "into are pruned",
                                 Range{0, 1}};
+
+  /// On a split: the landmarks frame `seq` matched or created (their fused positions,
+  /// covariances, track ids and counters) move into the new map's frame.
+  void handOver(const PropertyContainer& previous, PropertyContainer& next, const Pose& origin,
+                uint64_t seq) override;
 
   /// Counters of the last merge: matched landmarks, new landmarks, pruned landmarks.
   size_t lastMatched() const { return last_matched_; }

@@ -83,7 +83,16 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
     writeEstimate(frame, false);
     return events;
   }
-  const AlignResult<S> aligned = align(frame, previous, guess);
+  AlignResult<S> aligned = align(frame, map_->scene, Pose::Identity(), previous, guess);
+  if (!aligned.valid && previous_map_ && align_previous_map() && !previous_map_->scene.empty()) {
+    AlignResult<S> behind =
+        align(frame, previous_map_->scene, origin_in_previous_, previous, guess);
+    if (behind.valid) {
+      spdlog::debug("frame {}: aligned in the previous local map {} ({} inliers)", frame.seq,
+                    previous_map_->id, behind.inliers);
+      aligned = behind;
+    }
+  }
   if (!aligned.valid && map_->scene.empty()) {
     // The map was started by a frame that brought no data: seed it again from this one.
     pose_ = guess;
@@ -106,8 +115,12 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
     startLocalMap(frame, fallbackInformation(), events);
   } else {
     merge(frame);
-    if (splitter && splitter->split(splitQuery(frame, aligned)))
+    if (splitter && splitter->split(splitQuery(frame, aligned))) {
+      const std::shared_ptr<LocalMap> previous_map = map_;
+      const Pose origin = pose_;
       startLocalMap(frame, aligned.H, events);
+      seedAfterSplit(frame, *previous_map, origin);
+    }
   }
   if (frames_in_map_ == 0) merge(frame);  // the frame seeds the new map
   writeEstimate(frame, lost);
@@ -115,11 +128,15 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
 }
 
 template <class S>
-AlignResult<S> MultiTracker<S>::align(const Frame& frame, const Pose& previous,
+AlignResult<S> MultiTracker<S>::align(const Frame& frame, const PropertyContainer& scene,
+                                      const Pose& to_scene, const Pose& previous,
                                       const Pose& guess) {
-  AlignContext<S> context{previous, guess, prediction_.model_motion, prediction_.model_entry};
+  AlignContext<S> context{S::normalized(to_scene * previous), S::normalized(to_scene * guess),
+                          prediction_.model_motion, prediction_.model_entry};
   context.motion_residual = motion_residual_;
-  AlignResult<S> aligned = aligner->align(frame, map_->scene, context);
+  AlignResult<S> aligned = aligner->align(frame, scene, context);
+  // The tangent is the robot's own (boxplus multiplies on the right), so H needs no change.
+  aligned.pose = S::normalized(to_scene.inverse() * aligned.pose);
   // A solution from a seed stands on the aligner's search around the prediction: the gate is
   // for solves that may have slid from the prediction itself.
   if (aligned.valid && !aligned.seeded && prediction_.model_motion && !max_correction().empty()) {
@@ -128,8 +145,9 @@ AlignResult<S> MultiTracker<S>::align(const Frame& frame, const Pose& previous,
         S::angle(correction) > max_correction()[1]) {
       // Either the prediction is poor (slip, bad odometry) or the solve slid (a corridor): the
       // seeder's search around the prediction decides; without one the prediction is kept.
-      AlignResult<S> recovered = aligner->recover(frame, map_->scene, context);
+      AlignResult<S> recovered = aligner->recover(frame, scene, context);
       if (recovered.valid) {
+        recovered.pose = S::normalized(to_scene.inverse() * recovered.pose);
         const Pose moved = S::normalized(guess.inverse() * recovered.pose);
         spdlog::debug("frame {}: alignment moved the prediction by {:.3f} m, {:.3f} rad; the "
                       "seeder's search puts it {:.3f} m, {:.3f} rad from it",
@@ -188,6 +206,21 @@ void MultiTracker<S>::merge(const Frame& frame) {
 }
 
 template <class S>
+void MultiTracker<S>::seedAfterSplit(const Frame& frame, const LocalMap& previous,
+                                     const Pose& origin) {
+  if (!hand_over()) return;  // merge() seeds it from the frame alone
+  for (auto& slice : slices) {
+    if (auto* carrier = dynamic_cast<HandoverSlice<S>*>(slice.get()))
+      carrier->handOver(previous.scene, map_->scene, origin, frame.seq);
+    else
+      slice->merge(frame, map_->scene, pose_);
+  }
+  ++frames_in_map_;
+  map_->last_seq = frame.seq;
+  map_->last_stamp = frame.stamp;
+}
+
+template <class S>
 void MultiTracker<S>::writeEstimate(Frame& frame, bool lost) const {
   frame.estimate.valid = true;
   frame.estimate.local_map = map_->id;
@@ -204,6 +237,8 @@ void MultiTracker<S>::startLocalMap(const Frame& frame, const typename S::Matrix
   next->dimension = S::kDim;
   next->first_seq = next->last_seq = frame.seq;
   next->first_stamp = next->last_stamp = frame.stamp;
+  previous_map_ = map_;
+  origin_in_previous_ = pose_;
   if (map_) {
     // The new map's frame is the robot's pose now; the edge from the old map is that pose.
     next->previous = map_->id;
@@ -223,6 +258,7 @@ void MultiTracker<S>::reset() {
   // The current map is handed over as closed, so the back-end still looks for loops from it.
   if (map_) closed_.push_back(map_);
   map_.reset();
+  previous_map_.reset();
   pose_ = Pose::Identity();
   prediction_.reset();
   motion_residual_.reset();

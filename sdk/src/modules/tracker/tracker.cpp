@@ -42,8 +42,13 @@ void TrackerSlice<S>::merge(const Frame& frame, PropertyContainer& scene, const 
 template <class S>
 MotionModel<S>::~MotionModel() = default;
 
+template <class S>
+HandoverSlice<S>::~HandoverSlice() = default;
+
 template class TrackerSlice<Space2D>;
 template class TrackerSlice<Space3D>;
+template class HandoverSlice<Space2D>;
+template class HandoverSlice<Space3D>;
 template class MotionModel<Space2D>;
 template class MotionModel<Space3D>;
 
