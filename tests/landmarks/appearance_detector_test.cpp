@@ -8,30 +8,14 @@
 #include "plugslam/errors.h"
 #include "plugslam/landmarks/appearance_detector.h"
 #include "plugslam/landmarks/landmark_map.h"
+#include "random_descriptors.h"
 
 namespace plugslam {
 namespace {
 
-using Descriptor = std::array<uint8_t, 32>;
-
-Descriptor randomDescriptor(std::mt19937& rng) {
-  std::uniform_int_distribution<int> byte(0, 255);
-  Descriptor d;
-  for (auto& b : d) b = static_cast<uint8_t>(byte(rng));
-  return d;
-}
-
-// Flips `bits` distinct random bits (a corner seen again from another viewpoint).
-Descriptor perturbed(Descriptor d, int bits, std::mt19937& rng) {
-  std::vector<int> all(256);
-  for (int i = 0; i < 256; ++i) all[static_cast<size_t>(i)] = i;
-  std::shuffle(all.begin(), all.end(), rng);
-  for (int i = 0; i < bits; ++i) {
-    const int b = all[static_cast<size_t>(i)];
-    d[static_cast<size_t>(b >> 3)] ^= static_cast<uint8_t>(1u << (b & 7));
-  }
-  return d;
-}
+using testing::Descriptor;
+using testing::perturbed;
+using testing::randomDescriptor;
 
 std::shared_ptr<LocalMap> mapOf(int64_t id, const std::vector<Descriptor>& descriptors) {
   auto map = std::make_shared<LocalMap>();

@@ -14,13 +14,14 @@
 #include "plugslam/landmarks/appearance_validator.h"
 #include "plugslam/landmarks/landmark_map.h"
 #include "plugslam/registry.h"
+#include "random_descriptors.h"
 
 namespace plugslam {
 namespace {
 
 struct World {
   std::vector<Eigen::Vector3d> points;
-  std::vector<std::array<uint8_t, 32>> descriptors;
+  std::vector<testing::Descriptor> descriptors;
   std::vector<Eigen::Isometry3d> origins;  // true map origins; the last is back at the first
 };
 
@@ -30,12 +31,9 @@ World makeWorld() {
   World w;
   std::mt19937 rng(21);
   std::uniform_real_distribution<double> xy(-35, 35), z(-2, 6);
-  std::uniform_int_distribution<int> byte(0, 255);
   for (int i = 0; i < 2500; ++i) {
     w.points.emplace_back(xy(rng), xy(rng), z(rng));
-    std::array<uint8_t, 32> d;
-    for (auto& b : d) b = static_cast<uint8_t>(byte(rng));
-    w.descriptors.push_back(d);
+    w.descriptors.push_back(testing::randomDescriptor(rng));
   }
   const Eigen::Vector2d corners[4] = {{-20, -20}, {20, -20}, {20, 20}, {-20, 20}};
   for (int k = 0; k <= 40; ++k) {
@@ -59,16 +57,11 @@ std::shared_ptr<LocalMap> mapOf(const World& w, size_t k, std::mt19937& rng) {
   m->dimension = 3;
   LandmarkMap& lm = m->scene.emplace<LandmarkMap>("landmarks");
   std::normal_distribution<double> noise(0, 0.02);
-  std::uniform_int_distribution<int> bit(0, 255);
   const Eigen::Isometry3d to_map = w.origins[k].inverse();
   for (size_t i = 0; i < w.points.size(); ++i) {
     const Eigen::Vector3d p = to_map * w.points[i];
     if (p.head<2>().norm() > 15) continue;
-    std::array<uint8_t, 32> d = w.descriptors[i];
-    for (int f = 0; f < 15; ++f) {
-      const int b = bit(rng);
-      d[static_cast<size_t>(b >> 3)] ^= static_cast<uint8_t>(1u << (b & 7));
-    }
+    const testing::Descriptor d = testing::perturbed(w.descriptors[i], 15, rng);
     lm.push(p + Eigen::Vector3d(noise(rng), noise(rng), noise(rng)),
             Eigen::Matrix3d::Identity() * 0.02 * 0.02, i, d.data(), 0, 0);
     lm.observations.back() = 3;

@@ -9,27 +9,14 @@
 #include "plugslam/geometry.h"
 #include "plugslam/landmarks/appearance_validator.h"
 #include "plugslam/landmarks/landmark_map.h"
+#include "random_descriptors.h"
 
 namespace plugslam {
 namespace {
 
-using Descriptor = std::array<uint8_t, 32>;
-
-Descriptor randomDescriptor(std::mt19937& rng) {
-  std::uniform_int_distribution<int> byte(0, 255);
-  Descriptor d;
-  for (auto& b : d) b = static_cast<uint8_t>(byte(rng));
-  return d;
-}
-
-Descriptor perturbed(Descriptor d, int bits, std::mt19937& rng) {
-  std::uniform_int_distribution<int> bit(0, 255);
-  for (int i = 0; i < bits; ++i) {
-    const int b = bit(rng);
-    d[static_cast<size_t>(b >> 3)] ^= static_cast<uint8_t>(1u << (b & 7));
-  }
-  return d;
-}
+using testing::Descriptor;
+using testing::perturbed;
+using testing::randomDescriptor;
 
 struct Place {
   std::vector<Eigen::Vector3d> points;  // world
