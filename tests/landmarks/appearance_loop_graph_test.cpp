@@ -100,7 +100,7 @@ TEST(AppearanceLoop, GraphSlam3DClosesASyntheticLoopAndRemovesTheDrift) {
       m->previous = static_cast<int64_t>(k - 1);
       m->relative = rel;
       Eigen::Matrix<double, 6, 1> sigma;
-      sigma << 0.02, 0.02, 0.02, 0.005, 0.005, 0.005;
+      sigma << 0.02, 0.02, 0.02, 0.01, 0.01, 0.01;  // the bias is one sigma a map
       m->information = sigma.array().square().inverse().matrix().asDiagonal();
     }
     m->origin = estimate;
