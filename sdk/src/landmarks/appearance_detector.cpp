@@ -140,29 +140,39 @@ std::vector<LoopCandidate> AppearanceDetector::detect(const GraphView& view,
   const LandmarkMap* lm = landmarksOf(query, scene());
   if (lm != nullptr && !lm->empty() && index.bytes == lm->descriptor_bytes && !index.owner.empty()) {
     // Votes: each query landmark votes once for every map holding a descriptor within
-    // max_distance in its leaf.
+    // max_distance in its leaf (the raw votes gate a candidate), and its vote weighs 1 / the
+    // number of maps it matched (what ranks them). A corner of a repeated texture (bricks,
+    // windows) matches many maps and so says little about which is the same place; a revisit's
+    // own corners match it and its few neighbours.
     std::vector<int> votes(view.maps.size(), 0);
+    std::vector<double> weight(view.maps.size(), 0.0);
     std::vector<int64_t> voted_by(view.maps.size(), -1);
+    std::vector<size_t> matched;
     size_t used = 0;
     for (size_t i = 0; i < lm->size(); ++i) {
       if (!usable(*lm, i, min_observations())) continue;
       ++used;
       const uint8_t* d = lm->descriptor(i);
+      matched.clear();
       for (uint32_t e : index.nodes[static_cast<size_t>(index.leafOf(d))].entries) {
         const auto map = static_cast<size_t>(index.owner[e]);
         if (map >= votes.size() || voted_by[map] == static_cast<int64_t>(i)) continue;
         if (hammingDistance(d, index.descriptor(e), index.bytes) > max_distance()) continue;
         voted_by[map] = static_cast<int64_t>(i);
+        matched.push_back(map);
+      }
+      for (size_t map : matched) {
         ++votes[map];
+        weight[map] += 1.0 / static_cast<double>(matched.size());
       }
     }
     const double here = view.travelled[static_cast<size_t>(query.id)];
-    std::vector<std::pair<int, int64_t>> ranked;
+    std::vector<std::pair<double, int64_t>> ranked;
     for (size_t id = 0; id < votes.size(); ++id) {
       if (static_cast<int64_t>(id) == query.id || votes[id] < min_matches()) continue;
       if (static_cast<double>(votes[id]) < min_ratio() * static_cast<double>(used)) continue;
       if (std::abs(here - view.travelled[id]) < min_travel()) continue;
-      ranked.emplace_back(votes[id], static_cast<int64_t>(id));
+      ranked.emplace_back(weight[id], static_cast<int64_t>(id));
     }
     std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) {
       return a.first != b.first ? a.first > b.first : a.second < b.second;

@@ -1,7 +1,9 @@
 #pragma once
 // Appearance-based loop detection for the landmark cue, with no vocabulary file: the binary
 // descriptors of every closed local map go into a Hamming search tree built online (after HBST,
-// Schlegel and Grisetti 2018), and a new map's descriptors vote for the older maps they match.
+// Schlegel and Grisetti 2018), and a new map's descriptors vote for the older maps they match,
+// each vote weighing 1 / the maps that descriptor matched (a repeated texture's corners weigh
+// little).
 // It proposes maps that look alike; a geometric validator decides whether they are the same place.
 #include <memory>
 #include <string>
