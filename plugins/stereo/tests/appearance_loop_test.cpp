@@ -126,6 +126,38 @@ TEST(AppearanceLoop, FindsTheRevisitAndRejectsLookAlikePlacesOnTheStreet) {
                 lm.size(), tracked, matchDescriptors(back_points, describedPoints(lm), all).size(),
                 back_points.size());
   }
+  {
+    // Every score the return gets, ungated (for the log).
+    AppearanceDetector open;
+    open.min_matches = 1;
+    open.min_ratio = 0.0;
+    open.min_travel = 0.0;
+    open.max_candidates = 10;
+    open.configure();
+    for (size_t i = 0; i <= last; ++i) {
+      const std::vector<LoopCandidate> all = open.detect(s.view, *s.view.maps[i]);
+      if (i == last)
+        for (const LoopCandidate& c : all)
+          std::printf("ungated: the return scores %.3f with place %lld\n", c.score,
+                      static_cast<long long>(c.id));
+    }
+    // How many of the return's landmarks lie within 0.3 m of one of the start's under the true
+    // relative pose (checks the maps' frames and the true overlap, for the log).
+    const LandmarkMap& a = *s.view.maps[0]->scene.find<LandmarkMap>("landmarks");
+    const LandmarkMap& b = *s.view.maps[last]->scene.find<LandmarkMap>("landmarks");
+    const Eigen::Isometry3d t = s.view.relative(0, last);
+    size_t near = 0;
+    for (const Eigen::Vector3d& p : b.positions) {
+      const Eigen::Vector3d q = t * p;
+      for (const Eigen::Vector3d& r : a.positions)
+        if ((q - r).norm() < 0.3) {
+          ++near;
+          break;
+        }
+    }
+    std::printf("true overlap: %zu of the return's %zu landmarks within 0.3 m of the start's\n",
+                near, b.size());
+  }
   EXPECT_FALSE(found.empty()) << "the return to the start is proposed";
   if (!found.empty()) EXPECT_EQ(found.front().id, 0);
 
