@@ -6,6 +6,8 @@
 #include "plugslam/alignment_validator.h"
 #include "plugslam/graph_slam.h"
 #include "plugslam/graph_writer.h"
+#include "plugslam/landmarks/appearance_detector.h"
+#include "plugslam/landmarks/appearance_validator.h"
 #include "plugslam/landmarks/landmark_map_writer.h"
 #include "plugslam/landmarks/landmark_slices.h"
 #include "plugslam/localizer.h"
@@ -36,6 +38,12 @@ void registerBuiltinTypes(Registrar& registrar) {
                                     "pose graph of 3D local maps, loop closing, global optimization");
   registrar.add<ProximityDetector>("ProximityDetector",
                                    "loop candidates near in the current estimate, gated by drift");
+  registrar.add<AppearanceDetector>(
+      "AppearanceDetector",
+      "loop candidates whose landmark descriptors match (online Hamming tree, no vocabulary)");
+  registrar.add<AppearanceValidator>(
+      "AppearanceValidator",
+      "accepts a loop when the maps' landmarks register by descriptors and rigid RANSAC");
   registrar.add<AlignmentValidator<Space2D>>(
       "AlignmentValidator2D", "accepts a loop when the maps' scenes align with enough overlap");
   registrar.add<AlignmentValidator<Space3D>>(
