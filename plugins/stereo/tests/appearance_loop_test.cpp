@@ -165,7 +165,9 @@ TEST(AppearanceLoop, DISABLED_FindsTheRevisitAndRejectsLookAlikePlacesOnTheStree
                 near, b.size());
   }
   EXPECT_FALSE(found.empty()) << "the return to the start is proposed";
-  if (!found.empty()) EXPECT_EQ(found.front().id, 0);
+  if (!found.empty()) {
+    EXPECT_EQ(found.front().id, 0);
+  }
 
   AppearanceValidator validator;
   validator.configure();
