@@ -11,6 +11,15 @@
 
 namespace plugslam::testing {
 
+/// The simulator's street (a block loop of buildings) seen by its stereo rig, seed 0.
+inline sim::sim3d::Simulator3D streetStereo() {
+  sim::sim3d::ScenarioOptions o;
+  o.world = "street";
+  o.rig = sim::sim3d::Rig::kStereo;
+  o.seed = 0;
+  return sim::sim3d::Simulator3D::fromOptions(o);
+}
+
 /// Frame k of `sim` with its raw entries: "left"/"right" for a stereo rig, "rgb"/"depth" for an
 /// RGB-D one, "camera" (CameraInfo) and "ground_truth" (camera pose in the world) for both.
 inline Frame renderedFrame(const sim::sim3d::Simulator3D& sim, size_t k) {

@@ -14,7 +14,7 @@
 #include "plugslam/landmarks/appearance_validator.h"
 #include "plugslam/landmarks/landmark_map.h"
 #include "plugslam/landmarks/point_registration.h"
-#include "sim3d/simulator.h"
+#include "rendered_frames.h"
 #include "stereo_preprocessor.h"
 
 namespace plugslam {
@@ -22,13 +22,7 @@ namespace {
 
 using sim::sim3d::Simulator3D;
 
-Simulator3D street() {
-  sim::sim3d::ScenarioOptions o;
-  o.world = "street";
-  o.rig = sim::sim3d::Rig::kStereo;
-  o.seed = 0;
-  return Simulator3D::fromOptions(o);
-}
+Simulator3D street() { return testing::streetStereo(); }
 
 // A local map tracked over `frames` frames from frame `first`: its frame is the camera at
 // `first` (the rig's mount is the identity).
@@ -39,14 +33,7 @@ std::shared_ptr<LocalMap> placeMap(const Simulator3D& sim, size_t first, size_t 
   testing::buildLandmarkTracker(tracker, 1000.0);
   std::shared_ptr<LocalMap> map;
   for (size_t k = first; k < first + frames; ++k) {
-    sim::sim3d::Sim3DFrame f;
-    sim.render(k, &f);
-    Frame frame;
-    frame.seq = k;
-    frame.stamp = f.stamp;
-    frame.raw.set<Image>("left", std::move(f.left));
-    frame.raw.set<Image>("right", std::move(f.right));
-    frame.raw.set<CameraInfo>("camera", sim.cameraInfo());
+    Frame frame = testing::renderedFrame(sim, k);
     EXPECT_TRUE(pre.process(frame));
     TrackEvents events = tracker.track(frame);
     if (events.started) map = events.started;

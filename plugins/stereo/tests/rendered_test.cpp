@@ -16,13 +16,7 @@ namespace {
 
 using sim::sim3d::Simulator3D;
 
-Simulator3D street() {
-  sim::sim3d::ScenarioOptions o;
-  o.world = "street";
-  o.rig = sim::sim3d::Rig::kStereo;
-  o.seed = 0;
-  return Simulator3D::fromOptions(o);
-}
+Simulator3D street() { return testing::streetStereo(); }
 
 TEST(StereoPreprocessor, DepthMatchesTheRenderedDepth) {
   const Simulator3D sim = street();
