@@ -83,7 +83,11 @@ Street drive() {
 // of different places rejected: 3-17 of 23-92 matches agree on a rigid motion), but the detector
 // does not propose the return (brute force: 304 of its 439 tracked landmarks within 50 bits of the
 // start's, yet also 194-245 of every other place's), and the validator's fit of the return is
-// 3.3 m / 14 deg from what this test takes as the truth. Run it with
+// 3.3 m / 14 deg from what this test takes as the truth. 05:50 run: under that "truth" 0 of the
+// return's 439 landmarks lie within 0.3 m of a start landmark, so the test's assumed place-map
+// frames are wrong (the 3.3 m is no evidence against the validator); and even ungated (min_matches
+// 1, min_travel 0) the detector gives the return no candidate at all while brute force finds 304
+// matches: a detector bug or a tree-recall collapse for this query, still to find. Run it with
 // --gtest_also_run_disabled_tests; its printout says what the return shares with each place.
 TEST(AppearanceLoop, DISABLED_FindsTheRevisitAndRejectsLookAlikePlacesOnTheStreet) {
   const Street s = drive();
