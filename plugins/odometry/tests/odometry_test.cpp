@@ -302,6 +302,7 @@ TEST(PriorSlice, ObservedDisagreementWeighsTheOdometryDown) {
   // so the next prior's translation sigma grows by sqrt(10); its rotation is untouched. It fades
   // as 0.9^k: after 25 agreeing frames the mean is 0.72 and the model's sigma is back.
   PriorSlice slice;
+  slice.disagreement_frames = 10;
   slice.configure();
   PropertyContainer scene;
   AlignContext<Space2D> ctx{se2(0, 0, 0), se2(0, 0, 0)};
