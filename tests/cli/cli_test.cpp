@@ -1,6 +1,7 @@
 // The plugslam CLI as a user runs it: output, exit codes (0 ok, 1 runtime failure, 2 bad input).
 #include <gtest/gtest.h>
 
+#include "run_command.h"
 #include "test_paths.h"
 #include <pty.h>
 #include <sys/wait.h>
@@ -25,20 +26,10 @@ namespace {
 
 std::string buildDir() { return plugslam::testing::buildDir(); }
 
-struct Result {
-  int code;
-  std::string out;
-};
+using Result = plugslam::testing::CommandResult;
 
 Result run(const std::string& args, const std::string& env = "") {
-  std::string cmd = env + " " + buildDir() + "/bin/plugslam " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return plugslam::testing::runCommand(env + " " + buildDir() + "/bin/plugslam " + args);
 }
 
 // Runs plugslam on a pseudo-terminal (stdout and stderr both, 200 columns) from `cwd`: what a

@@ -17,6 +17,7 @@
 #include "plugslam/solver/factor_graph.h"
 #include "plugslam/solver/graph_io.h"
 #include "plugslam/solver/variable.h"
+#include "run_command.h"
 #include "test_paths.h"
 #include "temp_dir.h"
 
@@ -24,20 +25,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code;
-  std::string out;
-};
+using Result = plugslam::testing::CommandResult;
 
 Result run(const std::string& args) {
-  const std::string cmd = plugslam::testing::buildDir() + "/bin/plugslam " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  const int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return plugslam::testing::runCommand(plugslam::testing::buildDir() + "/bin/plugslam " + args);
 }
 
 std::string slurp(const std::string& path) {

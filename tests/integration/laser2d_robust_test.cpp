@@ -17,6 +17,7 @@
 #include "plugslam/eval/relations.h"
 #include "plugslam/trajectory.h"
 #include "temp_dir.h"
+#include "run_command.h"
 #include "test_paths.h"
 
 namespace fs = std::filesystem;
@@ -24,19 +25,10 @@ using namespace plugslam;
 
 namespace {
 
-struct Result {
-  int code;
-  std::string out;
-};
+using Result = plugslam::testing::CommandResult;
 
 Result shell(const std::string& cmd) {
-  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  const int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return plugslam::testing::runCommand(cmd);
 }
 
 Result plugslamCli(const std::string& args) {

@@ -14,6 +14,7 @@
 #include "plugslam/eval/relations.h"
 #include "plugslam/eval/rpe.h"
 #include "plugslam/trajectory.h"
+#include "run_command.h"
 #include "test_paths.h"
 #include "temp_dir.h"
 
@@ -22,21 +23,11 @@ using namespace plugslam;
 
 namespace {
 
-struct Result {
-  int code;
-  std::string out;
-};
+using Result = plugslam::testing::CommandResult;
 
 Result run(const std::string& args) {
-  std::string cmd = "cd " + plugslam::testing::sourceDir() + " && " + plugslam::testing::buildDir() +
-                    "/bin/plugslam " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return plugslam::testing::runCommand("cd " + plugslam::testing::sourceDir() + " && " +
+                                       plugslam::testing::buildDir() + "/bin/plugslam " + args);
 }
 
 double jsonNumber(const std::string& json, const std::string& key) {

@@ -17,6 +17,7 @@
 #include "render/canvas.h"
 #include "render/figure.h"
 #include "render/run_pictures.h"
+#include "run_command.h"
 #include "test_paths.h"
 #include "temp_dir.h"
 
@@ -287,14 +288,10 @@ TEST(RenderCanvas, PngRoundTripsAndTextIsDrawn) {
 
 // `plugslam ARGS` as a user runs it: its exit code, and stdout and stderr in `out`.
 int plugslamCli(const std::string& args, std::string& out) {
-  const std::string cmd = plugslam::testing::buildDir() + "/bin/plugslam " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  char buf[4096];
-  size_t n;
-  out.clear();
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  const int status = pclose(p);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  plugslam::testing::CommandResult r =
+      plugslam::testing::runCommand(plugslam::testing::buildDir() + "/bin/plugslam " + args);
+  out = std::move(r.out);
+  return r.code;
 }
 
 // The CLI as a user runs it: exit codes and the files it says it wrote.

@@ -15,6 +15,7 @@
 #include <thread>
 #include <optional>
 
+#include "run_command.h"
 #include "test_paths.h"
 #include "temp_dir.h"
 
@@ -25,19 +26,10 @@ namespace {
 std::string bin() { return plugslam::testing::buildDir() + "/bin/plugslam"; }
 std::string pluginDir() { return plugslam::testing::buildDir() + "/tests/plugins"; }
 
-struct Result {
-  int code;
-  std::string out;
-};
+using Result = plugslam::testing::CommandResult;
 
 Result sh(const std::string& cmd) {
-  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return plugslam::testing::runCommand(cmd);
 }
 
 std::string readFile(const fs::path& p) {

@@ -1,0 +1,30 @@
+#pragma once
+// A shell command as a user runs it, for the tests that drive the CLI: its exit code and
+// everything it printed. Header-only.
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <string>
+
+namespace plugslam::testing {
+
+/// The exit code of a command (-1 when it did not exit normally) and its stdout and stderr.
+struct CommandResult {
+  int code = -1;
+  std::string out;
+};
+
+/// Runs `cmd` through /bin/sh with stderr joined to stdout, and waits for it.
+inline CommandResult runCommand(const std::string& cmd) {
+  CommandResult r;
+  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+}  // namespace plugslam::testing
