@@ -129,7 +129,30 @@ void ReprojectionSlice<S>::linearize(const Pose& t, NormalEquations<S>& eq) cons
     // Inliers: within the chi-square 95 % band of the residual's dimensions.
     Robust robust{kernel_.get()};
     robust.inlier_chi2 = kInlierChi2[depth ? 3 : 2];
-    eq.addDiagonal(factor, t, Eigen::Vector3d(wp, wp, wq), robust);
+    if (!landmark_uncertainty()) {
+      eq.addDiagonal(factor, t, Eigen::Vector3d(wp, wp, wq), robust);
+      continue;
+    }
+    // The residual's covariance is the keypoint's plus the landmark's, carried into (u, v, 1/z)
+    // by the projection's Jacobian at the current estimate: Sigma = Sigma_z + Jp Sigma_p Jp^T.
+    Eigen::Vector3d e;
+    Eigen::Matrix3d jp;
+    if (!observationError(S::to3D(t), f.mount, f.camera, factor.point, factor.measured, e,
+                          nullptr, &jp))
+      continue;
+    const Eigen::Matrix3d projected = jp * scene->covariances[m.landmark] * jp.transpose();
+    typename NormalEquations<S>::template Information<3> information =
+        NormalEquations<S>::template Information<3>::Zero();
+    if (depth) {
+      Eigen::Matrix3d sigma = projected;
+      sigma.diagonal() += Eigen::Vector3d(1.0 / wp, 1.0 / wp, 1.0 / wq);
+      information = sigma.inverse();
+    } else {  // no depth: the (u, v) block only, 1/z keeps no weight
+      Eigen::Matrix2d sigma = projected.template topLeftCorner<2, 2>();
+      sigma.diagonal().array() += 1.0 / wp;
+      information.template topLeftCorner<2, 2>() = sigma.inverse();
+    }
+    eq.add(factor, t, information, robust);
   }
 }
 

@@ -61,6 +61,12 @@ class ReprojectionSlice final : public AlignerSlice<S>,
                       Range{0.1, 1.0}};
   Param<bool> use_depth{this, "use_depth", true, "",
                         "add the inverse-depth residual of keypoints with depth"};
+  Param<bool> landmark_uncertainty{
+      this, "landmark_uncertainty", false, "",
+      "weigh each residual by the landmark's position covariance projected into the image as "
+      "well as by the keypoint's own noise (a map landmark triangulated from one noisy depth is "
+      "not an exact point: without it, hundreds of correlated landmark errors outweigh a "
+      "second cue)"};
   Param<std::string> kernel{this, "kernel", "cauchy", "", "robust kernel",
                             Choices{{"none", "huber", "cauchy", "tukey"}}};
   Param<double> kernel_scale{this, "kernel_scale", 2.0, "sigma",
