@@ -316,3 +316,51 @@ TEST_F(Session, Freiburg079LocalizationHoldsOverReplays) {
   EXPECT_LT(*localized.ate_rmse, 0.15);  // measured: 0.080 m, max 0.41 m, 0 failures
   EXPECT_LT(localized.ate_max.value_or(1e9), 1.0);
 }
+
+// Issue 16: a visual session. The rendered RGB-D living room (10 s of the hand-held loop) mapped
+// with the landmark cue and a 3D graph, saved, loaded, then the same frames localized in the
+// frozen landmark maps: they went through the value-type registry (LandmarkMap), the localizer
+// makes no map, and it follows the mapped trajectory in the same world frame.
+TEST_F(Session, RgbdLivingRoomLocalizationFollowsTheMappedTrajectory) {
+  const std::string plugin_dir = plugslam::testing::buildDir() + "/plugins";
+  for (const char* p : {"sim", "io", "rgbd"})
+    if (!fs::exists(plugin_dir + "/plugslam_" + std::string(p) + ".so"))
+      GTEST_SKIP() << "plugin '" << p << "' is not built in " << plugin_dir;
+  plugins_.addSearchDir(plugin_dir);
+  ConfigDocument doc =
+      loadConfigFile(plugslam::testing::sourceDir() + "/configs/sim3d_rgbd.yaml");
+  applyOverride(doc, "source.duration=10");
+  applyOverride(doc, "outputs=[]");
+  applyOverride(doc, "pipeline.graph={type: sdk.GraphSlam3D, deterministic: true}");
+  auto mapping = build(doc);
+  RunReport mapped = run(*mapping, "map");
+  ASSERT_GT(mapped.frames, 250u);
+  const Trajectory reference = mapping->pipeline->result().trajectory;
+  const SessionSummary saved =
+      saveSession((dir_ / "rgbd").string(), YAML::Dump(doc.root) + "\n", *mapping->pipeline);
+  EXPECT_GT(saved.maps, 2u);
+  auto loc = restore((dir_ / "rgbd").string(), true);
+  RunReport localized = run(*loc, "loc");
+  EXPECT_EQ(localized.frames, mapped.frames);
+  EXPECT_EQ(loc->pipeline->tracker->stats().local_maps, 0u);
+  EXPECT_LE(localized.tracking_failures, localized.frames / 50);
+  AteOptions ate;
+  ate.alignment = Alignment::None;
+  const AteResult a = computeAte(reference, loc->pipeline->result().trajectory, ate);
+  // Frames the localizer puts more than 5 cm from where mapping put them.
+  size_t off = 0;
+  const Trajectory& lt = loc->pipeline->result().trajectory;
+  for (size_t i = 0; i < std::min(lt.size(), reference.size()); ++i)
+    if ((lt[i].pose.translation() - reference[i].pose.translation()).norm() > 0.05) ++off;
+  std::cout << "rgbd living room: " << saved.maps << " maps, localization vs mapping ATE rmse "
+            << a.translation.rmse << " m, max " << a.translation.max << " m, "
+            << localized.tracking_failures << " failures; against the truth "
+            << mapped.ate_rmse.value_or(NAN) << " m mapping, "
+            << localized.ate_rmse.value_or(NAN) << " m localizing; " << off
+            << " frames more than 5 cm off\n";
+  // Measured: rmse 0.025 m, 3 of 300 frames more than 5 cm off, one of them by 0.40 m (frame 256,
+  // not yet diagnosed: an open point of issue 16), 0 failures. A localizer lost in the
+  // frozen maps is off by decimetres on most frames; these bounds catch that, not the one spike.
+  EXPECT_LT(a.translation.rmse, 0.05);
+  EXPECT_LE(off, localized.frames / 50);
+}
