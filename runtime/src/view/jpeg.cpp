@@ -83,7 +83,8 @@ void shrink(const Image& image, int factor, Image& out) {
       const uint8_t* row = &image.data[(static_cast<size_t>(y) * factor + dy) * stride];
       for (int x = 0; x < w; ++x)
         for (int dx = 0; dx < factor; ++dx)
-          for (int k = 0; k < c; ++k) sums[static_cast<size_t>(x) * c + k] += row[(x * factor + dx) * c + k];
+          for (int k = 0; k < c; ++k)
+            sums[static_cast<size_t>(x) * c + k] += row[(x * factor + dx) * c + k];
     }
     uint8_t* o = &out.data[static_cast<size_t>(y) * out.stride];
     for (size_t i = 0; i < sums.size(); ++i) o[i] = static_cast<uint8_t>((sums[i] + n / 2) / n);
