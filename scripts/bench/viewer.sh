@@ -104,7 +104,7 @@ def bandwidth(d):
     r, _ = run(d)
     top = ", ".join(f"{t} {b / 1e6:.2f}" for t, b in list(c["topics"].items())[:4])
     data = c["data_seconds"] or 0
-    return (f"{r['frames']} | {c['seconds']:.1f} | {c['bytes'] / 1e6:.2f} | "
+    return (f"{r['frames']} | {r['wall_time_s']:.1f} | {c['seconds']:.1f} | {c['bytes'] / 1e6:.2f} | "
             f"{c['bytes'] / 1e6 / c['seconds']:.3f} | "
             f"{(c['bytes'] / 1e6 / data) if data > 0 else float('nan'):.3f} | {top}")
 
@@ -129,12 +129,14 @@ for key, label in runs.items():
         print(f"| | {name} | {v[0]:.3f} | {v[1]:.4f} | {100 * v[1] / base[0]:.2f} % | "
               f"{100 * (v[0] - base[0]) / base[0]:+.1f} % | {v[2]:.0f} |")
 print()
-print("Bandwidth of one client subscribed to every channel, default settings (`--view-rate 10`). "
-      "Replayed as fast as the run goes, per wall second is the worst case; live (`--rate 1`) is "
-      "what a robot streaming as it records sends.")
+print("Bandwidth of one client subscribed to every channel, default settings (`--view-rate 10`, "
+      "images at most 5 Hz, `--view-budget 1` MB/s). Replayed as fast as the run goes, per wall "
+      "second is the worst case; live (`--rate 1`) is what a robot streaming as it records sends. "
+      "*run s* is the run's own wall time; *wall s* is the client's, from resume until the server "
+      "closes, which includes the end of the run held back by the budget and sent before closing.")
 print()
-print("| run | frames | wall s | MB | MB / wall s | MB / data s | largest topics [MB] |")
-print("|---|---|---|---|---|---|---|")
+print("| run | frames | run s | wall s | MB | MB / wall s | MB / data s | largest topics [MB] |")
+print("|---|---|---|---|---|---|---|---|")
 for key, label in runs.items():
     d = out / f"{key}-client-1"
     if (d / "client.json").exists():

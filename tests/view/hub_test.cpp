@@ -9,6 +9,7 @@
 #include "plugslam/view/drawers.h"
 #include "plugslam/view/publisher.h"
 #include "view/view_hub.h"
+#include "view/jpeg.h"
 #include "view/view_json.h"
 
 namespace plugslam::runtime {
@@ -29,13 +30,15 @@ class Recorder final : public ViewReceiver {
   }
   bool wants(int) const override { return true; }
   bool fullRate() const override { return full_rate_; }
+  bool ready(int) const override { return is_ready; }
   size_t count() {
     std::lock_guard<std::mutex> lock(mutex_);
     return messages.size();
   }
   std::vector<ViewChannel> channels;
   std::vector<ViewMessage> messages;
-  int block_ms = 0;
+  std::atomic<int> block_ms{0};
+  std::atomic<bool> is_ready{true};  // false: as if its last message still waited to be sent
 
  private:
   bool full_rate_;
@@ -158,6 +161,117 @@ TEST(ViewHub, GridsAreFilledOffThePublishersThread) {
   EXPECT_NE(recording.messages[0].payload->find("\"column_count\":2"), std::string::npos);
   EXPECT_EQ(recording.messages[0].key, 7);
   hub.detach(&recording);
+}
+
+TEST(ViewHub, AStreamMessageIsBuiltOnlyForAReceiverThatTookTheLastOne) {
+  ViewHubOptions options;
+  options.stream_rate = 1000.0;  // the rate is not what holds it back here
+  ViewHub hub(options);
+  Recorder live;
+  hub.attach(&live);
+  const int id = hub.declare("/scan", view::kindOf<view::PointCloud>(), view::Latch::kNone);
+  EXPECT_TRUE(hub.wants(id));
+  live.is_ready = false;
+  std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  EXPECT_FALSE(hub.wants(id));
+  hub.publish(id, view::PointCloud{}, 0);  // published anyway: nobody would take it live
+  hub.flush();
+  EXPECT_EQ(live.count(), 0u);
+  live.is_ready = true;
+  std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  EXPECT_TRUE(hub.wants(id));
+  hub.publish(id, view::PointCloud{}, 0);
+  hub.flush();
+  EXPECT_EQ(live.count(), 1u);
+  hub.detach(&live);
+}
+
+TEST(ViewHub, ANewerStreamMessageReplacesOneStillInTheInbox) {
+  ViewHubOptions options;
+  options.stream_rate = 1000.0;
+  ViewHub hub(options);
+  Recorder live;
+  hub.attach(&live);
+  const int id = hub.declare("/pose", view::kindOf<view::PoseInFrame>(), view::Latch::kNone);
+  live.block_ms = 300;  // the worker is busy delivering the first message
+  hub.publish(id, view::PoseInFrame{1.0}, 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));  // the worker took it
+  hub.publish(id, view::PoseInFrame{2.0}, 0);                  // waits in the inbox
+  std::this_thread::sleep_for(std::chrono::milliseconds(5));   // past the channel's rate
+  hub.publish(id, view::PoseInFrame{3.0}, 0);                  // takes its place
+  hub.flush();
+  live.block_ms = 0;
+  ASSERT_EQ(live.count(), 2u);
+  EXPECT_NE(live.messages[0].payload->find("\"sec\":1"), std::string::npos);
+  EXPECT_NE(live.messages[1].payload->find("\"sec\":3"), std::string::npos);
+  EXPECT_EQ(hub.dropped(), 1u);
+  hub.detach(&live);
+}
+
+TEST(ViewHub, CameraImagesGoLiveAtTheImageRate) {
+  ViewHubOptions options;
+  options.stream_rate = 1000.0;
+  options.image_rate = 2.0;  // one image per 0.5 s
+  ViewHub hub(options);
+  Recorder live;
+  hub.attach(&live);
+  const int image = hub.declare("/camera/left/image", view::kindOf<view::CameraImage>(),
+                                view::Latch::kNone);
+  const int scan = hub.declare("/scan", view::kindOf<view::PointCloud>(), view::Latch::kNone);
+  view::CameraImage m{"camera/left", {}};
+  m.image.resize(8, 4, 1);
+  ASSERT_TRUE(hub.wants(image));
+  hub.publish(image, view::CameraImage(m), 0);
+  hub.publish(scan, view::PointCloud{}, 0);
+  hub.flush();
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  EXPECT_FALSE(hub.wants(image));  // 20 ms after the last one: not before 0.5 s
+  EXPECT_TRUE(hub.wants(scan));    // other channels: 1 ms
+  EXPECT_EQ(live.count(), 2u);
+  hub.detach(&live);
+}
+
+TEST(ViewImage, ShrinksWhileCopyingAsTheEncoderWould) {
+  // KITTI's width: shrunk by 2, each pixel the rounded mean of its 2x2 block.
+  Image grey;
+  grey.resize(1241, 5, 1);
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 1241; ++x) grey.data[y * 1241 + x] = static_cast<uint8_t>((x * 7 + y * 13) % 256);
+  const Image small = viewImage(grey);
+  ASSERT_EQ(small.width, 620);
+  ASSERT_EQ(small.height, 2);
+  EXPECT_EQ(small.stride, 620);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 620; ++x) {
+      const int sum = grey.at(2 * x, 2 * y) + grey.at(2 * x + 1, 2 * y) + grey.at(2 * x, 2 * y + 1) +
+                      grey.at(2 * x + 1, 2 * y + 1);
+      ASSERT_EQ(small.at(x, y), (sum + 2) / 4) << x << "," << y;
+    }
+  // RGB with a padded stride, and a factor of 3 (1920 px).
+  Image rgb;
+  rgb.width = 1920;
+  rgb.height = 3;
+  rgb.channels = 3;
+  rgb.stride = 1920 * 3 + 16;
+  rgb.data.assign(static_cast<size_t>(rgb.stride) * 3, 0);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 1920; ++x) rgb.data[y * rgb.stride + x * 3 + 1] = static_cast<uint8_t>(x % 3 == 0 ? 90 : 0);
+  const Image shrunk = viewImage(rgb);
+  ASSERT_EQ(shrunk.width, 640);
+  ASSERT_EQ(shrunk.height, 1);
+  EXPECT_EQ(shrunk.at(5, 0, 0), 0);
+  EXPECT_EQ(shrunk.at(5, 0, 1), 30);  // one pixel of 90 in each 3x3 block's columns: 270 / 9
+  EXPECT_EQ(viewCalibration([] {
+              CameraInfo c;
+              c.width = 1920;
+              c.height = 3;
+              return c;
+            }()).width,
+            shrunk.width);
+  // Already small: as it is, and the encoder compresses it without shrinking again.
+  const Image same = viewImage(shrunk);
+  EXPECT_EQ(same.width, 640);
+  EXPECT_FALSE(encodeJpeg(same).empty());
 }
 
 TEST(ViewJson, Base64MatchesRfc4648) {

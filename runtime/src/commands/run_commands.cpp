@@ -321,6 +321,8 @@ void addRunCommand(CLI::App& root, int& exit_code) {
       InterruptGuard guard;
       report = runPipeline(*run, options);
     }
+    // Viewers get the end of the run (its last map and graph) before the server closes.
+    if (report.stopped_by != "interrupted" && !viewer_options.keep_serving) viewer.drain();
     if (viewer.server() && viewer_options.keep_serving && report.stopped_by != "interrupted") {
       std::cerr << "run finished; still serving " << viewer.server()->url()
                 << " (Ctrl-C to quit)" << std::endl;

@@ -17,6 +17,7 @@
 #include <chrono>
 #include <deque>
 #include <fstream>
+#include <future>
 #include <map>
 #include <mutex>
 #include <set>
@@ -25,6 +26,7 @@
 
 #include "plugslam/errors.h"
 #include "plugslam/view/drawables.h"
+#include "view/client_queue.h"
 
 namespace plugslam::runtime {
 
@@ -40,6 +42,17 @@ namespace {
 // A client's WebSocket frames beyond this are not even read: the connection is closed with 1009
 // (message too big). Below it and above max_client_message, the client gets an error status.
 constexpr size_t kHardMessageLimit = 16u << 20;
+
+// A write the socket has not taken for this long: the client stopped reading (the end of a run
+// does not wait for it). A reading client over a link at the budget takes a second per MB.
+constexpr auto kStalledWrite = std::chrono::seconds(5);
+
+// The stream's urgent kinds: small, and what keeps a view live (where the robot is, the frames
+// the rest is drawn in, the run's progress). They skip the byte budget (but count against it).
+bool urgentKind(size_t kind) {
+  return kind == view::kindOf<view::Status>() || kind == view::kindOf<view::PoseInFrame>() ||
+         kind == view::kindOf<view::FrameTransforms>();
+}
 
 std::string contentType(const std::string& path) {
   static const std::map<std::string, std::string> types = {
@@ -85,6 +98,8 @@ struct FoxgloveServer::Impl {
   // Read by other threads (wants): subscriber counts per channel id.
   mutable std::mutex mutex;
   std::map<int, int> subscribers;
+  std::map<int, int> busy;  // per channel, the subscribed sessions with a message of it waiting
+  std::map<int, int> in_transit;  // per channel, messages posted to the I/O thread, not yet queued
   ViewServerStats stats;
 
   // I/O thread only.
@@ -108,6 +123,11 @@ struct FoxgloveServer::Impl {
     }
     hub.interestChanged();  // never under our mutex: the hub calls wants(), which takes it
   }
+  void addBusy(int channel, int delta) {
+    std::lock_guard<std::mutex> lock(mutex);
+    busy[channel] += delta;
+    if (busy[channel] <= 0) busy.erase(channel);
+  }
   void count(uint64_t ViewServerStats::*field, uint64_t n = 1) {
     std::lock_guard<std::mutex> lock(mutex);
     stats.*field += n;
@@ -115,31 +135,50 @@ struct FoxgloveServer::Impl {
 
   // ---- A WebSocket client ------------------------------------------------------------------
   struct Session : std::enable_shared_from_this<Session> {
-    struct Out {
-      std::shared_ptr<const std::string> head;     // text message, or a binary header
-      std::shared_ptr<const std::string> payload;  // binary payload after the header (or null)
-      bool binary = false;
-      size_t size() const { return head->size() + (payload ? payload->size() : 0); }
-    };
     Impl& server;
     websocket::stream<beast::tcp_stream> ws;
     beast::flat_buffer buffer;
     std::string peer;
     bool open = false, writing = false, closed = false;
-    std::deque<Out> control;                       // protocol replies: never dropped
-    std::map<std::pair<int, int64_t>, Out> latched;  // newest per (channel, key): coalesced
-    std::deque<Out> stream;                        // stream messages: oldest dropped
-    size_t stream_bytes = 0;
+    ClientQueue queue;       // what waits: replies, then urgent, then bulk within the budget
+    net::steady_timer timer;  // wakes write() when the budget allows the next bulk message
+    std::chrono::steady_clock::time_point timer_due = std::chrono::steady_clock::time_point::max();
+    std::chrono::steady_clock::time_point write_started{};
+    std::set<int> busy;  // channels with a message waiting here (or being written)
     uint64_t dropped = 0, dropped_told = 0;
     std::chrono::steady_clock::time_point last_drop_notice{};
     std::map<uint32_t, int> subscriptions;  // subscription id -> channel
     std::map<int, uint32_t> by_channel;     // channel -> subscription id
     bool all_parameter_updates = false;
     std::set<std::string> parameter_updates;
-    Out current;
+    ClientMessage current;
 
     Session(Impl& s, tcp::socket&& socket, std::string who)
-        : server(s), ws(std::move(socket)), peer(std::move(who)) {}
+        : server(s),
+          ws(std::move(socket)),
+          peer(std::move(who)),
+          queue(s.options.budget, s.options.budget * s.options.burst_seconds,
+                std::chrono::steady_clock::now()),
+          timer(ws.get_executor()) {}
+
+    // Something still to send, and a socket that takes it.
+    bool pending(std::chrono::steady_clock::time_point now) const {
+      if (!open || closed || (queue.empty() && !writing)) return false;
+      return !(writing && now - write_started > kStalledWrite);
+    }
+
+    // Tells the server whether a message of `channel` waits here (the hub builds a channel's
+    // next message only when some subscriber took the last one).
+    void syncBusy(int channel) {
+      if (channel <= 0) return;
+      const bool now_busy = queue.holds(channel) || (writing && current.channel == channel);
+      if (now_busy == (busy.count(channel) > 0)) return;
+      if (now_busy)
+        busy.insert(channel);
+      else
+        busy.erase(channel);
+      server.addBusy(channel, now_busy ? 1 : -1);
+    }
 
     void start(http::request<http::string_body> request, std::string protocol) {
       ws.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
@@ -178,9 +217,13 @@ struct FoxgloveServer::Impl {
         spdlog::info("viewer: {} left{}", peer,
                      dropped ? " (" + std::to_string(dropped) + " messages dropped)" : "");
       }
+      for (int channel : busy) server.addBusy(channel, -1);
+      busy.clear();
       for (const auto& [sub, channel] : subscriptions) server.addSubscribers(channel, -1);
       subscriptions.clear();
       by_channel.clear();
+      beast::error_code cancelled;
+      timer.cancel(cancelled);
       beast::error_code ignored;
       beast::get_lowest_layer(ws).socket().close(ignored);
       server.sessions.erase(shared_from_this());
@@ -267,22 +310,9 @@ struct FoxgloveServer::Impl {
         subscriptions.erase(it);
         server.addSubscribers(channel_id, -1);
         // What was queued for it is not wanted any more.
-        auto keep = [&](const Out& o) { return !(o.binary && subscriptionOf(o) == sub); };
-        std::deque<Out> rest;
-        for (auto& o : stream)
-          if (keep(o)) rest.push_back(std::move(o));
-          else stream_bytes -= o.size();
-        stream.swap(rest);
-        for (auto l = latched.begin(); l != latched.end();)
-          l = l->first.first == channel_id ? latched.erase(l) : std::next(l);
+        queue.removeChannel(channel_id);
+        syncBusy(channel_id);
       }
-    }
-
-    static uint32_t subscriptionOf(const Out& o) {
-      uint32_t v = 0;
-      for (int i = 0; i < 4; ++i)
-        v |= static_cast<uint32_t>(static_cast<uint8_t>((*o.head)[1 + i])) << (8 * i);
-      return v;
     }
 
     // The reply to a parameter request, on the I/O thread: errors as statuses with the request's
@@ -365,11 +395,13 @@ struct FoxgloveServer::Impl {
 
     // ---- Output ------------------------------------------------------------------------------
     void sendText(std::string text) {
-      control.push_back(Out{std::make_shared<const std::string>(std::move(text)), nullptr, false});
+      queue.pushControl(
+          ClientMessage{std::make_shared<const std::string>(std::move(text)), nullptr, false});
       write();
     }
     void sendBinary(std::string bytes) {
-      control.push_back(Out{std::make_shared<const std::string>(std::move(bytes)), nullptr, true});
+      queue.pushControl(
+          ClientMessage{std::make_shared<const std::string>(std::move(bytes)), nullptr, true});
       write();
     }
 
@@ -385,22 +417,18 @@ struct FoxgloveServer::Impl {
                    ",\"dropped_total\":" + std::to_string(server.totalDropped()) + "}";
         payload = std::make_shared<const std::string>(std::move(patched));
       }
-      Out o{std::make_shared<const std::string>(foxglove::messageDataHeader(it->second, m.log_time)),
-            payload, true};
-      if (m.latched) {
-        latched[{m.channel, m.key}] = std::move(o);
-      } else {
-        stream_bytes += o.size();
-        stream.push_back(std::move(o));
-        uint64_t lost = 0;
-        while (stream.size() > 1 && (stream.size() > server.options.queue_messages ||
-                                     stream_bytes > server.options.queue_bytes)) {
-          stream_bytes -= stream.front().size();
-          stream.pop_front();
-          ++lost;
-        }
-        if (lost) noteDropped(lost);
-      }
+      const ViewChannel* c = channel(static_cast<uint32_t>(m.channel));
+      if (!c) return;
+      ClientMessage o{
+          std::make_shared<const std::string>(foxglove::messageDataHeader(it->second, m.log_time)),
+          payload, true, m.channel, m.key};
+      const auto lane = urgentKind(c->kind) ? ClientQueue::Lane::kUrgent : ClientQueue::Lane::kBulk;
+      // A newer message took the waiting one's place: for a local map's slot that is its newer
+      // version, for any other channel a message this client never gets (counted).
+      if (queue.push(std::move(o), lane, std::chrono::steady_clock::now()) &&
+          c->latch != view::Latch::kPerKey)
+        noteDropped(1);
+      syncBusy(m.channel);
       write();
     }
 
@@ -417,21 +445,25 @@ struct FoxgloveServer::Impl {
       }
     }
 
+    // Wakes write() at `due` (the earliest of the waits asked for).
+    void wakeAt(std::chrono::steady_clock::time_point due) {
+      if (due == std::chrono::steady_clock::time_point::max() || due >= timer_due) return;
+      timer_due = due;
+      timer.expires_at(due);
+      timer.async_wait([self = shared_from_this()](beast::error_code ec) {
+        if (ec) return;  // cancelled: re-armed earlier, or closed
+        self->timer_due = std::chrono::steady_clock::time_point::max();
+        self->write();
+      });
+    }
+
     void write() {
       if (!open || writing || closed) return;
-      if (!control.empty()) {
-        current = std::move(control.front());
-        control.pop_front();
-      } else if (!latched.empty()) {
-        current = std::move(latched.begin()->second);
-        latched.erase(latched.begin());
-      } else if (!stream.empty()) {
-        current = std::move(stream.front());
-        stream.pop_front();
-        stream_bytes -= current.size();
-      } else {
-        return;
-      }
+      const auto now = std::chrono::steady_clock::now();
+      auto next = queue.pop(now);
+      if (!next) return wakeAt(queue.nextDue(now));
+      current = std::move(*next);
+      write_started = now;
       writing = true;
       ws.binary(current.binary);
       std::array<net::const_buffer, 2> buffers{
@@ -439,9 +471,11 @@ struct FoxgloveServer::Impl {
           current.payload ? net::buffer(*current.payload) : net::const_buffer()};
       ws.async_write(buffers, [self = shared_from_this()](beast::error_code ec, size_t n) {
         self->writing = false;
-        self->current = Out{};
+        const int written = self->current.channel;
+        self->current = ClientMessage{};
         if (ec) return self->fail("write", ec);
         self->server.count(&ViewServerStats::sent_bytes, n);
+        self->syncBusy(written);
         self->write();
       });
     }
@@ -682,15 +716,50 @@ void FoxgloveServer::channelAdded(const ViewChannel& channel) {
 }
 
 void FoxgloveServer::deliver(const ViewMessage& message) {
+  {
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    ++impl_->in_transit[message.channel];
+  }
   net::post(impl_->ioc, [impl = impl_.get(), message] {
     auto sessions = impl->sessions;
     for (const auto& s : sessions) s->push(message);
+    std::lock_guard<std::mutex> lock(impl->mutex);
+    if (--impl->in_transit[message.channel] <= 0) impl->in_transit.erase(message.channel);
   });
 }
 
 bool FoxgloveServer::wants(int channel) const {
   std::lock_guard<std::mutex> lock(impl_->mutex);
   return impl_->subscribers.count(channel) > 0;
+}
+
+bool FoxgloveServer::ready(int channel) const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  const auto s = impl_->subscribers.find(channel);
+  if (s == impl_->subscribers.end() || impl_->in_transit.count(channel)) return false;
+  const auto b = impl_->busy.find(channel);
+  return b == impl_->busy.end() || b->second < s->second;
+}
+
+bool FoxgloveServer::drain(double max_seconds) {
+  using Clock = std::chrono::steady_clock;
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(max_seconds));
+  for (;;) {
+    // Asked on the I/O thread, which owns the sessions.
+    auto answer = std::make_shared<std::promise<bool>>();
+    auto waiting = answer->get_future();
+    net::post(impl_->ioc, [impl = impl_.get(), answer] {
+      const auto now = Clock::now();
+      bool any = false;
+      for (const auto& s : impl->sessions) any = any || s->pending(now);
+      answer->set_value(any);
+    });
+    if (waiting.wait_for(std::chrono::seconds(5)) != std::future_status::ready) return false;
+    if (!waiting.get()) return true;
+    if (Clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
 }
 
 void parseServeAddress(const std::string& text, ViewServerOptions& options) {

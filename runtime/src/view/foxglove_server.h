@@ -1,9 +1,11 @@
 #pragma once
 // The Foxglove WebSocket server of `plugslam run --serve` and `plugslam shell --serve`: one port
 // for the WebSocket protocol (Foxglove, Lichtblick, our page) and plain HTTP (the page's files).
-// Each connection has its own bounded queue: a client that reads slowly loses its oldest stream
-// messages (counted, and told in a status message and on /status), never the latched ones, and
-// never slows the run. Client messages are parsed defensively: a bad one gets a status reply.
+// Each connection has its own queue (view/client_queue.h) with one slot per channel (per local map
+// on a per-map channel): a newer message replaces a waiting one, so a client that reads slowly
+// gets the newest of everything and loses what was superseded (counted, told in a status message
+// and on /status), never slowing the run. Bulk messages (maps, grids, images) go within a byte
+// budget per connection. Client messages are parsed defensively: a bad one gets a status reply.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -20,8 +22,12 @@ struct ViewServerOptions {
   bool allow_remote = false;           ///< refuse a non-loopback address unless set
   std::string web_root;                ///< directory of the page's files ("" = built-in notice)
   std::string name = "plugslam";       ///< serverInfo name
-  size_t queue_messages = 256;         ///< stream messages waiting per connection at most
-  size_t queue_bytes = 16u << 20;      ///< and their bytes at most
+  /// Bytes per second each connection's bulk messages (maps, grids, images, scans) may take,
+  /// <= 0: no limit. 1 MB/s: a Wi-Fi link to a robot, shared with whatever else it carries.
+  double budget = 1e6;
+  /// Seconds of the budget a connection may save up while idle: small messages leave at once,
+  /// and no window of time gets more than the rate allows plus this.
+  double burst_seconds = 0.05;
   size_t max_client_message = 1u << 20;  ///< larger client messages get an error status
   size_t max_connections = 32;         ///< further connections are refused (HTTP 503)
 };
@@ -56,6 +62,12 @@ class FoxgloveServer final : public ViewReceiver {
   void channelAdded(const ViewChannel& channel) override;
   void deliver(const ViewMessage& message) override;
   bool wants(int channel) const override;
+  /// True when some subscriber of `channel` has none of its messages waiting.
+  bool ready(int channel) const override;
+
+  /// Waits until every client that still reads got what waits for it, at most `max_seconds`;
+  /// true when all did (the end of a run: its last map and graph reach the viewers).
+  bool drain(double max_seconds);
 
   struct Impl;
 

@@ -16,6 +16,11 @@ int viewShrinkFactor(int width);
 /// A camera's calibration for its image as viewers get it (shrunk by viewShrinkFactor).
 CameraInfo viewCalibration(const CameraInfo& info);
 
+/// The image as viewers get it: averaged down by viewShrinkFactor while it is copied (a 2x
+/// shrink reads each source pixel once), so a big camera image costs its pipeline a quarter-size
+/// copy; an inconsistent image is copied as it is (encodeJpeg then says what is wrong).
+Image viewImage(const Image& image);
+
 /// The image as JPEG, averaged down by a whole factor until at most kViewImageMaxWidth wide;
 /// 1 channel stays grey, 3 channels are RGB. Throws plugslam::Error on an inconsistent image.
 std::string encodeJpeg(const Image& image, int quality = 80);

@@ -21,6 +21,7 @@ uint64_t wallTimeNs() {
 
 ViewHub::ViewHub(ViewHubOptions options) : options_(options) {
   if (!(options_.stream_rate > 0)) options_.stream_rate = 10.0;
+  if (!(options_.image_rate > 0)) options_.image_rate = options_.stream_rate;
   worker_ = std::thread([this] { run(); });
 }
 
@@ -51,6 +52,11 @@ int ViewHub::declare(const std::string& topic, size_t kind, view::Latch latch) {
     info.schema = jsonSchema(kind);
     channels_.emplace_back();
     channels_.back().info = info;
+    const double rate = kind == view::kindOf<view::CameraImage>()
+                            ? std::min(options_.stream_rate, options_.image_rate)
+                            : options_.stream_rate;
+    channels_.back().live_period =
+        std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / rate));
     by_topic_[topic] = info.id;
     refreshWants();  // a recording wants it from its first message
   }
@@ -70,7 +76,16 @@ bool ViewHub::wants(int id) {
   if (id < 1 || id > static_cast<int>(channels_.size())) return false;
   const Channel& c = channels_[static_cast<size_t>(id - 1)];
   if (c.info.latch != view::Latch::kNone) return true;  // kept for later receivers
-  return c.full_wanted || (c.live_wanted && Clock::now() >= c.next_live);
+  // A live stream message is built only when the last one left the hub and some receiver took
+  // it: no work on frames nobody would get.
+  return c.full_wanted ||
+         (c.live_wanted && Clock::now() >= c.next_live && c.in_hub == 0 && liveReady(c));
+}
+
+bool ViewHub::liveReady(const Channel& c) const {
+  for (const ViewReceiver* r : receivers_)
+    if (!r->fullRate() && r->wants(c.info.id) && r->ready(c.info.id)) return true;
+  return false;
 }
 
 void ViewHub::publish(int id, view::Drawable&& message, int64_t key) {
@@ -82,10 +97,10 @@ void ViewHub::publish(int id, view::Drawable&& message, int64_t key) {
   bool live = false;
   if (c.live_wanted) {
     // Per-key latched messages (one per local map) are sparse by nature: never rate-limited.
-    live = c.info.latch == view::Latch::kPerKey || now >= c.next_live;
-    if (live && c.info.latch != view::Latch::kPerKey)
-      c.next_live = now + std::chrono::duration_cast<Clock::duration>(
-                              std::chrono::duration<double>(1.0 / options_.stream_rate));
+    // A stream message goes live only when a receiver took the channel's last one.
+    live = c.info.latch == view::Latch::kPerKey ||
+           (now >= c.next_live && (c.info.latch != view::Latch::kNone || liveReady(c)));
+    if (live && c.info.latch != view::Latch::kPerKey) c.next_live = now + c.live_period;
   }
   auto drawable = std::make_shared<const view::Drawable>(std::move(message));
   const uint64_t t = wallTimeNs();
@@ -98,6 +113,17 @@ void ViewHub::publish(int id, view::Drawable&& message, int64_t key) {
     if (c.pending) cv_.notify_one();  // the worker delivers it once the rate allows
     return;
   }
+  if (live && !c.full_wanted && c.info.latch == view::Latch::kNone && c.in_hub > 0) {
+    // The channel's last message still waits for the worker: the newer one takes its place.
+    auto waiting = std::find_if(inbox_.begin(), inbox_.end(),
+                                [&](const Item& i) { return i.channel == id && i.live; });
+    if (waiting != inbox_.end()) {
+      waiting->drawable = std::move(drawable);
+      waiting->log_time = t;
+      ++dropped_;
+      return;
+    }
+  }
   if (inbox_.size() >= options_.inbox_capacity) {
     // The worker is behind: the oldest stream message goes (latched ones are kept in the store
     // and their deliveries are rare).
@@ -105,10 +131,12 @@ void ViewHub::publish(int id, view::Drawable&& message, int64_t key) {
       return channels_[static_cast<size_t>(i.channel - 1)].info.latch == view::Latch::kNone;
     });
     if (oldest != inbox_.end()) {
+      if (oldest->live) --channels_[static_cast<size_t>(oldest->channel - 1)].in_hub;
       inbox_.erase(oldest);
       ++dropped_;
     }
   }
+  if (live) ++c.in_hub;
   inbox_.push_back(Item{id, key, t, std::move(drawable), live});
   lock.unlock();
   cv_.notify_one();
@@ -152,8 +180,8 @@ void ViewHub::run() {
       if (!c.pending || now < c.next_live) continue;
       c.pending = false;
       if (!c.live_wanted || c.latched.empty()) continue;
-      c.next_live = now + std::chrono::duration_cast<Clock::duration>(
-                              std::chrono::duration<double>(1.0 / options_.stream_rate));
+      c.next_live = now + c.live_period;
+      ++c.in_hub;
       const Latched& l = c.latched.begin()->second;
       batch.push_back(Item{c.info.id, 0, l.log_time, l.drawable, true});
     }
@@ -175,7 +203,13 @@ void ViewHub::run() {
           c = &channels_[static_cast<size_t>(item.channel - 1)];
         }
         auto payload = encode(*c, *item.drawable);
-        if (!payload) continue;
+        if (!payload) {
+          if (item.live) {
+            std::lock_guard<std::mutex> relock(mutex_);
+            --channels_[static_cast<size_t>(item.channel - 1)].in_hub;
+          }
+          continue;
+        }
         ViewMessage m{item.channel, item.key, item.log_time, payload,
                       c->info.latch != view::Latch::kNone};
         if (m.latched) {
@@ -188,6 +222,10 @@ void ViewHub::run() {
           if (!r->wants(item.channel)) continue;
           if (!item.live && !r->fullRate()) continue;
           r->deliver(m);
+        }
+        if (item.live) {
+          std::lock_guard<std::mutex> relock(mutex_);
+          --channels_[static_cast<size_t>(item.channel - 1)].in_hub;
         }
       }
     }

@@ -49,6 +49,12 @@ class ViewReceiver {
   virtual bool wants(int channel) const = 0;
   /// True for receivers that take every message at full rate (recordings).
   virtual bool fullRate() const { return false; }
+  /// True when the receiver took the last message of `channel` it wanted (nothing of it waits
+  /// to be sent): a live stream channel's next message is built only for a ready receiver.
+  virtual bool ready(int channel) const {
+    (void)channel;
+    return true;
+  }
 };
 
 /// Settings of the hub.
@@ -56,6 +62,10 @@ struct ViewHubOptions {
   /// Stream channels reach live receivers at most this often [Hz]: 10 Hz looks continuous for a
   /// robot moving a couple of metres per second, and a faster replay would only fill the link.
   double stream_rate = 10.0;
+  /// Camera images reach live receivers at most this often [Hz] (and at most stream_rate): a
+  /// camera panel shows what the robot sees, which a person follows at 5 Hz as well as at 10,
+  /// and images are most of the stream's bytes and of its work (shrinking, JPEG).
+  double image_rate = 5.0;
   /// Messages waiting for the worker at most; beyond, the oldest stream message is dropped.
   size_t inbox_capacity = 512;
 };
@@ -86,7 +96,8 @@ class ViewHub final : public view::Publisher {
   void clearLatched();
   /// Waits until every message published so far was delivered (tests, the end of a run).
   void flush();
-  /// Messages dropped because the worker fell behind (the inbox was full).
+  /// Messages dropped because the worker fell behind (the inbox was full, or a newer message of
+  /// a live stream channel replaced one still waiting in it).
   uint64_t dropped() const;
 
  private:
@@ -105,6 +116,8 @@ class ViewHub final : public view::Publisher {
   struct Channel {
     ViewChannel info;
     std::chrono::steady_clock::time_point next_live{};
+    std::chrono::steady_clock::duration live_period{};  // between live messages
+    int in_hub = 0;            // live messages of it in the inbox or being delivered
     bool pending = false;      // kLast: the stored message was not delivered live yet (rate)
     bool live_wanted = false;  // some live receiver wants it (cached by the worker)
     bool full_wanted = false;  // a full-rate receiver wants it
@@ -112,6 +125,7 @@ class ViewHub final : public view::Publisher {
   };
   void run();
   void refreshWants();  // under mutex_
+  bool liveReady(const Channel& c) const;  // under mutex_: a live receiver took the last one
   std::shared_ptr<const std::string> encode(const Channel& c, const view::Drawable& d) const;
 
   ViewHubOptions options_;

@@ -162,7 +162,9 @@ void ViewStream::frame(const Frame& frame, const Pipeline& pipeline, uint64_t fr
     const std::string in = infos != 1                    ? cameraFrame(p.name())
                            : (index == 1 && has_second) ? secondFrame(info_name)
                                                         : cameraFrame(info_name);
-    channel.publish(view::CameraImage{in, static_cast<const Property<Image>&>(p).value()});
+    // Shrunk to the viewers' size while copied: the frame's image is not ours to keep, and a
+    // full-size copy per frame was most of what viewing cost the run.
+    channel.publish(view::CameraImage{in, viewImage(static_cast<const Property<Image>&>(p).value())});
   }
 
   // Local maps: a frame in a new map closes the previous one, which goes out whole, once.

@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <iostream>
 
 #include "editor/config_editor.h"
@@ -14,6 +15,11 @@ namespace {
 
 // A viewer that connects late still gets this many of the last log lines.
 constexpr uint64_t kLogLinesKept = 200;
+
+// The end of a run waits at most this long for its viewers to receive what the byte budget held
+// back: at the default 1 MB/s, 30 MB of maps (a large 2D session's grids), and not so long that
+// a script waiting for the host to exit seems hung.
+constexpr double kDrainSeconds = 30;
 
 // The log, as the /log channel (foxglove.Log); lines from any thread. The last lines are latched
 // in a ring of keys, so a late viewer sees what happened (ordered by their timestamps).
@@ -84,6 +90,12 @@ void addViewerOptions(CLI::App& cmd, ViewerOptions& o, bool run_options) {
                  "(recordings get every message)")
       ->capture_default_str()
       ->check(CLI::Range(0.1, 1000.0));
+  cmd.add_option("--view-budget", o.budget,
+                 "at most this many MB per second to each live viewer for maps, grids, images and "
+                 "scans (status, pose and frames always go first); what waits is replaced by "
+                 "newer versions. 1: a Wi-Fi link to a robot; 0: no limit")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 10000.0));
   if (!run_options) return;
   cmd.add_flag("--paused", o.paused,
                "with --serve: wait before the first frame until a viewer resumes or steps the run");
@@ -117,6 +129,7 @@ void Viewer::serve(ViewControl* control) {
   ViewServerOptions o;
   parseServeAddress(options_.serve, o);
   o.allow_remote = options_.remote;
+  o.budget = options_.budget * 1e6;
   o.web_root = findWebRoot(options_.web_root);
   if (!options_.edit_root.empty()) editor::setEditorRoot(options_.edit_root);
   server_ = std::make_unique<FoxgloveServer>(*hub_, control, o);
@@ -127,6 +140,18 @@ void Viewer::serve(ViewControl* control) {
   std::cout << "serving " << url << " (page: " << page << "/"
             << (o.web_root.empty() ? ", not installed: connect Foxglove or Lichtblick" : "") << ")"
             << std::endl;
+}
+
+void Viewer::drain() {
+  if (!hub_ || !server_) return;
+  hub_->flush();
+  const auto start = std::chrono::steady_clock::now();
+  const bool all = server_->drain(kDrainSeconds);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (seconds > 0.5 || !all)
+    spdlog::info("viewer: {:.1f} s sending viewers what --view-budget held back{}", seconds,
+                 all ? "" : " (stopped waiting: a viewer reads too slowly)");
 }
 
 void Viewer::stop() {

@@ -26,6 +26,7 @@ struct ViewerOptions {
   std::string edit_root;              ///< --root: where the config editor may save
   std::string record;                 ///< --record FILE.mcap
   double rate = ViewHubOptions{}.stream_rate;  ///< --view-rate
+  double budget = ViewServerOptions{}.budget / 1e6;  ///< --view-budget [MB/s], 0: no limit
   bool paused = false;                ///< --paused: wait for a viewer before the first frame
   bool keep_serving = false;          ///< --keep-serving: serve the result until Ctrl-C
   /// True when anything was asked for.
@@ -56,6 +57,9 @@ class Viewer {
   ViewStream& stream() { return *stream_; }
   /// The server, or null.
   FoxgloveServer* server() { return server_.get(); }
+  /// The run ended (not interrupted): waits, at most kDrainSeconds, until the clients that still
+  /// read got what waits for them (the end of a run held back by --view-budget).
+  void drain();
   /// Removes the publisher, finishes the recording and stops the server; throws when the
   /// recording could not be completed.
   void stop();

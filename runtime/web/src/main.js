@@ -54,14 +54,26 @@ setInterval(() => {
   const c = view.counts();
   rows.push(`<tr><td>drawn</td><td>${c.localMaps} maps, ${c.mapPoints} points, ${view.fps().toFixed(0)} fps</td></tr>`);
   $("status").innerHTML = rows.join("");
-  const img = [...session.images.entries()][0];
-  if (img) {
-    const [topic, { format, data }] = img;
+  // Every camera image, one panel each (a stereo pair's left and right, RGB-D's colour and depth).
+  const box = $("cameras");
+  for (const [topic, { format, data }] of session.images) {
+    let panel = [...box.children].find((f) => f.dataset.topic === topic);
+    if (!panel) {
+      panel = document.createElement("figure");
+      panel.dataset.topic = topic;
+      const title = document.createElement("figcaption");
+      title.className = "muted";
+      title.textContent = topic;
+      panel.append(title, document.createElement("img"));
+      // In topic order, so /camera/left comes before /camera/right whichever arrived first.
+      const next = [...box.children].find((f) => f.dataset.topic > topic);
+      box.insertBefore(panel, next || null);
+    }
+    const img = panel.querySelector("img");
     const src = `data:image/${format || "jpeg"};base64,${data}`;
-    if ($("camera").dataset.src !== src) {
-      $("camera").src = src;
-      $("camera").dataset.src = src;
-      $("camera-title").textContent = topic;
+    if (img.dataset.src !== src) {
+      img.src = src;
+      img.dataset.src = src;
     }
   }
   $("log").textContent = session.log.slice(-8).map((l) => l.message).join("\n");

@@ -46,6 +46,15 @@ test("the page draws a session fed to it", { skip: missing || false }, async () 
     assert.equal(c.scanPoints, 360);
     // The status panel shows the /status message.
     await page.waitForFunction(() => document.querySelector('[data-status="local_maps"]')?.textContent === "60");
+    // Every camera image gets its own panel, in topic order (the right one arrives first here).
+    const pixel = "iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAAAAAA6fptVAAAACklEQVR4nGNgAAAAAgABSK+kcQAAAABJRU5ErkJggg==";
+    await page.evaluate((data) => {
+      for (const side of ["right", "left"])
+        window.plugslamView.ingest(`/camera/${side}/image`, { timestamp: { sec: 1, nsec: 0 }, frame_id: `camera/${side}`, format: "png", data });
+    }, pixel);
+    await page.waitForFunction(() => document.querySelectorAll("#cameras figure img[src]").length === 2);
+    assert.deepEqual(await page.evaluate(() => [...document.querySelectorAll("#cameras figure")].map((f) => f.dataset.topic)),
+      ["/camera/left/image", "/camera/right/image"]);
     // Something is drawn where the robot is: without the metre grid, the canvas centre is not
     // all background colour.
     await page.evaluate(() => (window.plugslamView.view.grid.visible = false));

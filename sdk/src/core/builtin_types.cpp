@@ -15,10 +15,22 @@
 #include "plugslam/multi_tracker.h"
 #include "plugslam/pipeline.h"
 #include "plugslam/proximity_detector.h"
+#include "plugslam/view/drawers.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
 void registerBuiltinTypes(Registrar& registrar) {
+  // Viewers show the landmark cue's map points (/map/landmarks), in the colour last seen.
+  view::Drawers::instance().add<LandmarkMap>(
+      registrar.plugin(), [](const LandmarkMap& map, view::PointCloud& out) {
+        out.points.reserve(map.size());
+        for (const auto& p : map.positions) out.points.push_back(p.cast<float>());
+        if (map.colours.size() != map.size()) return;
+        out.colors.reserve(map.size());
+        for (uint32_t c : map.colours)
+          out.colors.push_back({static_cast<uint8_t>(c >> 16), static_cast<uint8_t>(c >> 8),
+                                static_cast<uint8_t>(c), 255});
+      });
   registrar.add<Pipeline>("Pipeline", "the processing chain: preprocessors, tracker, graph");
   registrar.add<MultiAligner<Space2D>>("MultiAligner2D",
                                        "one least-squares solve on an SE2 pose, one slice per cue");
