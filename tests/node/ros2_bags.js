@@ -9,6 +9,8 @@
 // node's zlib) in .db3, CameraInfo from calib.txt, the stamps of times.txt.
 //   node ros2_bags.js IN.bag OUT_DIR            writes the bags listed in OUT_DIR/bags.json
 //   node ros2_bags.js --kitti SEQ_DIR OUT_DIR   writes the stereo bags listed in OUT_DIR/stereo.json
+//   node ros2_bags.js --tum SEQ_DIR OUT_DIR FX FY CX CY   the RGB-D bags (OUT_DIR/rgbd.json) of a
+//                                             TUM-layout run (colour + 16-bit depth, 5000 per metre)
 // Exit 77 (CTest's skip) when the npm packages are missing. The bags are build artifacts.
 "use strict";
 const fs = require("fs");
@@ -278,7 +280,7 @@ function cameraMessages() {
 function decodePng(bytes, name) {
   const sig = [0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a];
   if (!sig.every((b, i) => bytes[i] === b)) throw new Error(`${name}: not a PNG`);
-  let at = 8, width = 0, height = 0, channels = 0;
+  let at = 8, width = 0, height = 0, channels = 0, bits = 8;
   const idat = [];
   while (at < bytes.length) {
     const len = bytes.readUInt32BE(at);
@@ -289,21 +291,24 @@ function decodePng(bytes, name) {
       height = body.readUInt32BE(4);
       const [depth, colour, , , interlace] = body.subarray(8, 13);
       channels = { 0: 1, 2: 3 }[colour];
-      if (depth !== 8 || !channels || interlace !== 0) throw new Error(`${name}: not 8-bit grey/RGB, non-interlaced`);
+      bits = depth;
+      if ((depth !== 8 && !(depth === 16 && colour === 0)) || !channels || interlace !== 0)
+        throw new Error(`${name}: not 8-bit grey/RGB or 16-bit grey, non-interlaced`);
     } else if (type === "IDAT") idat.push(body);
     else if (type === "IEND") break;
     at += 12 + len;
   }
   const raw = zlib.inflateSync(Buffer.concat(idat));
-  const stride = width * channels;
+  const bpp = channels * bits / 8;  // bytes per pixel: the filters' left neighbour
+  const stride = width * bpp;
   const out = Buffer.alloc(stride * height);
   for (let y = 0; y < height; ++y) {
     const filter = raw[y * (stride + 1)];
     const line = raw.subarray(y * (stride + 1) + 1, (y + 1) * (stride + 1));
     for (let x = 0; x < stride; ++x) {
-      const a = x >= channels ? out[y * stride + x - channels] : 0;
+      const a = x >= bpp ? out[y * stride + x - bpp] : 0;
       const b = y > 0 ? out[(y - 1) * stride + x] : 0;
-      const c = x >= channels && y > 0 ? out[(y - 1) * stride + x - channels] : 0;
+      const c = x >= bpp && y > 0 ? out[(y - 1) * stride + x - bpp] : 0;
       let v = line[x];
       if (filter === 1) v += a;
       else if (filter === 2) v += b;
@@ -315,7 +320,7 @@ function decodePng(bytes, name) {
       out[y * stride + x] = v & 0xff;
     }
   }
-  return { width, height, channels, pixels: out };
+  return { width, height, channels, bits, pixels: out };  // 16 bits: big-endian samples
 }
 
 // A KITTI odometry sequence folder (image_0/, image_1/, calib.txt, times.txt) as the messages of
@@ -370,6 +375,78 @@ function kittiMessages(dir, { compressed }) {
   return out;
 }
 
+// A TUM RGB-D sequence folder (rgb.txt, depth.txt, 16-bit depth PNGs of `depthScale` per metre)
+// as an RGB-D camera's messages, depth aligned to colour: colour as rgb8 Image, or (`compressed`)
+// CompressedImage (the PNG bytes); depth as 32FC1 metres, the float io.TumRgbdSource computes
+// (the 16-bit value times float(1/scale), rounded to float), 0 and 65535 none.
+function tumMessages(dir, { compressed, fx, fy, cx, cy, depthScale = 5000 }) {
+  const list = (f) => fs.readFileSync(path.join(dir, f), "utf8").split("\n")
+    .filter((l) => l.trim() && !l.startsWith("#")).map((l) => l.trim().split(/\s+/));
+  const rgb = list("rgb.txt"), depth = list("depth.txt");
+  if (rgb.length !== depth.length || rgb.some((r, k) => r[0] !== depth[k][0]))
+    throw new Error(`${dir}: rgb.txt and depth.txt do not list the same stamps`);
+  const stampOf = (text) => {
+    const t = Number(text), sec = Math.floor(t);
+    return { sec, nanosec: Math.round((t - sec) * 1e9) };
+  };
+  const nsOf = (s) => BigInt(s.sec) * 1000000000n + BigInt(s.nanosec);
+  const first = decodePng(fs.readFileSync(path.join(dir, rgb[0][1])), rgb[0][1]);
+  const frame = "camera_color_optical_frame";
+  const t0 = stampOf(rgb[0][0]);
+  const out = [];
+  const add = (topic, type, logTime, m) => out.push({ topic, type, logTime, data: serialize(type, m) });
+  add("/camera/color/camera_info", "sensor_msgs/msg/CameraInfo", nsOf(t0), {
+    header: { stamp: t0, frame_id: frame }, height: first.height, width: first.width,
+    distortion_model: "plumb_bob", d: [0, 0, 0, 0, 0], k: [fx, 0, cx, 0, fy, cy, 0, 0, 1],
+    r: [1, 0, 0, 0, 1, 0, 0, 0, 1], p: [fx, 0, cx, 0, 0, fy, cy, 0, 0, 0, 1, 0], binning_x: 0, binning_y: 0,
+    roi: { x_offset: 0, y_offset: 0, height: 0, width: 0, do_rectify: false },
+  });
+  const scale = Math.fround(1 / depthScale);
+  rgb.forEach(([t, file], k) => {
+    const stamp = stampOf(t);
+    const header = { stamp, frame_id: frame };
+    const bytes = fs.readFileSync(path.join(dir, file));
+    if (compressed) {
+      add("/camera/color/image_raw", "sensor_msgs/msg/CompressedImage", nsOf(stamp), { header, format: "rgb8; png compressed", data: bytes });
+    } else {
+      const im = decodePng(bytes, file);
+      if (im.channels !== 3) throw new Error(`${file}: not RGB`);
+      add("/camera/color/image_raw", "sensor_msgs/msg/Image", nsOf(stamp),
+          { header, height: im.height, width: im.width, encoding: "rgb8", is_bigendian: 0, step: 3 * im.width, data: im.pixels });
+    }
+    const d = decodePng(fs.readFileSync(path.join(dir, depth[k][1])), depth[k][1]);
+    if (d.bits !== 16) throw new Error(`${depth[k][1]}: not a 16-bit depth image`);
+    const metres = new Float32Array(d.width * d.height);
+    for (let i = 0; i < metres.length; ++i) {
+      const v = d.pixels.readUInt16BE(2 * i);
+      metres[i] = v === 0 || v === 65535 ? 0 : Math.fround(v * scale);
+    }
+    add("/camera/aligned_depth_to_color/image_raw", "sensor_msgs/msg/Image", nsOf(stamp),
+        { header, height: d.height, width: d.width, encoding: "32FC1", is_bigendian: 0, step: 4 * d.width,
+          data: new Uint8Array(metres.buffer) });
+  });
+  return out;
+}
+
+// node ros2_bags.js --tum SEQ OUT FX FY CX CY: the RGB-D bags of a TUM-layout sequence.
+async function tumMain(seq, outDir, k) {
+  fs.mkdirSync(outDir, { recursive: true });
+  const [fx, fy, cx, cy] = k.map(Number);
+  if (![fx, fy, cx, cy].every(Number.isFinite)) throw new Error("--tum needs FX FY CX CY");
+  const out = (f) => path.join(outDir, f);
+  const bags = {};
+  const raw = tumMessages(seq, { compressed: false, fx, fy, cx, cy });
+  await writeMcap(out("rgbd.mcap"), raw, {});
+  bags.rgbd_mcap = out("rgbd.mcap");
+  const compressed = tumMessages(seq, { compressed: true, fx, fy, cx, cy });
+  fs.mkdirSync(out("rgbd_db3"), { recursive: true });
+  await writeDb3(path.join(out("rgbd_db3"), "rgbd_db3_0.db3"), compressed);
+  writeMetadata(out("rgbd_db3"), "sqlite3", ["rgbd_db3_0.db3"], compressed);
+  bags.rgbd_db3 = out("rgbd_db3");
+  fs.writeFileSync(out("rgbd.json"), JSON.stringify(bags, null, 1));
+  console.log(`wrote ${Object.keys(bags).length} RGB-D bags of ${raw.length} messages into ${outDir}`);
+}
+
 async function kittiMain(seq, outDir) {
   await deps.zstd.isLoaded;
   fs.mkdirSync(outDir, { recursive: true });
@@ -389,6 +466,7 @@ async function kittiMain(seq, outDir) {
 
 async function main() {
   if (process.argv[2] === "--kitti") return kittiMain(process.argv[3], process.argv[4]);
+  if (process.argv[2] === "--tum") return tumMain(process.argv[3], process.argv[4], process.argv.slice(5, 9));
   const [input, outDir] = process.argv.slice(2);
   if (!input || !outDir) {
     console.error("usage: node ros2_bags.js IN.bag OUT_DIR");
