@@ -236,6 +236,7 @@ void Ros2BagSource::configure() {
   calibration_ = CameraInfo{};
   has_camera_ = false;
   skipped_images_ = 0;
+  skips_summarized_ = false;
   bag_.reset();  // `path` may have changed since the last configure()
   static_loaded_ = false;
   if (images().empty() && !depth().empty())
@@ -265,9 +266,10 @@ void Ros2BagSource::configure() {
 
 bool Ros2BagSource::next(Frame& frame) {
   if (!BagSource::next(frame)) {
-    if (skipped_images_ > 0)
+    if (skipped_images_ > 0 && !skips_summarized_)
       spdlog::warn("{}: skipped {} image message(s) that did not decode or fit the calibration",
                    bagName(), skipped_images_);
+    skips_summarized_ = true;
     return false;
   }
   if (has_camera_) frame.raw.set<CameraInfo>(camera(), calibration_);

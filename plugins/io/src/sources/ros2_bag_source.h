@@ -104,6 +104,7 @@ class Ros2BagSource : public BagSource {
   CameraInfo calibration_;
   bool has_camera_ = false;
   std::size_t skipped_images_ = 0;
+  bool skips_summarized_ = false;  // the end-of-bag count of skipped images was given
 };
 
 }  // namespace io
