@@ -233,5 +233,43 @@ TEST(McapReader, ABadSummaryCrcIsAnError) {
   EXPECT_THROW(Reader::fromBytes("summary.mcap", bytes), ParseError);
 }
 
+uint64_t le64At(const std::string& bytes, size_t at) {
+  uint64_t v = 0;
+  for (int k = 0; k < 8; ++k) v |= uint64_t{static_cast<uint8_t>(bytes[at + k])} << (8 * k);
+  return v;
+}
+
+// Data End's data_section_crc covers the bytes no other CRC does: those between the chunks (the
+// message indexes), which a scan does not use but which say the file was damaged.
+TEST(McapReader, ADamagedDataSectionIsAnErrorWhenScannedUnlessItsCrcIsUnset) {
+  plugslam::testing::TempDir dir;
+  std::string bytes = slurp(makeFile(dir, ""));
+  const size_t chunk = 8 + 9 + le64At(bytes, 8 + 1);
+  const size_t index = chunk + 9 + le64At(bytes, chunk + 1);  // the first chunk's message index
+  ASSERT_EQ(bytes[index], static_cast<char>(Op::kMessageIndex));
+  bytes[index + 9 + 2 + 4 + 3] ^= 0x01;  // its first entry's log time
+  ReaderOptions scan;
+  scan.use_summary = false;
+  try {
+    auto r = Reader::fromBytes("data.mcap", bytes, scan);
+    readAll(*r);
+    FAIL() << "no error";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.file(), "data.mcap");
+    EXPECT_NE(std::string(e.what()).find("data section CRC mismatch"), std::string::npos)
+        << e.what();
+  }
+  // The indexed read uses chunks whose own CRCs hold: it reads them all.
+  auto indexed = Reader::fromBytes("data.mcap", bytes);
+  EXPECT_EQ(drain(*indexed), 80u);
+  // Data End sits right before the summary; a CRC of 0 means the writer computed none.
+  const size_t footer = bytes.size() - 8 - 29;
+  const uint64_t summary = le64At(bytes, footer + 9);
+  ASSERT_EQ(bytes[summary - 13], static_cast<char>(Op::kDataEnd));
+  for (size_t k = 0; k < 4; ++k) bytes[summary - 4 + k] = 0;
+  auto unset = Reader::fromBytes("data.mcap", bytes, scan);
+  EXPECT_EQ(drain(*unset), 80u);
+}
+
 }  // namespace
 }  // namespace plugslam::mcap

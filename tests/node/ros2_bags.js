@@ -3,12 +3,19 @@
 // ROS 2 .msg definitions parsed by @foxglove/rosmsg), written as MCAP by @mcap/core (chunks
 // uncompressed, lz4 by lz4js, zstd by @foxglove/wasm-zstd; indexed or not) and as rosbag2 SQLite
 // by sql.js. Plus a small camera bag (Image, CompressedImage, CameraInfo, TFMessage) of known
-// values for the CDR decoders.
-//   node ros2_bags.js IN.bag OUT_DIR    writes the bags listed in OUT_DIR/bags.json
+// values for the CDR decoders. And a camera run in the KITTI odometry layout (a simulated one:
+// io.ImageSequenceWriter) as the stereo bags a ROS 2 camera driver would record: the pair as
+// CompressedImage (the PNG files' bytes) in MCAP and as raw mono8 Image (decoded here with
+// node's zlib) in .db3, CameraInfo from calib.txt, the stamps of times.txt.
+//   node ros2_bags.js IN.bag OUT_DIR            writes the bags listed in OUT_DIR/bags.json
+//   node ros2_bags.js --kitti SEQ_DIR OUT_DIR   writes the stereo bags listed in OUT_DIR/stereo.json
+//   node ros2_bags.js --tum SEQ_DIR OUT_DIR FX FY CX CY   the RGB-D bags (OUT_DIR/rgbd.json) of a
+//                                             TUM-layout run (colour + 16-bit depth, 5000 per metre)
 // Exit 77 (CTest's skip) when the npm packages are missing. The bags are build artifacts.
 "use strict";
 const fs = require("fs");
 const path = require("path");
+const zlib = require("zlib");
 
 const SKIP = 77;
 let deps;
@@ -268,7 +275,198 @@ function cameraMessages() {
   return list.map(([topic, type, m], i) => ({ topic, type, logTime: ns + BigInt(i), data: serialize(type, m) }));
 }
 
+// A PNG as written by plugslam's encoder (8-bit grey or RGB, not interlaced):
+// {width, height, channels, pixels (rows without filter bytes)}. Throws on anything else.
+function decodePng(bytes, name) {
+  const sig = [0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a];
+  if (!sig.every((b, i) => bytes[i] === b)) throw new Error(`${name}: not a PNG`);
+  let at = 8, width = 0, height = 0, channels = 0, bits = 8;
+  const idat = [];
+  while (at < bytes.length) {
+    const len = bytes.readUInt32BE(at);
+    const type = bytes.toString("latin1", at + 4, at + 8);
+    const body = bytes.subarray(at + 8, at + 8 + len);
+    if (type === "IHDR") {
+      width = body.readUInt32BE(0);
+      height = body.readUInt32BE(4);
+      const [depth, colour, , , interlace] = body.subarray(8, 13);
+      channels = { 0: 1, 2: 3 }[colour];
+      bits = depth;
+      if ((depth !== 8 && !(depth === 16 && colour === 0)) || !channels || interlace !== 0)
+        throw new Error(`${name}: not 8-bit grey/RGB or 16-bit grey, non-interlaced`);
+    } else if (type === "IDAT") idat.push(body);
+    else if (type === "IEND") break;
+    at += 12 + len;
+  }
+  const raw = zlib.inflateSync(Buffer.concat(idat));
+  const bpp = channels * bits / 8;  // bytes per pixel: the filters' left neighbour
+  const stride = width * bpp;
+  const out = Buffer.alloc(stride * height);
+  for (let y = 0; y < height; ++y) {
+    const filter = raw[y * (stride + 1)];
+    const line = raw.subarray(y * (stride + 1) + 1, (y + 1) * (stride + 1));
+    for (let x = 0; x < stride; ++x) {
+      const a = x >= bpp ? out[y * stride + x - bpp] : 0;
+      const b = y > 0 ? out[(y - 1) * stride + x] : 0;
+      const c = x >= bpp && y > 0 ? out[(y - 1) * stride + x - bpp] : 0;
+      let v = line[x];
+      if (filter === 1) v += a;
+      else if (filter === 2) v += b;
+      else if (filter === 3) v += (a + b) >> 1;
+      else if (filter === 4) {
+        const p = a + b - c, pa = Math.abs(p - a), pb = Math.abs(p - b), pc = Math.abs(p - c);
+        v += pa <= pb && pa <= pc ? a : pb <= pc ? b : c;
+      } else if (filter !== 0) throw new Error(`${name}: PNG filter ${filter}`);
+      out[y * stride + x] = v & 0xff;
+    }
+  }
+  return { width, height, channels, bits, pixels: out };  // 16 bits: big-endian samples
+}
+
+// A KITTI odometry sequence folder (image_0/, image_1/, calib.txt, times.txt) as the messages of
+// a ROS 2 stereo camera: `compressed` = CompressedImage (the files' PNG bytes), else mono8 Image.
+function kittiMessages(dir, { compressed }) {
+  const calib = {};
+  for (const line of fs.readFileSync(path.join(dir, "calib.txt"), "utf8").split("\n")) {
+    const m = line.match(/^(P[0-3]):\s*(.*)$/);
+    if (m) calib[m[1]] = m[2].trim().split(/\s+/).map(Number);
+  }
+  const times = fs.readFileSync(path.join(dir, "times.txt"), "utf8").trim().split(/\s+/).map(Number);
+  const files = fs.readdirSync(path.join(dir, "image_0")).filter((f) => /^\d+\.png$/.test(f)).sort();
+  if (files.length !== times.length) throw new Error(`${dir}: ${files.length} images, ${times.length} times`);
+  // The stamp as ROS writes it: whole seconds and nanoseconds.
+  const stampOf = (t) => {
+    const sec = Math.floor(t);
+    return { sec, nanosec: Math.round((t - sec) * 1e9) };
+  };
+  const nsOf = (s) => BigInt(s.sec) * 1000000000n + BigInt(s.nanosec);
+  const first = decodePng(fs.readFileSync(path.join(dir, "image_0", files[0])), files[0]);
+  const info = (frame, P) => ({
+    header: { stamp: stampOf(times[0]), frame_id: frame }, height: first.height, width: first.width,
+    distortion_model: "plumb_bob", d: [0, 0, 0, 0, 0],
+    k: [P[0], P[1], P[2], P[4], P[5], P[6], P[8], P[9], P[10]], r: [1, 0, 0, 0, 1, 0, 0, 0, 1], p: P,
+    binning_x: 0, binning_y: 0, roi: { x_offset: 0, y_offset: 0, height: 0, width: 0, do_rectify: false },
+  });
+  const t0 = nsOf(stampOf(times[0]));
+  const out = [];
+  const add = (topic, type, logTime, m) => out.push({ topic, type, logTime, data: serialize(type, m) });
+  // The left camera is the robot frame here, as io.KittiSource takes camera 0's poses.
+  add("/tf_static", "tf2_msgs/msg/TFMessage", t0, { transforms: [{
+    header: { stamp: stampOf(times[0]), frame_id: "base_link" }, child_frame_id: "left_camera_optical",
+    transform: { translation: { x: 0, y: 0, z: 0 }, rotation: { x: 0, y: 0, z: 0, w: 1 } } }] });
+  add("/stereo/left/camera_info", "sensor_msgs/msg/CameraInfo", t0, info("left_camera_optical", calib.P0));
+  add("/stereo/right/camera_info", "sensor_msgs/msg/CameraInfo", t0, info("right_camera_optical", calib.P1));
+  files.forEach((f, k) => {
+    const stamp = stampOf(times[k]);
+    for (const [side, folder] of [["left", "image_0"], ["right", "image_1"]]) {
+      const bytes = fs.readFileSync(path.join(dir, folder, f));
+      const header = { stamp, frame_id: `${side}_camera_optical` };
+      if (compressed) {
+        add(`/stereo/${side}/image_rect`, "sensor_msgs/msg/CompressedImage", nsOf(stamp),
+            { header, format: "mono8; png compressed", data: bytes });
+      } else {
+        const im = decodePng(bytes, f);
+        if (im.channels !== 1) throw new Error(`${f}: not grey`);
+        add(`/stereo/${side}/image_rect`, "sensor_msgs/msg/Image", nsOf(stamp),
+            { header, height: im.height, width: im.width, encoding: "mono8", is_bigendian: 0, step: im.width, data: im.pixels });
+      }
+    }
+  });
+  return out;
+}
+
+// A TUM RGB-D sequence folder (rgb.txt, depth.txt, 16-bit depth PNGs of `depthScale` per metre)
+// as an RGB-D camera's messages, depth aligned to colour: colour as rgb8 Image, or (`compressed`)
+// CompressedImage (the PNG bytes); depth as 32FC1 metres, the float io.TumRgbdSource computes
+// (the 16-bit value times float(1/scale), rounded to float), 0 and 65535 none.
+function tumMessages(dir, { compressed, fx, fy, cx, cy, depthScale = 5000 }) {
+  const list = (f) => fs.readFileSync(path.join(dir, f), "utf8").split("\n")
+    .filter((l) => l.trim() && !l.startsWith("#")).map((l) => l.trim().split(/\s+/));
+  const rgb = list("rgb.txt"), depth = list("depth.txt");
+  if (rgb.length !== depth.length || rgb.some((r, k) => r[0] !== depth[k][0]))
+    throw new Error(`${dir}: rgb.txt and depth.txt do not list the same stamps`);
+  const stampOf = (text) => {
+    const t = Number(text), sec = Math.floor(t);
+    return { sec, nanosec: Math.round((t - sec) * 1e9) };
+  };
+  const nsOf = (s) => BigInt(s.sec) * 1000000000n + BigInt(s.nanosec);
+  const first = decodePng(fs.readFileSync(path.join(dir, rgb[0][1])), rgb[0][1]);
+  const frame = "camera_color_optical_frame";
+  const t0 = stampOf(rgb[0][0]);
+  const out = [];
+  const add = (topic, type, logTime, m) => out.push({ topic, type, logTime, data: serialize(type, m) });
+  add("/camera/color/camera_info", "sensor_msgs/msg/CameraInfo", nsOf(t0), {
+    header: { stamp: t0, frame_id: frame }, height: first.height, width: first.width,
+    distortion_model: "plumb_bob", d: [0, 0, 0, 0, 0], k: [fx, 0, cx, 0, fy, cy, 0, 0, 1],
+    r: [1, 0, 0, 0, 1, 0, 0, 0, 1], p: [fx, 0, cx, 0, 0, fy, cy, 0, 0, 0, 1, 0], binning_x: 0, binning_y: 0,
+    roi: { x_offset: 0, y_offset: 0, height: 0, width: 0, do_rectify: false },
+  });
+  const scale = Math.fround(1 / depthScale);
+  rgb.forEach(([t, file], k) => {
+    const stamp = stampOf(t);
+    const header = { stamp, frame_id: frame };
+    const bytes = fs.readFileSync(path.join(dir, file));
+    if (compressed) {
+      add("/camera/color/image_raw", "sensor_msgs/msg/CompressedImage", nsOf(stamp), { header, format: "rgb8; png compressed", data: bytes });
+    } else {
+      const im = decodePng(bytes, file);
+      if (im.channels !== 3) throw new Error(`${file}: not RGB`);
+      add("/camera/color/image_raw", "sensor_msgs/msg/Image", nsOf(stamp),
+          { header, height: im.height, width: im.width, encoding: "rgb8", is_bigendian: 0, step: 3 * im.width, data: im.pixels });
+    }
+    const d = decodePng(fs.readFileSync(path.join(dir, depth[k][1])), depth[k][1]);
+    if (d.bits !== 16) throw new Error(`${depth[k][1]}: not a 16-bit depth image`);
+    const metres = new Float32Array(d.width * d.height);
+    for (let i = 0; i < metres.length; ++i) {
+      const v = d.pixels.readUInt16BE(2 * i);
+      metres[i] = v === 0 || v === 65535 ? 0 : Math.fround(v * scale);
+    }
+    add("/camera/aligned_depth_to_color/image_raw", "sensor_msgs/msg/Image", nsOf(stamp),
+        { header, height: d.height, width: d.width, encoding: "32FC1", is_bigendian: 0, step: 4 * d.width,
+          data: new Uint8Array(metres.buffer) });
+  });
+  return out;
+}
+
+// node ros2_bags.js --tum SEQ OUT FX FY CX CY: the RGB-D bags of a TUM-layout sequence.
+async function tumMain(seq, outDir, k) {
+  fs.mkdirSync(outDir, { recursive: true });
+  const [fx, fy, cx, cy] = k.map(Number);
+  if (![fx, fy, cx, cy].every(Number.isFinite)) throw new Error("--tum needs FX FY CX CY");
+  const out = (f) => path.join(outDir, f);
+  const bags = {};
+  const raw = tumMessages(seq, { compressed: false, fx, fy, cx, cy });
+  await writeMcap(out("rgbd.mcap"), raw, {});
+  bags.rgbd_mcap = out("rgbd.mcap");
+  const compressed = tumMessages(seq, { compressed: true, fx, fy, cx, cy });
+  fs.mkdirSync(out("rgbd_db3"), { recursive: true });
+  await writeDb3(path.join(out("rgbd_db3"), "rgbd_db3_0.db3"), compressed);
+  writeMetadata(out("rgbd_db3"), "sqlite3", ["rgbd_db3_0.db3"], compressed);
+  bags.rgbd_db3 = out("rgbd_db3");
+  fs.writeFileSync(out("rgbd.json"), JSON.stringify(bags, null, 1));
+  console.log(`wrote ${Object.keys(bags).length} RGB-D bags of ${raw.length} messages into ${outDir}`);
+}
+
+async function kittiMain(seq, outDir) {
+  await deps.zstd.isLoaded;
+  fs.mkdirSync(outDir, { recursive: true });
+  const out = (f) => path.join(outDir, f);
+  const bags = {};
+  const compressed = kittiMessages(seq, { compressed: true });
+  await writeMcap(out("stereo_png_zstd.mcap"), compressed, { compression: "zstd" });
+  bags.stereo_mcap = out("stereo_png_zstd.mcap");
+  const raw = kittiMessages(seq, { compressed: false });
+  fs.mkdirSync(out("stereo_db3"), { recursive: true });
+  await writeDb3(path.join(out("stereo_db3"), "stereo_db3_0.db3"), raw);
+  writeMetadata(out("stereo_db3"), "sqlite3", ["stereo_db3_0.db3"], raw);
+  bags.stereo_db3 = out("stereo_db3");
+  fs.writeFileSync(out("stereo.json"), JSON.stringify(bags, null, 1));
+  console.log(`wrote ${Object.keys(bags).length} stereo bags of ${raw.length} messages into ${outDir}`);
+}
+
 async function main() {
+  if (process.argv[2] === "--kitti") return kittiMain(process.argv[3], process.argv[4]);
+  if (process.argv[2] === "--tum") return tumMain(process.argv[3], process.argv[4], process.argv.slice(5, 9));
   const [input, outDir] = process.argv.slice(2);
   if (!input || !outDir) {
     console.error("usage: node ros2_bags.js IN.bag OUT_DIR");

@@ -20,7 +20,8 @@ PLUGSLAM_PLUGIN("io", "1.0.0", "dataset sources (CARMEN, ROS 1 and ROS 2 bags, K
                               "ROS1 bag: LaserScan topics + interpolated nav_msgs/Odometry");
   registrar.add<Ros2BagSource>("Ros2BagSource",
                                "ROS 2 bag (MCAP or .db3): LaserScan topics + interpolated "
-                               "Odometry, mounts from /tf_static");
+                               "Odometry, cameras (Image, CompressedImage, depth, CameraInfo), "
+                               "mounts from /tf_static");
   registrar.add<KittiSource>("KittiSource",
                              "KITTI odometry layout: rectified stereo, calib.txt, times.txt, poses");
   registrar.add<KittiRawSource>("KittiRawSource",

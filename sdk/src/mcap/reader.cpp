@@ -114,6 +114,9 @@ struct Reader::Impl {
   std::vector<ChunkIndex> chunks;  // in reading order
   size_t next_chunk = 0;
   uint64_t position = 0;  // linear scan: the next top-level record
+  // Linear scan: the CRC of the bytes [0, data_crc_to) read so far, for Data End's check.
+  uint32_t data_crc = 0;
+  uint64_t data_crc_to = 0;
   bool done = false;
   std::deque<ReadMessage> queue;
 
@@ -155,6 +158,8 @@ struct Reader::Impl {
     }
     stats.bytes = size;
     position = sizeof(kMagic);
+    data_crc = crc32(kMagic, sizeof(kMagic));
+    data_crc_to = position;
     if (size - position < kPrefix || read(position, 1)[0] != static_cast<char>(Op::kHeader)) {
       fail(position, "expected the header record after the magic");
     }
@@ -379,25 +384,32 @@ struct Reader::Impl {
     }
     const uint64_t at = position;
     position += kPrefix + len;
+    const std::string c = read(at + kPrefix, len);
+    if (op == Op::kDataEnd) {
+      // data_section_crc: every byte from the magic to this record; 0 = not computed.
+      if (len < 4) fail(at, "data end record of " + std::to_string(len) + " bytes (expected 4)");
+      const uint32_t stored = static_cast<uint32_t>(static_cast<uint8_t>(c[0])) |
+                              static_cast<uint32_t>(static_cast<uint8_t>(c[1])) << 8 |
+                              static_cast<uint32_t>(static_cast<uint8_t>(c[2])) << 16 |
+                              static_cast<uint32_t>(static_cast<uint8_t>(c[3])) << 24;
+      if (options.check_crc && stored != 0 && data_crc_to == at && data_crc != stored) {
+        fail(at, "data section CRC mismatch (stored " + std::to_string(stored) + ", computed " +
+                     std::to_string(data_crc) + "): bytes before it are damaged");
+      }
+      done = true;
+      return;
+    }
+    if (data_crc_to == at) {
+      data_crc = crc32(prefix.data(), prefix.size(), data_crc);
+      data_crc = crc32(c.data(), c.size(), data_crc);
+      data_crc_to = position;
+    }
     switch (op) {
-      case Op::kHeader: parse(read(at + kPrefix, len), at + kPrefix, header, "header"); break;
-      case Op::kSchema: {
-        const std::string c = read(at + kPrefix, len);
-        addSchema(bytesOf(c), len, at);
-        break;
-      }
-      case Op::kChannel: {
-        const std::string c = read(at + kPrefix, len);
-        addChannel(bytesOf(c), len, at);
-        break;
-      }
-      case Op::kMessage: {
-        const std::string c = read(at + kPrefix, len);
-        addMessage(bytesOf(c), len, at, at);
-        break;
-      }
-      case Op::kChunk: loadChunk(read(at + kPrefix, len), at); break;
-      case Op::kDataEnd:
+      case Op::kHeader: parse(c, at + kPrefix, header, "header"); break;
+      case Op::kSchema: addSchema(bytesOf(c), len, at); break;
+      case Op::kChannel: addChannel(bytesOf(c), len, at); break;
+      case Op::kMessage: addMessage(bytesOf(c), len, at, at); break;
+      case Op::kChunk: loadChunk(c, at); break;
       case Op::kFooter: done = true; break;
       default: break;  // indexes, attachments, metadata: not needed to read messages
     }

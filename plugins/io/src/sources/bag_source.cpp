@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <type_traits>
 
 #include "plugslam/errors.h"
 #include "plugslam/geometry.h"
@@ -38,9 +39,12 @@ BagSource::~BagSource() = default;
 
 void BagSource::configure() {
   if (path().empty()) throw ParamError("path", "required: the ROS bag to read");
-  if (scans().empty()) throw ParamError("scans", "needs at least one \"topic:entry\"");
+  const std::vector<BagStream> images = imageStreams();
+  if (scans().empty() && images.empty())
+    throw ParamError("scans", "needs at least one \"topic:entry\" (or an image topic)");
   scan_topics_.clear();
   scan_entries_.clear();
+  streams_.clear();
   std::set<std::string> entries, topics;
   for (const auto& s : scans()) {
     auto [topic, entry] = splitTopicEntry("scans", s);
@@ -48,6 +52,14 @@ void BagSource::configure() {
     if (!entries.insert(entry).second) throw ParamError("scans", "entry " + entry + " used twice");
     scan_topics_.push_back(topic);
     scan_entries_.push_back(entry);
+    streams_.push_back({BagStream::Kind::kScan, topic, entry});
+  }
+  for (const auto& s : images) {
+    if (!topics.insert(s.topic).second)
+      throw ParamError("images", "topic " + s.topic + " mapped twice");
+    if (!entries.insert(s.entry).second)
+      throw ParamError("images", "entry " + s.entry + " used twice");
+    streams_.push_back(s);
   }
   odom_topic_.clear();
   odom_entry_.clear();
@@ -75,10 +87,11 @@ void BagSource::open() {
   finished_ = false;
   latest_stamp_ = -std::numeric_limits<double>::infinity();
   primary_.clear();
-  secondary_.assign(scan_topics_.size() > 1 ? scan_topics_.size() - 1 : 0, {});
+  secondary_.assign(streams_.size() > 1 ? streams_.size() - 1 : 0, {});
   odom_.clear();
   size_hint_.reset();
   frames_without_odometry_ = 0;
+  frames_dropped_ = 0;
   frames_ = 0;
   summarized_ = false;
   replay_.restart(bagName());
@@ -102,13 +115,25 @@ void BagSource::noFramesError() const {
     topics += (topics.empty() ? "" : ", ") + info.topic + " (" + info.type + ", " +
               std::to_string(info.count) + ")";
   }
-  throw InputError(bagName() + " has no message on scan topic " + scan_topics_[0] +
+  throw InputError(bagName() + " has no " +
+                   (frames_dropped_ > 0 ? "complete frame on " : "message on ") +
+                   (streams_[0].kind == BagStream::Kind::kScan ? "scan" : "image") + " topic " +
+                   streams_[0].topic +
+                   (frames_dropped_ > 0
+                        ? " (" + std::to_string(frames_dropped_) +
+                              " messages had no partner on every image topic within "
+                              "sync_tolerance)"
+                        : "") +
                    "; its topics: " + (topics.empty() ? "none" : topics));
 }
 
 std::vector<ProvidedEntry> BagSource::provides() const {
   std::vector<ProvidedEntry> out;
-  for (const std::string& entry : scan_entries_) out.push_back({entry, typeid(LaserScan)});
+  for (const BagStream& s : streams_) {
+    if (s.kind == BagStream::Kind::kScan) out.push_back({s.entry, typeid(LaserScan)});
+    if (s.kind == BagStream::Kind::kImage) out.push_back({s.entry, typeid(Image)});
+    if (s.kind == BagStream::Kind::kDepth) out.push_back({s.entry, typeid(DepthImage)});
+  }
   if (!odom_entry_.empty()) out.push_back({odom_entry_, typeid(Odometry2D)});
   return out;
 }
@@ -148,18 +173,30 @@ bool BagSource::readOne() {
     odom_.insert(it, p);
     return true;
   }
-  const size_t i = r.scan_index;
-  LaserScanMsg& msg = r.scan;
-  if (!scan_mounts_[i]) scan_mounts_[i] = defaultMount(i, msg.header.frame_id);
+  const size_t i = r.stream;
   Stamped s;
-  s.t = stampOf(msg.header);
-  s.scan.stamp = s.t;
-  s.scan.angle_min = msg.angle_min;
-  s.scan.angle_increment = msg.angle_increment;
-  s.scan.range_min = msg.range_min;
-  s.scan.range_max = msg.range_max;
-  s.scan.ranges = std::move(msg.ranges);
-  s.scan.mount = *scan_mounts_[i];
+  if (r.kind == BagReading::Kind::kImage) {
+    s.t = stampOf(r.header);
+    r.image.stamp = s.t;
+    s.value = std::move(r.image);
+  } else if (r.kind == BagReading::Kind::kDepth) {
+    s.t = stampOf(r.header);
+    r.depth.stamp = s.t;
+    s.value = std::move(r.depth);
+  } else {
+    LaserScanMsg& msg = r.scan;
+    if (!scan_mounts_[i]) scan_mounts_[i] = defaultMount(i, msg.header.frame_id);
+    LaserScan scan;
+    s.t = stampOf(msg.header);
+    scan.stamp = s.t;
+    scan.angle_min = msg.angle_min;
+    scan.angle_increment = msg.angle_increment;
+    scan.range_min = msg.range_min;
+    scan.range_max = msg.range_max;
+    scan.ranges = std::move(msg.ranges);
+    scan.mount = *scan_mounts_[i];
+    s.value = std::move(scan);
+  }
   (i == 0 ? primary_ : secondary_[i - 1]).push_back(std::move(s));
   return true;
 }
@@ -198,13 +235,33 @@ std::optional<Eigen::Isometry2d> BagSource::odometryAt(double t) const {
   return std::nullopt;
 }
 
+namespace {
+
+void setEntry(PropertyContainer& raw, const std::string& entry,
+              std::variant<LaserScan, Image, DepthImage>&& value) {
+  std::visit([&](auto&& v) { raw.set<std::decay_t<decltype(v)>>(entry, std::move(v)); },
+             std::move(value));
+}
+
+}  // namespace
+
 bool BagSource::next(Frame& frame) {
   if (!opened_) open();
   for (;;) {
-    if (!primary_.empty() && ready(primary_.front().t)) break;
+    if (!primary_.empty() && ready(primary_.front().t)) {
+      if (emit(frame)) return true;
+      continue;
+    }
     if (finished_) {
       if (frames_ == 0) noFramesError();
-      if (!summarized_) endOfPass();
+      if (!summarized_) {
+        if (frames_dropped_ > 0) {
+          spdlog::warn("{}: dropped {} frame(s) of {} whose image topics had no message within "
+                       "sync_tolerance {} s",
+                       bagName(), frames_dropped_, streams_[0].topic, sync_tolerance());
+        }
+        endOfPass();
+      }
       summarized_ = true;
       // A pass of fewer than two frames is spaced like a 10 Hz scanner.
       if (!replay_.next(repeat(), 0.1)) return false;
@@ -213,25 +270,15 @@ bool BagSource::next(Frame& frame) {
     }
     if (!readOne()) finished_ = true;
   }
-  ++frames_;
+}
+
+bool BagSource::emit(Frame& frame) {
   Stamped s = std::move(primary_.front());
   primary_.pop_front();
   const double t = s.t;
-  replay_.anchor(t);
-  replay_.frame(t);
-  frame.stamp = t;
-  frame.raw.set<LaserScan>(scan_entries_[0], std::move(s.scan));
-
-  if (!odom_topic_.empty()) {
-    if (auto pose = odometryAt(t)) {
-      frame.raw.set<Odometry2D>(odom_entry_, {t, *pose});
-    } else {
-      ++frames_without_odometry_;
-    }
-    // Keep one reading at or before the next frame's time for its interpolation.
-    const double keep = primary_.empty() ? t : std::min(t, primary_.front().t);
-    while (odom_.size() > 1 && odom_[1].t <= keep) odom_.pop_front();
-  }
+  // The partners first: a frame missing an image stream is dropped before it counts.
+  std::vector<std::deque<Stamped>::iterator> match(secondary_.size());
+  bool complete = true;
   for (size_t i = 0; i < secondary_.size(); ++i) {
     auto& q = secondary_[i];
     auto best = q.end();
@@ -241,14 +288,42 @@ bool BagSource::next(Frame& frame) {
         best = it;
       }
     }
-    if (best != q.end()) {
-      frame.raw.set<LaserScan>(scan_entries_[i + 1], best->scan);
-      q.erase(q.begin(), best + 1);  // each secondary scan is used at most once
+    match[i] = best;
+    if (best == q.end() && streams_[i + 1].kind != BagStream::Kind::kScan) complete = false;
+  }
+  if (!complete) {
+    ++frames_dropped_;
+    spdlog::debug("{}: frame at {:.6f} s dropped: an image topic has no message within {} s",
+                  bagName(), t, sync_tolerance());
+  } else {
+    ++frames_;
+    replay_.anchor(t);
+    replay_.frame(t);
+    frame.stamp = t;
+    setEntry(frame.raw, streams_[0].entry, std::move(s.value));
+    if (!odom_topic_.empty()) {
+      if (auto pose = odometryAt(t)) {
+        frame.raw.set<Odometry2D>(odom_entry_, {t, *pose});
+      } else {
+        ++frames_without_odometry_;
+      }
+    }
+  }
+  if (!odom_topic_.empty()) {
+    // Keep one reading at or before the next frame's time for its interpolation.
+    const double keep = primary_.empty() ? t : std::min(t, primary_.front().t);
+    while (odom_.size() > 1 && odom_[1].t <= keep) odom_.pop_front();
+  }
+  for (size_t i = 0; i < secondary_.size(); ++i) {
+    auto& q = secondary_[i];
+    if (complete && match[i] != q.end()) {
+      setEntry(frame.raw, streams_[i + 1].entry, std::move(match[i]->value));
+      q.erase(q.begin(), match[i] + 1);  // each secondary reading is used at most once
     }
     const double keep = primary_.empty() ? t : primary_.front().t;
     while (!q.empty() && q.front().t < keep - sync_tolerance()) q.pop_front();
   }
-  return true;
+  return complete;
 }
 
 }  // namespace io

@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "plugslam/sensor_data.h"
@@ -26,22 +27,36 @@ struct BagTopic {
   std::size_t count = 0;  ///< messages on it
 };
 
+/// One synchronised stream of a bag: a scan topic, or an image topic a source adds (cameras).
+struct BagStream {
+  /// What its messages become in the frame.
+  enum class Kind { kScan, kImage, kDepth };
+  Kind kind = Kind::kScan;  ///< LaserScan, Image or DepthImage entries
+  std::string topic;        ///< topic name
+  std::string entry;        ///< raw entry name
+};
+
 /// One decoded message of a mapped topic.
 struct BagReading {
   /// Which stream it belongs to.
-  enum class Kind { kScan, kOdometry };
-  Kind kind = Kind::kScan;      ///< a scan topic or the odometry topic
-  std::size_t scan_index = 0;   ///< index of its scan topic (kScan)
+  enum class Kind { kScan, kOdometry, kImage, kDepth };
+  Kind kind = Kind::kScan;      ///< a scan or image stream, or the odometry topic
+  std::size_t stream = 0;       ///< index of its stream (scan topics first; not kOdometry)
   double record_time = 0;       ///< receipt time [s], used without a header stamp
   LaserScanMsg scan;            ///< kScan
   OdometryMsg odometry;         ///< kOdometry
+  RosHeader header;             ///< kImage, kDepth: the message's header
+  Image image;                  ///< kImage, decoded
+  DepthImage depth;             ///< kDepth, decoded [m]
 };
 
-/// One frame per message of the first scan topic, stamped with its header time. The odometry
-/// is interpolated at that time between the neighbouring odometry messages (when they are at
-/// most max_odometry_gap apart; else the nearest within the gap; else none). Every other scan
-/// topic contributes its message nearest in time within sync_tolerance. A bag with no message on
-/// the first scan topic is an InputError listing the bag's topics.
+/// One frame per message of the first stream (the first scan topic, else the source's first image
+/// topic), stamped with its header time. The odometry is interpolated at that time between the
+/// neighbouring odometry messages (when they are at most max_odometry_gap apart; else the nearest
+/// within the gap; else none). Every other stream contributes its message nearest in time within
+/// sync_tolerance; a frame that lacks an image stream's message is dropped (a stereo pair or an
+/// RGB-D pair is useless in halves) and counted. A bag with no message on the first stream is an
+/// InputError listing the bag's topics.
 class BagSource : public Source {
  public:
   Param<std::string> path;
@@ -88,6 +103,8 @@ class BagSource : public Source {
   int64_t replay() const { return replay_.pass(); }
   /// Frames emitted without odometry (no message within max_odometry_gap).
   std::size_t framesWithoutOdometry() const { return frames_without_odometry_; }
+  /// Frames dropped because an image stream had no message within sync_tolerance.
+  std::size_t framesDropped() const { return frames_dropped_; }
 
  protected:
   /// Declares `path` and `mounts` with the format's own descriptions.
@@ -110,14 +127,20 @@ class BagSource : public Source {
     return Eigen::Isometry2d::Identity();
   }
 
+  /// Image streams beyond the scans (a source with cameras), checked and appended to the
+  /// streams by configure(); may be called before `scans` is read.
+  virtual std::vector<BagStream> imageStreams() const { return {}; }
+
   /// The scan topics and the odometry topic ("" = none), known after configure().
   const std::vector<std::string>& scanTopics() const { return scan_topics_; }
   const std::string& odometryTopic() const { return odom_topic_; }
+  /// Every stream, scans first (index = BagReading::stream), known after configure().
+  const std::vector<BagStream>& streams() const { return streams_; }
 
  private:
   struct Stamped {
     double t = 0;
-    LaserScan scan;
+    std::variant<LaserScan, Image, DepthImage> value;
   };
   struct Pose {
     double t = 0;
@@ -127,21 +150,25 @@ class BagSource : public Source {
   // Reopens the bag for the next replay, keeping the clock going.
   void rewind();
   bool readOne();
+  // Builds a frame from the first primary reading; false (reading dropped) when incomplete.
+  bool emit(Frame& frame);
   bool ready(double t) const;
   std::optional<Eigen::Isometry2d> odometryAt(double t) const;
   [[noreturn]] void noFramesError() const;
 
   bool summarized_ = false;  // the end-of-bag warnings were given
   std::vector<std::string> scan_topics_, scan_entries_;
+  std::vector<BagStream> streams_;
   std::vector<std::optional<Eigen::Isometry2d>> scan_mounts_;  // unset: defaultMount() on use
   std::string odom_topic_, odom_entry_;
   bool finished_ = false;
   double latest_stamp_ = 0;  // newest stamp read on any stream
   std::deque<Stamped> primary_;
-  std::vector<std::deque<Stamped>> secondary_;  // index i = scan topic i + 1
+  std::vector<std::deque<Stamped>> secondary_;  // index i = stream i + 1
   std::deque<Pose> odom_;
   mutable std::optional<int64_t> size_hint_;
   std::size_t frames_without_odometry_ = 0;
+  std::size_t frames_dropped_ = 0;
   std::size_t frames_ = 0;
   bool opened_ = false;
   // The pass over the bag and the clock across passes.

@@ -8,6 +8,7 @@
 
 #include "plugslam/errors.h"
 #include "plugslam/geometry.h"
+#include "readers/ros_images.h"
 
 namespace plugslam {
 namespace io {
@@ -21,6 +22,28 @@ bool endsWithDb3(const std::string& f) {
   return f.size() >= 4 && f.compare(f.size() - 4, 4, ".db3") == 0;
 }
 
+std::string where(const Ros2Message& m) {
+  return "topic " + m.topic + " (" + m.type + "), message at " +
+         (endsWithDb3(m.file) ? "row " : "byte offset ") + std::to_string(m.offset);
+}
+
+// [x y z rx ry rz] (rotation vector) as a pose; ParamError naming `param` unless 6 numbers.
+Eigen::Isometry3d poseParam(const char* param, const std::vector<double>& p) {
+  if (p.size() != 6)
+    throw ParamError(param, "expected 6 numbers [x y z rx ry rz], got " + std::to_string(p.size()));
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.translation() = Eigen::Vector3d(p[0], p[1], p[2]);
+  const Eigen::Vector3d r(p[3], p[4], p[5]);
+  if (r.norm() > 0) T.linear() = Eigen::AngleAxisd(r.norm(), r.normalized()).matrix();
+  return T;
+}
+
+Eigen::Matrix3d rowMajor3(const std::array<double, 9>& a) {
+  Eigen::Matrix3d R;
+  R << a[0], a[1], a[2], a[3], a[4], a[5], a[6], a[7], a[8];
+  return R;
+}
+
 template <typename Msg>
 void decode(const Ros2Message& m, Msg& out) {
   if (m.encoding != "cdr") {
@@ -31,9 +54,7 @@ void decode(const Ros2Message& m, Msg& out) {
   try {
     decodeCdr(reinterpret_cast<const std::uint8_t*>(m.data.data()), m.data.size(), out);
   } catch (const ParseError& e) {
-    throw ParseError(m.file, 0, "topic " + m.topic + " (" + m.type + "), message at " +
-                                    (endsWithDb3(m.file) ? "row " : "byte offset ") +
-                                    std::to_string(m.offset) + ": " + e.message());
+    throw ParseError(m.file, 0, where(m) + ": " + e.message());
   }
 }
 
@@ -64,6 +85,27 @@ void Ros2BagSource::checkTopics() {
                        kRos2LaserScan + " (the only type read on `scans` topics)");
     }
   }
+  for (const BagStream& st : streams()) {
+    if (st.kind == BagStream::Kind::kScan) continue;
+    const auto it = types.find(st.topic);
+    if (it == types.end() || it->second.empty()) continue;
+    const bool ok = it->second == kRos2Image ||
+                    (st.kind == BagStream::Kind::kImage && it->second == kRos2CompressedImage);
+    if (!ok)
+      throw InputError(bagName() + ": topic " + st.topic + " is " + it->second + ", not " +
+                       kRos2Image +
+                       (st.kind == BagStream::Kind::kImage
+                            ? std::string(" or ") + kRos2CompressedImage + " (read on `images`)"
+                            : std::string(" (read on `depth`)")));
+  }
+  for (const std::string& topic : camera_info()) {
+    const auto it = types.find(topic);
+    if (it == types.end())
+      throw InputError(bagName() + " has no camera_info topic " + topic);
+    if (!it->second.empty() && it->second != kRos2CameraInfo)
+      throw InputError(bagName() + ": topic " + topic + " is " + it->second + ", not " +
+                       kRos2CameraInfo + " (read on `camera_info`)");
+  }
   if (odometryTopic().empty()) return;
   const auto it = types.find(odometryTopic());
   if (it == types.end()) {
@@ -80,7 +122,8 @@ void Ros2BagSource::openBag() {
     bag_ = std::make_unique<Ros2Bag>(path());
     checkTopics();
   }
-  std::set<std::string> topics(scanTopics().begin(), scanTopics().end());
+  std::set<std::string> topics;
+  for (const BagStream& st : streams()) topics.insert(st.topic);
   if (!odometryTopic().empty()) topics.insert(odometryTopic());
   bag_->open(topics);
 }
@@ -94,15 +137,270 @@ bool Ros2BagSource::readReading(BagReading& r) {
       decode(m, r.odometry);
       return true;
     }
-    for (size_t i = 0; i < scanTopics().size(); ++i) {
-      if (m.topic != scanTopics()[i]) continue;
-      r.kind = BagReading::Kind::kScan;
-      r.scan_index = i;
-      decode(m, r.scan);
-      return true;
+    for (size_t i = 0; i < streams().size(); ++i) {
+      const BagStream& st = streams()[i];
+      if (m.topic != st.topic) continue;
+      r.stream = i;
+      if (st.kind == BagStream::Kind::kScan) {
+        r.kind = BagReading::Kind::kScan;
+        decode(m, r.scan);
+        return true;
+      }
+      if (decodeImage(m, st, r)) return true;
+      break;
     }
   }
   return false;
+}
+
+bool Ros2BagSource::decodeImage(const Ros2Message& m, const BagStream& st, BagReading& r) {
+  // Which camera of the rig took it: the second image of a pair, or depth with a depth camera
+  // of its own, is calibration_.second.
+  std::size_t ordinal = 0;  // among the image streams
+  for (const BagStream& other : streams()) {
+    if (&other == &st) break;
+    if (other.kind == BagStream::Kind::kImage) ++ordinal;
+  }
+  const bool second = calibration_.second && (st.kind == BagStream::Kind::kDepth
+                                                  ? camera_info().size() > 1
+                                                  : ordinal == 1);
+  const int width = second ? calibration_.second->width : calibration_.width;
+  const int height = second ? calibration_.second->height : calibration_.height;
+  try {
+    if (st.kind == BagStream::Kind::kDepth) {
+      ImageMsg msg;
+      decode(m, msg);
+      r.kind = BagReading::Kind::kDepth;
+      r.header = msg.header;
+      try {
+        r.depth = depthFromRos(msg);
+      } catch (const ParseError& e) {
+        throw ParseError(m.file, 0, where(m) + ": " + e.message());
+      }
+      if (r.depth.width != width || r.depth.height != height)
+        throw InputError(m.file + ": " + where(m) + ": depth image is " +
+                         std::to_string(r.depth.width) + "x" + std::to_string(r.depth.height) +
+                         ", its camera's is " + std::to_string(width) + "x" +
+                         std::to_string(height));
+      return true;
+    }
+    r.kind = BagReading::Kind::kImage;
+    try {
+      if (m.type == kRos2CompressedImage) {
+        CompressedImageMsg msg;
+        decode(m, msg);
+        r.header = msg.header;
+        r.image = imageFromRos(msg);
+      } else {
+        ImageMsg msg;
+        decode(m, msg);
+        r.header = msg.header;
+        r.image = imageFromRos(msg);
+      }
+    } catch (const ParseError& e) {
+      if (e.file() == m.file) throw;
+      throw ParseError(m.file, 0, where(m) + ": " + e.message());
+    }
+    if (r.image.width != width || r.image.height != height)
+      throw InputError(m.file + ": " + where(m) + ": image is " + std::to_string(r.image.width) +
+                       "x" + std::to_string(r.image.height) + ", its camera's is " +
+                       std::to_string(width) + "x" + std::to_string(height));
+    return true;
+  } catch (const InputError& e) {
+    if (on_error() != "skip") throw;
+    constexpr std::size_t kMaxWarnings = 5;
+    ++skipped_images_;
+    if (skipped_images_ <= kMaxWarnings)
+      spdlog::warn("{}; message skipped{}", e.what(),
+                   skipped_images_ == kMaxWarnings ? " (further skips at -v)" : "");
+    else
+      spdlog::debug("{}; message skipped", e.what());
+    return false;
+  }
+}
+
+std::vector<BagStream> Ros2BagSource::imageStreams() const {
+  std::vector<BagStream> out;
+  for (const auto& s : images()) {
+    auto [topic, entry] = splitTopicEntry("images", s);
+    out.push_back({BagStream::Kind::kImage, topic, entry});
+  }
+  if (!depth().empty()) {
+    auto [topic, entry] = splitTopicEntry("depth", depth());
+    out.push_back({BagStream::Kind::kDepth, topic, entry});
+  }
+  return out;
+}
+
+void Ros2BagSource::configure() {
+  calibration_ = CameraInfo{};
+  has_camera_ = false;
+  skipped_images_ = 0;
+  skips_summarized_ = false;
+  bag_.reset();  // `path` may have changed since the last configure()
+  static_loaded_ = false;
+  if (images().empty() && !depth().empty())
+    throw ParamError("depth", "needs the colour topic in `images`");
+  if (images().size() > 2)
+    throw ParamError("images", "one camera or a stereo pair: at most 2 topics, got " +
+                                   std::to_string(images().size()));
+  if (images().size() == 2 && !depth().empty())
+    throw ParamError("depth", "a stereo pair with a depth topic is not read (one rig at a time)");
+  if (!images().empty()) {
+    if (camera().empty()) throw ParamError("camera", "must name a raw entry (not empty)");
+    if (camera_info().empty())
+      throw ParamError("camera_info", "needed with `images`: the CameraInfo topic of each camera");
+    if (camera_info().size() > 2)
+      throw ParamError("camera_info", "at most 2 topics (the first camera, the other camera)");
+    if (images().size() == 2 && camera_info().size() != 2)
+      throw ParamError("camera_info", "a stereo pair needs the CameraInfo topic of each camera");
+  }
+  BagSource::configure();
+  if (!images().empty()) {
+    for (const BagStream& st : streams())
+      if (st.entry == camera()) throw ParamError("camera", "raw entry '" + st.entry + "' is used twice");
+    setCalibration();
+    has_camera_ = true;
+  }
+}
+
+bool Ros2BagSource::next(Frame& frame) {
+  if (!BagSource::next(frame)) {
+    if (skipped_images_ > 0 && !skips_summarized_)
+      spdlog::warn("{}: skipped {} image message(s) that did not decode or fit the calibration",
+                   bagName(), skipped_images_);
+    skips_summarized_ = true;
+    return false;
+  }
+  if (has_camera_) frame.raw.set<CameraInfo>(camera(), calibration_);
+  return true;
+}
+
+std::vector<ProvidedEntry> Ros2BagSource::provides() const {
+  std::vector<ProvidedEntry> out = BagSource::provides();
+  if (!images().empty()) out.push_back({camera(), typeid(CameraInfo)});
+  return out;
+}
+
+void Ros2BagSource::setCalibration() {
+  // The first message of each camera_info topic: calibrations do not change within a bag.
+  std::vector<CameraInfoMsg> infos(camera_info().size());
+  std::vector<bool> seen(infos.size(), false);
+  {
+    Ros2Bag bag(path());
+    bag.open(std::set<std::string>(camera_info().begin(), camera_info().end()));
+    Ros2Message m;
+    std::size_t found = 0;
+    while (found < infos.size() && bag.next(m)) {
+      for (std::size_t i = 0; i < infos.size(); ++i) {
+        if (m.topic != camera_info()[i] || seen[i]) continue;
+        decode(m, infos[i]);
+        seen[i] = true;
+        ++found;
+      }
+    }
+    for (std::size_t i = 0; i < infos.size(); ++i)
+      if (!seen[i]) throw InputError(bagName() + " has no message on camera_info topic " +
+                                     camera_info()[i]);
+  }
+  bool rect = rectified() == "yes";
+  if (rectified() == "auto") {
+    rect = true;
+    for (const auto& info : infos) rect = rect && isRectifiedCamera(info);
+  }
+  auto intrinsics = [&](std::size_t i) {
+    try {
+      return intrinsicsFromRos(infos[i], rect);
+    } catch (const ParseError& e) {
+      throw InputError(bagName() + ": camera_info topic " + camera_info()[i] + ": " + e.message());
+    }
+  };
+  const bool stereo = images().size() == 2;
+  calibration_.setIntrinsics(intrinsics(0));
+  const std::string first_frame = frameName(infos[0].header.frame_id);
+  // Where the first camera sits on the robot. The rectified frame is rotated by R from the raw
+  // camera's (x_rect = R x_raw).
+  const Eigen::Matrix3d R1 = rowMajor3(infos[0].r);
+  if (!camera_mount().empty()) {
+    calibration_.mount = poseParam("camera_mount", camera_mount());
+  } else {
+    const std::string robot = robotFrame(first_frame);
+    auto pose = tf_static().empty() ? std::nullopt : staticPose(robot, first_frame);
+    if (pose) {
+      calibration_.mount = *pose;
+      if (rect && stereo) calibration_.mount.linear() = pose->linear() * R1.transpose();
+      spdlog::info("{}: camera {} mounted from {}: {} -> {}", bagName(), first_frame,
+                   tf_static(), robot, first_frame);
+    } else {
+      spdlog::warn("{}: no static transform links camera frame '{}' to a robot frame and no "
+                   "`camera_mount`: the camera is the robot frame",
+                   bagName(), first_frame);
+    }
+  }
+  if (!stereo && depth().empty()) return;  // mono
+  if (stereo) {
+    const CameraInfoMsg& right = infos[1];
+    calibration_.second = intrinsics(1);
+    // ROS's stereo calibration: P = K' [I | t], the right P's t = (-baseline, 0, 0) (its fourth
+    // column is -fx' * baseline). The baseline is the camera centres' offset, -K'^-1 P.col(3),
+    // as io.KittiSource takes it from calib.txt.
+    auto centre = [](const CameraInfoMsg& info) {
+      Eigen::Matrix<double, 3, 4> P;
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) P(r, c) = info.p[4 * r + c];
+      const Eigen::Matrix3d K = P.leftCols<3>();
+      return Eigen::Vector3d(-K.inverse() * P.col(3));
+    };
+    const double B = right.p[0] != 0 && infos[0].p[0] != 0
+                         ? (centre(right) - centre(infos[0])).x()
+                         : 0.0;
+    if (rect) {
+      if (!(B > 0))
+        throw InputError(bagName() + ": camera_info topic " + camera_info()[1] +
+                         ": P[3] = " + std::to_string(right.p[3]) +
+                         " gives no positive baseline (rectified pair: P[3] = -fx * baseline)");
+      calibration_.baseline = B;
+      calibration_.second_pose = Eigen::Translation3d(B, 0.0, 0.0) * Eigen::Isometry3d::Identity();
+      if (!second_pose().empty())
+        spdlog::warn("{}: `second_pose` ignored: a rectified pair sits at its P's baseline",
+                     bagName());
+      return;
+    }
+    if (!second_pose().empty()) {
+      calibration_.second_pose = poseParam("second_pose", second_pose());
+    } else if (B > 0) {
+      // Right raw -> right rectified (R2), + baseline along x, -> left raw (R1^T).
+      const Eigen::Matrix3d R2 = rowMajor3(right.r);
+      calibration_.second_pose.linear() = R1.transpose() * R2;
+      calibration_.second_pose.translation() = R1.transpose() * Eigen::Vector3d(B, 0, 0);
+    } else if (auto pose = staticPose(first_frame, frameName(right.header.frame_id))) {
+      calibration_.second_pose = *pose;
+    } else {
+      throw InputError(bagName() + ": the stereo pair's relative pose is unknown: " +
+                       camera_info()[1] + " has no baseline in P and " + tf_static() +
+                       " links no '" + frameName(right.header.frame_id) + "' to '" + first_frame +
+                       "' (set `second_pose`)");
+    }
+    return;
+  }
+  // RGB-D: a depth camera of its own, or depth registered to colour (the colour pinhole).
+  if (infos.size() > 1) {
+    calibration_.second = intrinsics(1);
+    const std::string depth_frame = frameName(infos[1].header.frame_id);
+    if (!second_pose().empty()) {
+      calibration_.second_pose = poseParam("second_pose", second_pose());
+    } else if (depth_frame != first_frame) {
+      if (auto pose = staticPose(first_frame, depth_frame))
+        calibration_.second_pose = *pose;
+      else
+        spdlog::warn("{}: {} links no depth frame '{}' to colour frame '{}': taken as the same "
+                     "(set `second_pose`)",
+                     bagName(), tf_static(), depth_frame, first_frame);
+    }
+  } else {
+    calibration_.second = calibration_.intrinsics();
+    if (!second_pose().empty()) calibration_.second_pose = poseParam("second_pose", second_pose());
+  }
 }
 
 std::string Ros2BagSource::odometryFrame() {
@@ -117,21 +415,17 @@ std::string Ros2BagSource::odometryFrame() {
   return frameName(odom.child_frame_id);
 }
 
-Eigen::Isometry2d Ros2BagSource::defaultMount(std::size_t index, const std::string& frame_id) {
-  const std::string& topic = scanTopics()[index];
-  const std::string laser = frameName(frame_id);
-  if (tf_static().empty()) return Eigen::Isometry2d::Identity();
+void Ros2BagSource::loadStatic() {
+  if (static_loaded_) return;
+  static_loaded_ = true;
+  static_edges_.clear();
+  static_parent_.clear();
+  if (tf_static().empty()) return;
   bool has_tf = false;
   for (const auto& t : bag_->topics()) has_tf = has_tf || t.topic == tf_static();
-  if (!has_tf) {
-    spdlog::warn("{}: no {} topic and no `mounts`: scan topic {} is mounted at the robot's origin",
-                 bagName(), tf_static(), topic);
-    return Eigen::Isometry2d::Identity();
-  }
+  if (!has_tf) return;
   // The static tree as undirected edges (a breadth-first search from the robot frame) and each
   // frame's parent.
-  std::multimap<std::string, std::pair<std::string, Eigen::Isometry3d>> edges;
-  std::map<std::string, std::string> parent_of;
   Ros2Bag bag(path());
   bag.open({tf_static()});
   Ros2Message m;
@@ -146,43 +440,69 @@ Eigen::Isometry2d Ros2BagSource::defaultMount(std::size_t index, const std::stri
                        .toRotationMatrix();
       const std::string parent = frameName(t.header.frame_id);
       const std::string child = frameName(t.child_frame_id);
-      edges.emplace(parent, std::make_pair(child, T));
-      edges.emplace(child, std::make_pair(parent, T.inverse()));
-      parent_of[child] = parent;
+      static_edges_.emplace(parent, std::make_pair(child, T));
+      static_edges_.emplace(child, std::make_pair(parent, T.inverse()));
+      static_parent_[child] = parent;
     }
   }
+}
+
+std::string Ros2BagSource::robotFrame(const std::string& sensor) {
+  loadStatic();
   // The robot: `base_frame`, else the odometry's child frame when the static tree has it, else
-  // the root of the static tree the scanner hangs from (static transforms describe the rigid
+  // the root of the static tree the sensor hangs from (static transforms describe the rigid
   // robot; its root is the body odometry moves).
   std::string robot = frameName(base_frame());
   if (robot.empty()) {
     robot = odometryFrame();
-    if (robot.empty() || (!parent_of.count(robot) && !edges.count(robot))) {
-      robot = laser;
-      for (size_t hops = 0; parent_of.count(robot) && hops < parent_of.size(); ++hops) {
-        robot = parent_of[robot];
-      }
+    if (robot.empty() || (!static_parent_.count(robot) && !static_edges_.count(robot))) {
+      robot = sensor;
+      for (size_t hops = 0; static_parent_.count(robot) && hops < static_parent_.size(); ++hops)
+        robot = static_parent_[robot];
     }
   }
-  std::map<std::string, Eigen::Isometry3d> pose{{robot, Eigen::Isometry3d::Identity()}};
-  std::deque<std::string> todo{robot};
-  while (!todo.empty() && !pose.count(laser)) {
+  return robot;
+}
+
+std::optional<Eigen::Isometry3d> Ros2BagSource::staticPose(const std::string& from,
+                                                           const std::string& frame) {
+  loadStatic();
+  std::map<std::string, Eigen::Isometry3d> pose{{from, Eigen::Isometry3d::Identity()}};
+  std::deque<std::string> todo{from};
+  while (!todo.empty() && !pose.count(frame)) {
     const std::string f = todo.front();
     todo.pop_front();
-    for (auto [it, end] = edges.equal_range(f); it != end; ++it) {
+    for (auto [it, end] = static_edges_.equal_range(f); it != end; ++it) {
       if (pose.count(it->second.first)) continue;
       pose[it->second.first] = pose[f] * it->second.second;
       todo.push_back(it->second.first);
     }
   }
-  const auto found = pose.find(laser);
-  if (found == pose.end()) {
+  const auto found = pose.find(frame);
+  if (found == pose.end()) return std::nullopt;
+  return found->second;
+}
+
+Eigen::Isometry2d Ros2BagSource::defaultMount(std::size_t index, const std::string& frame_id) {
+  const std::string& topic = scanTopics()[index];
+  const std::string laser = frameName(frame_id);
+  if (tf_static().empty()) return Eigen::Isometry2d::Identity();
+  bool has_tf = false;
+  for (const auto& t : bag_->topics()) has_tf = has_tf || t.topic == tf_static();
+  if (!has_tf) {
+    spdlog::warn("{}: no {} topic and no `mounts`: scan topic {} is mounted at the robot's origin",
+                 bagName(), tf_static(), topic);
+    return Eigen::Isometry2d::Identity();
+  }
+  const std::string robot = robotFrame(laser);
+  const auto found = staticPose(robot, laser);
+  if (!found) {
     spdlog::warn("{}: {} links no frame '{}' (scan topic {}) to the robot frame '{}'; mounted at "
                  "the robot's origin (set `mounts` or `base_frame`)",
                  bagName(), tf_static(), laser, topic, robot);
     return Eigen::Isometry2d::Identity();
   }
-  const Eigen::Isometry3d& T = found->second;
+  const Eigen::Isometry3d& T = *found;
   // The scan plane is the sensor's x-y plane: its heading is where its x axis points.
   const Eigen::Vector3d x = T.linear().col(0);
   const double yaw = std::atan2(x.y(), x.x());

@@ -33,7 +33,7 @@ bool RosbagSource::readReading(BagReading& r) {
     for (size_t i = 0; i < scanTopics().size(); ++i) {
       if (topic != scanTopics()[i]) continue;
       r.kind = BagReading::Kind::kScan;
-      r.scan_index = i;
+      r.stream = i;
       decodeLaserScan(*reader_, message, r.scan);
       return true;
     }

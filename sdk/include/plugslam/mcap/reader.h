@@ -4,7 +4,8 @@
 // the chunks that hold none of the wanted topics; without one (a recording cut short, a writer
 // that writes no summary) it scans the data section record by record, and a file cut mid-record
 // keeps every complete record before the cut (a warning names the offset). Chunks may be
-// uncompressed, lz4 (frame format) or zstd; their CRCs and the summary's are checked. Every
+// uncompressed, lz4 (frame format) or zstd; their CRCs and the summary's are checked, and a scan
+// checks Data End's data section CRC (0 = not computed by the writer). Every
 // malformed input is a ParseError naming the file and the byte offset.
 #include <cstddef>
 #include <cstdint>
@@ -25,7 +26,8 @@ namespace mcap {
 struct ReaderOptions {
   std::set<std::string> topics;  ///< topics to return; empty = every topic
   bool use_summary = true;       ///< false: always a linear scan (tests, damaged summaries)
-  bool check_crc = true;         ///< check the chunk and summary CRCs (when the file has them)
+  bool check_crc = true;         ///< check the chunk, summary and (scans) data section CRCs
+                                 ///< when the file has them
   /// Upper bound of one record and of a decompressed chunk [bytes] (a corrupt length would
   /// otherwise allocate the machine's memory).
   uint64_t max_record_bytes = uint64_t{1} << 32;
