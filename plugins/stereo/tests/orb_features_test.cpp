@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <opencv2/imgproc.hpp>
 #include <random>
 #include <vector>
@@ -47,7 +48,7 @@ Views views() {
 }
 
 struct MatchCount {
-  int matches = 0;  // mutual nearest descriptors within 64 bits
+  int matches = 0;  // mutual nearest descriptors within 64 bits, of far keypoints in the overlap
   int correct = 0;  // of those, at the place the zoom predicts (within 3 of the coarser pixel)
   double octave_gap = 0;  // mean (near octave - far octave) of the correct ones
 };
@@ -77,9 +78,11 @@ MatchCount matchViews(const Views& v, const visual::OrbOptions& options) {
   for (int i = 0; i < df.rows; ++i) {
     int d = 0, back_d = 0;
     const int j = nearest(df, i, dn, d);
+    // Only the far view's centre is in the near one: the rest has no true partner.
+    const cv::Point2f predicted = v.toNear(kf[static_cast<size_t>(i)].pt);
+    if (predicted.x < 0 || predicted.y < 0 || predicted.x > 639 || predicted.y > 479) continue;
     if (j < 0 || d > 64 || nearest(dn, j, df, back_d) != i) continue;
     ++out.matches;
-    const cv::Point2f predicted = v.toNear(kf[static_cast<size_t>(i)].pt);
     const cv::Point2f error = kn[static_cast<size_t>(j)].pt - predicted;
     const double pixel = extractor.levelScale(kn[static_cast<size_t>(j)].octave);
     if (std::hypot(error.x, error.y) > 3.0 * pixel) continue;
@@ -104,8 +107,12 @@ TEST(FeatureExtractor, PyramidMatchesAViewFromTwiceAsNear) {
   const MatchCount one = matchViews(v, options(1));
   const MatchCount pyramid = matchViews(v, options(8));
   // A 2x zoom is 3.8 levels of 1.2: the near view's corners are found about four levels up.
-  EXPECT_GT(pyramid.correct, 3 * std::max(one.correct, 10)) << one.correct << " at one scale";
+  // Measured: one scale 0 of 91 mutual matches correct; 8 levels 160 of 208, octave gap 3.84.
+  EXPECT_GT(pyramid.correct, 3 * std::max(one.correct, 10))
+      << one.correct << " of " << one.matches << " at one scale";
   EXPECT_GT(pyramid.correct, pyramid.matches / 2) << pyramid.matches << " matches";
+  std::printf("one scale: %d of %d matches correct; 8 levels: %d of %d, octave gap %.2f\n",
+              one.correct, one.matches, pyramid.correct, pyramid.matches, pyramid.octave_gap);
   EXPECT_NEAR(pyramid.octave_gap, std::log(2.0) / std::log(1.2), 1.0);
 }
 
