@@ -102,6 +102,57 @@ TEST(FeatureGrid, PairsEachLandmarkWithTheMatchingDescriptorNearItsProjection) {
   EXPECT_TRUE(matches.empty());
 }
 
+// With pyramid keypoints a landmark is expected at the scale its reference distance predicts:
+// one seen at full resolution from 4 m is expected at scale 2 from 2 m, and only a keypoint of
+// about that scale (with the same descriptor, at the same place) is its match; the search
+// radius grows with the scale.
+TEST(FeatureGrid, PairsALandmarkOnlyWithAKeypointOfItsPredictedScale) {
+  EXPECT_DOUBLE_EQ(predictedScale(4.0, 2.0, 3.6), 2.0);
+  EXPECT_DOUBLE_EQ(predictedScale(4.0, 8.0, 3.6), 1.0);   // farther: the finest level
+  EXPECT_DOUBLE_EQ(predictedScale(40.0, 2.0, 3.6), 3.6);  // nearer than searched: the coarsest
+  EXPECT_DOUBLE_EQ(predictedScale(0.0, 2.0, 3.6), 1.0);   // unknown
+  FeatureSet f;
+  f.camera = camera();
+  f.width = 1241;
+  f.height = 376;
+  f.max_scale = 3.6;
+  std::array<uint8_t, 32> d{};
+  d.fill(0x5a);
+  const Eigen::Vector3d point(0, 0, 2);  // on the optical axis, 2 m ahead: pixel (cx, cy)
+  const Eigen::Vector2d centre(f.camera.cx, f.camera.cy);
+  // Same place, same descriptor, full resolution: the wrong scale.
+  f.pushStereo(centre, 1.0, 0, 0, d.data(), 0, 1.0);
+  LandmarkMap map;
+  map.push(point, Eigen::Matrix3d::Identity(), 1, d.data(), 0, 0, 4.0);
+  FeatureGrid grid;
+  grid.build(f);
+  AssociationOptions o;
+  o.radius = 3;
+  o.scale_tolerance = 1.5;
+  std::vector<LandmarkMatch> matches;
+  grid.associate(map, Eigen::Isometry3d::Identity(), o, matches);
+  EXPECT_TRUE(matches.empty());
+  // Scale not checked: it matches.
+  o.scale_tolerance = 0;
+  grid.associate(map, Eigen::Isometry3d::Identity(), o, matches);
+  EXPECT_EQ(matches.size(), 1u);
+  // A keypoint of scale 2.07 (four levels of 1.2) 5 px off: inside the 3 px radius times 2.
+  f.clear();
+  f.pushStereo(centre + Eigen::Vector2d(5, 0), 2.07, 0, 0, d.data(), 0, 2.07);
+  grid.build(f);
+  o.scale_tolerance = 1.5;
+  grid.associate(map, Eigen::Isometry3d::Identity(), o, matches);
+  ASSERT_EQ(matches.size(), 1u);
+  EXPECT_EQ(matches[0].feature, 0);
+  // Without a pyramid (max_scale 1) every keypoint is expected at full resolution.
+  f.clear();
+  f.max_scale = 1.0;
+  f.pushStereo(centre, 1.0, 0, 0, d.data(), 0, 1.0);
+  grid.build(f);
+  grid.associate(map, Eigen::Isometry3d::Identity(), o, matches);
+  EXPECT_EQ(matches.size(), 1u);
+}
+
 template <class S>
 AlignResult<S> alignOnce(const FeatureSet& reference, const FeatureSet& current,
                          const typename S::Pose& reference_pose, const typename S::Pose& guess,

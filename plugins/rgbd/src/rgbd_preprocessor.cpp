@@ -54,7 +54,6 @@ bool RgbdPreprocessor::process(Frame& frame) {
   sampling.noise.z0 = depth_sigma_z0();
   sampling.tan_max_incidence = std::tan(max_incidence() * M_PI / 180.0);
   sampling.focal = std::min(cam->fx, cam->fy);  // registered depth is in the colour pixels
-  sampling.pixel_sigma = pixel_sigma();
   // Keypoints are found in the raw colour image; the cue's pixels are its ideal pinhole's.
   xy_.resize(2 * keypoints_.size());
   for (size_t i = 0; i < keypoints_.size(); ++i) {
@@ -74,12 +73,18 @@ bool RgbdPreprocessor::process(Frame& frame) {
   f.mount = cam->mount;
   f.stamp = colour->stamp;
   f.descriptor_bytes = descriptors_.cols > 0 ? descriptors_.cols : 32;
+  f.max_scale = maxScale();
   f.reserve(keypoints_.size());
   for (size_t i = 0; i < keypoints_.size(); ++i) {
     const int x = cvRound(keypoints_[i].pt.x), y = cvRound(keypoints_[i].pt.y);
+    // A keypoint found at pyramid scale s is located s times less precisely, in its pixel and
+    // in the depth a slanted surface has under it.
+    const double scale = keypointScale(keypoints_[i]);
+    sampling.pixel_sigma = pixel_sigma() * scale;
     const DepthSample s = sampleDepth(d, x, y, sampling);
-    f.pushDepth(Eigen::Vector2d(xy_[2 * i], xy_[2 * i + 1]), pixel_sigma(), s.z, s.sigma,
-                descriptors_.ptr<uint8_t>(static_cast<int>(i)), visual::colourAt(*colour, x, y));
+    f.pushDepth(Eigen::Vector2d(xy_[2 * i], xy_[2 * i + 1]), sampling.pixel_sigma, s.z, s.sigma,
+                descriptors_.ptr<uint8_t>(static_cast<int>(i)), visual::colourAt(*colour, x, y),
+                scale);
   }
   depth_s_ += secondsSince(t0);
   return true;

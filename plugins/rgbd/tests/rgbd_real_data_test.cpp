@@ -69,7 +69,10 @@ RpeResult perFrame(const Outcome& o) {
 // viewpoints: measured (branch visual, rotation-invariant ORB, one scale) 7 mutual ratio-tested
 // matches for frame 1 against frame 0, 27 for frame 2 against map 0 (17 RANSAC inliers: the
 // one frame recovered), 2-3 for frame 3 and 11-12 for frame 4 (8 inliers, 12 needed): 3 of 4
-// frames fail. Needs scale-invariant keypoints (an image pyramid) before it can pass.
+// frames fail. With an 8-level pyramid (rgbd_icl.yaml, branch visual15) 1 of 4 fails: frame 3
+// overlaps only frame 0, two local maps back (1 and 7 matches in the current and previous
+// maps); the recovered pairs are off by 13.4 mm / 0.55 deg, 24.1 mm / 0.61 deg and
+// 4.5 mm / 1.20 deg. Needs relocalisation in every earlier map and a finer refinement.
 TEST(RgbdRealData, DISABLED_Icl5FramesFrameToFrame) {
   SKIP_WITHOUT("rgbd/icl-5frames-slambook2");
   const Outcome o = run("rgbd_icl.yaml", {"source.path=" + data("rgbd/icl-5frames-slambook2")});

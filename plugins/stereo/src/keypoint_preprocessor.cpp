@@ -1,5 +1,6 @@
 #include "keypoint_preprocessor.h"
 
+#include <algorithm>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
@@ -17,7 +18,17 @@ OrbOptions KeypointPreprocessor::orbOptions() const {
   o.fast_threshold = fast_threshold();
   o.min_fast_threshold = min_fast_threshold();
   o.upright = upright();
+  o.levels = levels();
+  o.scale_factor = scale_factor();
   return o;
+}
+
+double KeypointPreprocessor::keypointScale(const cv::KeyPoint& keypoint) const {
+  return extractor_.levelScale(keypoint.octave);
+}
+
+double KeypointPreprocessor::maxScale() const {
+  return extractor_.levelScale(std::max(1, levels()) - 1);
 }
 
 void KeypointPreprocessor::configure() {

@@ -69,11 +69,16 @@ void StereoMatcher::match(const cv::Mat& left, const cv::Mat& right,
     const int v = cvRound(lk[i].pt.y);
     const double umin = ul - o.max_disparity, umax = ul - o.min_disparity;
     int best = -1, best_d = o.max_hamming + 1;
-    for (int y = std::max(0, v - o.row_tolerance);
-         y <= std::min(right.rows - 1, v + o.row_tolerance); ++y) {
+    // A coarse pyramid keypoint's row is known only to its level's pixel; a partner must come
+    // from the same or a neighbouring level (its descriptor is of the same patch size).
+    const int octave = lk[i].octave;
+    const int tolerance =
+        static_cast<int>(std::ceil(o.row_tolerance * std::pow(o.scale_factor, octave)));
+    for (int y = std::max(0, v - tolerance); y <= std::min(right.rows - 1, v + tolerance); ++y) {
       for (int j : rows[static_cast<size_t>(y)]) {
         const double ur = rk[static_cast<size_t>(j)].pt.x;
         if (ur < umin || ur > umax) continue;
+        if (std::abs(rk[static_cast<size_t>(j)].octave - octave) > 1) continue;
         const int d = hammingDistance(ld.ptr<uint8_t>(static_cast<int>(i)), rd.ptr<uint8_t>(j), bytes);
         if (d < best_d) {
           best_d = d;

@@ -16,6 +16,9 @@ struct StereoMatchOptions {
   int max_hamming = 50;          ///< descriptor check [bits]
   int window = 5;                ///< half side of the SAD window [px]
   int search = 3;                ///< SAD search either side of the matched keypoint [px]
+  /// Pyramid scale between levels: a keypoint of level l (its octave) gets row_tolerance times
+  /// scale_factor^l rows, and partners only from levels l-1 .. l+1.
+  double scale_factor = 1.2;
 };
 
 /// One left keypoint's disparity (uL - uR), or a negative value when unmatched.

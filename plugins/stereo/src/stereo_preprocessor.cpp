@@ -87,6 +87,7 @@ bool StereoPreprocessor::process(Frame& frame) {
   mo.max_disparity = std::min<double>(l->width, cam->fx * cam->baseline / min_depth());
   mo.row_tolerance = row_tolerance();
   mo.max_hamming = max_hamming();
+  mo.scale_factor = scale_factor();
   StereoMatcher::match(gl, gr, kl_, dl_, kr_, dr_, mo, disparity_);
 
   FeatureSet& f = output.emplace(frame);
@@ -100,6 +101,7 @@ bool StereoPreprocessor::process(Frame& frame) {
   f.mount = cam->mount;
   f.stamp = l->stamp;
   f.descriptor_bytes = dl_.cols > 0 ? dl_.cols : 32;
+  f.max_scale = maxScale();
   f.reserve(kl_.size());
   // A rectified pair's pixels are the rectified image's: colours come from it, in grey.
   const bool rgb = l->channels >= 3 && !raw_pair;
@@ -112,8 +114,11 @@ bool StereoPreprocessor::process(Frame& frame) {
       const uint32_t g = gl.at<uint8_t>(y, x);
       colour = (g << 16) | (g << 8) | g;
     }
-    f.pushStereo(Eigen::Vector2d(kl_[i].pt.x, kl_[i].pt.y), pixel_sigma(), disparity_[i],
-                 disparity_sigma(), dl_.ptr<uint8_t>(static_cast<int>(i)), colour);
+    // A keypoint of pyramid scale s is located, and matched along its row, s times less
+    // precisely.
+    const double scale = keypointScale(kl_[i]);
+    f.pushStereo(Eigen::Vector2d(kl_[i].pt.x, kl_[i].pt.y), pixel_sigma() * scale, disparity_[i],
+                 disparity_sigma() * scale, dl_.ptr<uint8_t>(static_cast<int>(i)), colour, scale);
   }
   matching_s_ += secondsSince(t0);
   ++frames_;

@@ -8,6 +8,11 @@
 namespace plugslam {
 inline namespace abi_v1 {
 
+double predictedScale(double reference_distance, double distance, double max_scale) {
+  if (!(reference_distance > 0) || !(distance > 0)) return 1.0;
+  return std::clamp(reference_distance / distance, 1.0, std::max(1.0, max_scale));
+}
+
 void FeatureGrid::build(const FeatureSet& features, double cell) {
   features_ = &features;
   cell_ = cell > 1.0 ? cell : 1.0;
@@ -40,19 +45,27 @@ void FeatureGrid::associate(const LandmarkMap& map, const Eigen::Isometry3d& cam
   best_landmark_.assign(f.size(), -1);
   best_distance_.assign(f.size(), o.max_hamming + 1);
   const Eigen::Isometry3d to_camera = camera_in_scene.inverse();
-  const double r2 = o.radius * o.radius;
+  const bool scaled = f.max_scale > 1.0 && map.reference_distances.size() == map.size();
   const double umin = o.border, vmin = o.border;
   const double umax = f.width - 1 - o.border, vmax = f.height - 1 - o.border;
   for (size_t j = 0; j < map.size(); ++j) {
     Eigen::Vector3d uvq;
-    if (!projectInverseDepth(f.camera, to_camera * map.positions[j], uvq)) continue;
+    const Eigen::Vector3d pc = to_camera * map.positions[j];
+    if (!projectInverseDepth(f.camera, pc, uvq)) continue;
     const double u = uvq.x(), v = uvq.y();
     if (u < umin || u > umax || v < vmin || v > vmax) continue;
     if (visible) (*visible)[j] = true;
-    const int c0 = std::max(0, static_cast<int>((u - o.radius) / cell_));
-    const int c1 = std::min(cols_ - 1, static_cast<int>((u + o.radius) / cell_));
-    const int r0 = std::max(0, static_cast<int>((v - o.radius) / cell_));
-    const int r1 = std::min(rows_ - 1, static_cast<int>((v + o.radius) / cell_));
+    // Without a pyramid every keypoint is full resolution: scale 1, the plain radius.
+    const double expected =
+        scaled ? predictedScale(map.reference_distances[j], pc.norm(), f.max_scale) : 1.0;
+    const double radius = o.radius * expected;
+    const double r2 = radius * radius;
+    const double min_scale = o.scale_tolerance > 0 ? expected / o.scale_tolerance : 0.0;
+    const double max_scale = o.scale_tolerance > 0 ? expected * o.scale_tolerance : 1e300;
+    const int c0 = std::max(0, static_cast<int>((u - radius) / cell_));
+    const int c1 = std::min(cols_ - 1, static_cast<int>((u + radius) / cell_));
+    const int r0 = std::max(0, static_cast<int>((v - radius) / cell_));
+    const int r1 = std::min(rows_ - 1, static_cast<int>((v + radius) / cell_));
     int best = -1, best_d = o.max_hamming + 1, second_d = 1 << 20;
     const uint8_t* dj = map.descriptor(j);
     for (int r = r0; r <= r1; ++r) {
@@ -62,6 +75,7 @@ void FeatureGrid::associate(const LandmarkMap& map, const Eigen::Isometry3d& cam
           const int i = order_[k];
           const Eigen::Vector2d& px = f.pixels[i];
           if ((px.x() - u) * (px.x() - u) + (px.y() - v) * (px.y() - v) > r2) continue;
+          if (scaled && (f.scales[i] < min_scale || f.scales[i] > max_scale)) continue;
           const int d = hammingDistance(f.descriptor(i), dj, bytes);
           if (d < best_d) {
             second_d = best_d;

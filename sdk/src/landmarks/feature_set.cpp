@@ -1,5 +1,6 @@
 #include "plugslam/landmarks/feature_set.h"
 
+#include <algorithm>
 #include <string>
 
 #include "plugslam/archive.h"
@@ -25,6 +26,7 @@ Eigen::Matrix3d pointCovariance(const PinholeCamera& camera, const Eigen::Vector
 void FeatureSet::clear() {
   pixels.clear();
   pixel_sigma.clear();
+  scales.clear();
   inverse_depth.clear();
   inverse_depth_sigma.clear();
   points.clear();
@@ -36,6 +38,7 @@ void FeatureSet::clear() {
 void FeatureSet::reserve(size_t n) {
   pixels.reserve(n);
   pixel_sigma.reserve(n);
+  scales.reserve(n);
   inverse_depth.reserve(n);
   inverse_depth_sigma.reserve(n);
   points.reserve(n);
@@ -47,9 +50,10 @@ void FeatureSet::reserve(size_t n) {
 namespace {
 // Appends one keypoint with inverse depth q (0: none) and its noise.
 void pushKeypoint(FeatureSet& f, const Eigen::Vector2d& uv, double sigma_px, double q,
-                  double sigma_q, const uint8_t* descriptor, uint32_t colour) {
+                  double sigma_q, const uint8_t* descriptor, uint32_t colour, double scale) {
   f.pixels.push_back(uv);
   f.pixel_sigma.push_back(sigma_px);
+  f.scales.push_back(scale);
   if (q > 0) {
     const double z = 1.0 / q;
     f.inverse_depth.push_back(q);
@@ -69,35 +73,37 @@ void pushKeypoint(FeatureSet& f, const Eigen::Vector2d& uv, double sigma_px, dou
 }  // namespace
 
 void FeatureSet::pushDepth(const Eigen::Vector2d& uv, double sigma_px, double z, double sigma_z,
-                           const uint8_t* descriptor, uint32_t colour) {
+                           const uint8_t* descriptor, uint32_t colour, double scale) {
   // sigma of 1/z to first order: sigma_z / z^2.
   if (z > 0)
-    pushKeypoint(*this, uv, sigma_px, 1.0 / z, sigma_z / (z * z), descriptor, colour);
+    pushKeypoint(*this, uv, sigma_px, 1.0 / z, sigma_z / (z * z), descriptor, colour, scale);
   else
-    pushKeypoint(*this, uv, sigma_px, 0.0, 0.0, descriptor, colour);
+    pushKeypoint(*this, uv, sigma_px, 0.0, 0.0, descriptor, colour, scale);
 }
 
 void FeatureSet::pushStereo(const Eigen::Vector2d& uv, double sigma_px, double disparity,
-                            double sigma_d, const uint8_t* descriptor, uint32_t colour) {
+                            double sigma_d, const uint8_t* descriptor, uint32_t colour,
+                            double scale) {
   if (!(camera.baseline > 0))
     throw InputError("FeatureSet::pushStereo: the camera has no stereo baseline");
   // z = fx b / d, so 1/z = d / (fx b): inverse depth is disparity in other units.
   const double fb = camera.fx * camera.baseline;
   if (disparity > 0)
-    pushKeypoint(*this, uv, sigma_px, disparity / fb, sigma_d / fb, descriptor, colour);
+    pushKeypoint(*this, uv, sigma_px, disparity / fb, sigma_d / fb, descriptor, colour, scale);
   else
-    pushKeypoint(*this, uv, sigma_px, 0.0, 0.0, descriptor, colour);
+    pushKeypoint(*this, uv, sigma_px, 0.0, 0.0, descriptor, colour, scale);
 }
 
 void FeatureSet::checkConsistent() const {
   const size_t n = size();
-  if (pixel_sigma.size() != n || inverse_depth.size() != n || inverse_depth_sigma.size() != n ||
+  if (pixel_sigma.size() != n || scales.size() != n || inverse_depth.size() != n || inverse_depth_sigma.size() != n ||
       points.size() != n || covariances.size() != n || colours.size() != n ||
       descriptor_bytes <= 0 || descriptors.size() != n * static_cast<size_t>(descriptor_bytes))
     throw InputError("FeatureSet: expected every array to hold " + std::to_string(n) +
                      " keypoints (descriptors: " + std::to_string(descriptor_bytes) +
                      " bytes each), got " + std::to_string(descriptors.size()) +
-                     " descriptor bytes, " + std::to_string(inverse_depth.size()) + " depths");
+                     " descriptor bytes, " + std::to_string(inverse_depth.size()) + " depths, " +
+                     std::to_string(scales.size()) + " scales");
 }
 
 namespace {
@@ -134,6 +140,7 @@ void save(OutArchive& ar, const FeatureSet& f) {
   ar.field("camera", f.camera).field("width", f.width).field("height", f.height);
   ar.field("mount", f.mount).field("stamp", f.stamp);
   ar.field("pixels", f.pixels).field("pixel_sigma", f.pixel_sigma);
+  ar.field("scales", f.scales).field("max_scale", f.max_scale);
   ar.field("inverse_depth", f.inverse_depth).field("inverse_depth_sigma", f.inverse_depth_sigma);
   ar.field("points", f.points).field("covariances", flatten(f.covariances));
   ar.field("descriptor_bytes", f.descriptor_bytes);
@@ -147,6 +154,15 @@ void load(InArchive& ar, FeatureSet& f) {
   ar.field("camera", f.camera).field("width", f.width).field("height", f.height);
   ar.field("mount", f.mount).field("stamp", f.stamp);
   ar.field("pixels", f.pixels).field("pixel_sigma", f.pixel_sigma);
+  // Feature sets saved before the image pyramid have no scales: every keypoint is full
+  // resolution.
+  const std::vector<std::string> keys = ar.keys();
+  if (std::find(keys.begin(), keys.end(), "scales") != keys.end()) {
+    ar.field("scales", f.scales).field("max_scale", f.max_scale);
+  } else {
+    f.scales.assign(f.pixels.size(), 1.0);
+    f.max_scale = 1.0;
+  }
   ar.field("inverse_depth", f.inverse_depth).field("inverse_depth_sigma", f.inverse_depth_sigma);
   ar.field("points", f.points);
   std::vector<double> cov;

@@ -1,5 +1,6 @@
 #include "plugslam/landmarks/landmark_map.h"
 
+#include <algorithm>
 #include <atomic>
 #include <string>
 
@@ -23,7 +24,8 @@ void keep(std::vector<T>& v, const std::vector<bool>& flags) {
 }  // namespace
 
 void LandmarkMap::push(const Eigen::Vector3d& position, const Eigen::Matrix3d& covariance,
-                       uint64_t id, const uint8_t* descriptor, uint32_t colour, uint64_t seq) {
+                       uint64_t id, const uint8_t* descriptor, uint32_t colour, uint64_t seq,
+                       double reference_distance) {
   positions.push_back(position);
   covariances.push_back(covariance);
   ids.push_back(id);
@@ -31,6 +33,7 @@ void LandmarkMap::push(const Eigen::Vector3d& position, const Eigen::Matrix3d& c
   visible.push_back(1);
   last_seen.push_back(seq);
   colours.push_back(colour);
+  reference_distances.push_back(reference_distance);
   descriptors.insert(descriptors.end(), descriptor, descriptor + descriptor_bytes);
 }
 
@@ -55,6 +58,7 @@ void LandmarkMap::keepOnly(const std::vector<bool>& flags) {
   keep(visible, flags);
   keep(last_seen, flags);
   keep(colours, flags);
+  keep(reference_distances, flags);
   touch();
 }
 
@@ -66,6 +70,7 @@ void LandmarkMap::clear() {
   visible.clear();
   last_seen.clear();
   colours.clear();
+  reference_distances.clear();
   descriptors.clear();
   touch();
 }
@@ -76,7 +81,7 @@ void LandmarkMap::checkConsistent() const {
   const size_t n = size();
   if (covariances.size() != n || ids.size() != n || observations.size() != n ||
       visible.size() != n || last_seen.size() != n || colours.size() != n ||
-      descriptor_bytes <= 0 || descriptors.size() != n * static_cast<size_t>(descriptor_bytes))
+      reference_distances.size() != n || descriptor_bytes <= 0 || descriptors.size() != n * static_cast<size_t>(descriptor_bytes))
     throw InputError("LandmarkMap: expected every array to hold " + std::to_string(n) +
                      " landmarks (descriptors: " + std::to_string(descriptor_bytes) +
                      " bytes each)");
@@ -90,6 +95,7 @@ void save(OutArchive& ar, const LandmarkMap& m) {
   ar.field("positions", m.positions).field("covariances", cov).field("ids", m.ids);
   ar.field("observations", m.observations).field("visible", m.visible);
   ar.field("last_seen", m.last_seen).field("colours", m.colours);
+  ar.field("reference_distances", m.reference_distances);
   ar.field("descriptor_bytes", m.descriptor_bytes);
   ar.field("descriptors", detail::toBase64(m.descriptors.data(), m.descriptors.size()));
   ar.endObject();
@@ -101,6 +107,12 @@ void load(InArchive& ar, LandmarkMap& m) {
   ar.field("positions", m.positions).field("covariances", cov).field("ids", m.ids);
   ar.field("observations", m.observations).field("visible", m.visible);
   ar.field("last_seen", m.last_seen).field("colours", m.colours);
+  // Maps saved before the image pyramid have no reference distances (unknown: no scale check).
+  const std::vector<std::string> keys = ar.keys();
+  if (std::find(keys.begin(), keys.end(), "reference_distances") != keys.end())
+    ar.field("reference_distances", m.reference_distances);
+  else
+    m.reference_distances.assign(m.positions.size(), 0.0);
   ar.field("descriptor_bytes", m.descriptor_bytes);
   std::string text;
   ar.field("descriptors", text);

@@ -108,6 +108,7 @@ void ReprojectionSlice<S>::associate(const Pose& t) {
   o.radius = std::max(refine_radius(), search_radius() / static_cast<double>(1 << std::min(round_, 20)));
   o.max_hamming = max_hamming();
   o.ratio = ratio();
+  o.scale_tolerance = scale_tolerance();
   ++round_;
   grid_.associate(*scene, S::to3D(t) * measurement->mount, o, matches_);
 }
@@ -216,6 +217,7 @@ void LandmarkMapSlice<S>::handOver(const PropertyContainer& previous, PropertyCo
     map.visible.push_back(old->visible[j]);
     map.last_seen.push_back(old->last_seen[j]);
     map.colours.push_back(old->colours[j]);
+    map.reference_distances.push_back(old->reference_distances[j]);
     map.descriptors.insert(map.descriptors.end(), old->descriptor(j), old->descriptor(j) + bytes);
   }
   map.touch();
@@ -244,9 +246,11 @@ void LandmarkMapSlice<S>::integrate(const MergeContext<S>& context) {
 
   const Eigen::Isometry3d camera = S::to3D(t) * f->mount;
   const Eigen::Matrix3d r = camera.linear();
+  const Eigen::Isometry3d to_camera = camera.inverse();
   AssociationOptions o;
   o.radius = match_radius();
   o.max_hamming = max_hamming();
+  o.scale_tolerance = scale_tolerance();
   grid_.build(*f);
   grid_.associate(*map, camera, o, matches_, &visible_);
   const size_t old_size = map->size();
@@ -264,6 +268,9 @@ void LandmarkMapSlice<S>::integrate(const MergeContext<S>& context) {
     map->last_seen[j] = context.seq;
     map->colours[j] = f->colours[i];
     std::copy(f->descriptor(i), f->descriptor(i) + bytes, map->descriptor(j));
+    // The descriptor is now the one taken at this keypoint's scale from here.
+    const double distance = (to_camera * map->positions[j]).norm();
+    map->reference_distances[j] = distance * f->scales[i];
     if (!f->hasDepth(i)) continue;
     // Information-weighted fusion of the two Gaussian estimates of the point.
     const Eigen::Vector3d p = camera * f->points[i];
@@ -282,7 +289,8 @@ void LandmarkMapSlice<S>::integrate(const MergeContext<S>& context) {
     if (matched[i] || !f->hasDepth(i)) continue;
     if (max_depth() > 0 && f->points[i].z() > max_depth()) continue;
     map->push(camera * f->points[i], r * f->covariances[i] * r.transpose(), next_id_++,
-              f->descriptor(i), f->colours[i], context.seq);
+              f->descriptor(i), f->colours[i], context.seq,
+              f->points[i].norm() * f->scales[i]);
     ++last_created_;
   }
   std::vector<bool> keep(map->size(), true);

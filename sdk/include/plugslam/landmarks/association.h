@@ -2,7 +2,11 @@
 // Projective data association of the landmark cue, shared by its aligner slice (at every
 // association round) and its tracker slice (at the final pose): each landmark is projected into
 // the image and paired with the keypoint near its projection whose descriptor is closest, if it
-// passes the descriptor check. A keypoint keeps only its best landmark.
+// passes the descriptor check. A keypoint keeps only its best landmark. With pyramid keypoints
+// the association respects scale: a landmark is expected at the scale its reference distance
+// predicts from where the camera is, its search radius grows with that scale (a coarse keypoint
+// is located that much less precisely), and keypoints of another scale are no match (a corner
+// described at the wrong scale only matches by chance).
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <vector>
@@ -21,7 +25,15 @@ struct AssociationOptions {
   /// the radius compete, so repeated texture far away does not reject a good match.
   double ratio = 1.0;
   double border = 0.0;   ///< projections closer to the image border are not searched [px]
+  /// A keypoint whose pyramid scale differs from the landmark's predicted scale by more than this
+  /// factor (either way) is no match (0: scale not checked). Landmarks of unknown reference
+  /// distance are expected at full resolution; predictions are clamped to the scales searched.
+  double scale_tolerance = 0.0;
 };
+
+/// The pyramid scale at which a landmark of reference distance `reference_distance` is expected
+/// when seen from `distance`, clamped into [1, max_scale] (1 when either distance is unknown).
+double predictedScale(double reference_distance, double distance, double max_scale);
 
 /// One landmark-keypoint pair.
 struct LandmarkMatch {

@@ -50,6 +50,11 @@ struct FeatureSet {
 
   std::vector<Eigen::Vector2d> pixels;  ///< (u, v) of each keypoint [px]
   std::vector<double> pixel_sigma;      ///< std. dev. of u and of v [px] (grows with the level)
+  /// Pyramid scale of the level each keypoint was found at (1: full resolution; s: the image
+  /// shrunk s times, where the keypoint's patch covers s times as many full-resolution pixels).
+  std::vector<double> scales;
+  /// Scale of the coarsest pyramid level the keypoints were searched at (1: no pyramid).
+  double max_scale = 1.0;
   /// Inverse depth 1/z [1/m]; 0 = no depth (the feature still constrains bearing).
   std::vector<double> inverse_depth;
   std::vector<double> inverse_depth_sigma;   ///< std. dev. of the inverse depth [1/m]
@@ -74,12 +79,15 @@ struct FeatureSet {
     return descriptors.data() + i * static_cast<size_t>(descriptor_bytes);
   }
   /// Appends a keypoint with depth z [m] and depth noise sigma_z [m] (RGB-D); z <= 0: no depth.
+  /// `scale` is its pyramid level's scale (sigma_px is the noise at that level, in full-resolution
+  /// pixels).
   void pushDepth(const Eigen::Vector2d& uv, double sigma_px, double z, double sigma_z,
-                 const uint8_t* descriptor, uint32_t colour);
+                 const uint8_t* descriptor, uint32_t colour, double scale = 1.0);
   /// Appends a keypoint matched in the right image of a rectified pair at disparity d = uL - uR
-  /// [px] with noise sigma_d [px]; needs camera.baseline > 0. d <= 0: no depth.
+  /// [px] with noise sigma_d [px]; needs camera.baseline > 0. d <= 0: no depth. `scale` as in
+  /// pushDepth.
   void pushStereo(const Eigen::Vector2d& uv, double sigma_px, double disparity, double sigma_d,
-                  const uint8_t* descriptor, uint32_t colour);
+                  const uint8_t* descriptor, uint32_t colour, double scale = 1.0);
   /// Throws InputError unless every array matches size() (descriptors: size() x bytes).
   void checkConsistent() const;
 };

@@ -21,6 +21,10 @@ struct LandmarkMap {
   std::vector<uint32_t> visible;             ///< frames it projected into (creation included)
   std::vector<uint64_t> last_seen;           ///< seq of the last frame that matched it
   std::vector<uint32_t> colours;             ///< 0xRRGGBB of the last observation
+  /// Distance [m] from which the landmark looks as large as a full-resolution keypoint: its
+  /// last observation's distance times that keypoint's pyramid scale (0: unknown). Seen from d,
+  /// it is expected at scale reference_distance / d.
+  std::vector<double> reference_distances;
   int descriptor_bytes = 32;                 ///< bytes per descriptor
   std::vector<uint8_t> descriptors;          ///< size() * descriptor_bytes (last observation)
   /// Changes whenever the map is modified (process-wide unique, see touch()).
@@ -38,9 +42,10 @@ struct LandmarkMap {
   uint8_t* descriptor(size_t i) {
     return descriptors.data() + i * static_cast<size_t>(descriptor_bytes);
   }
-  /// Appends a landmark seen once, at frame `seq`.
+  /// Appends a landmark seen once, at frame `seq` (reference_distance: see reference_distances).
   void push(const Eigen::Vector3d& position, const Eigen::Matrix3d& covariance, uint64_t id,
-            const uint8_t* descriptor, uint32_t colour, uint64_t seq);
+            const uint8_t* descriptor, uint32_t colour, uint64_t seq,
+            double reference_distance = 0.0);
   /// Keeps the landmarks whose flag is true, in order (keep.size() == size()).
   void keepOnly(const std::vector<bool>& keep);
   /// Removes every landmark.

@@ -59,6 +59,12 @@ class ReprojectionSlice final : public AlignerSlice<S>,
                       "a match's distance must be below this times the second best within the "
                       "radius (1: off)",
                       Range{0.1, 1.0}};
+  Param<double> scale_tolerance{this, "scale_tolerance", 1.5, "",
+                                "pyramid keypoints: a keypoint's scale may differ from the "
+                                "landmark's predicted one by this factor either way (a corner "
+                                "fires at neighbouring levels, 1.2 apart, and the prediction "
+                                "carries the depth's error); 0: not checked",
+                                Range{0, 100}};
   Param<bool> use_depth{this, "use_depth", true, "",
                         "add the inverse-depth residual of keypoints with depth"};
   Param<bool> landmark_uncertainty{
@@ -118,7 +124,8 @@ class ReprojectionSlice final : public AlignerSlice<S>,
 /// "sdk.LandmarkMapSlice2D/3D": merges a FeatureSet into the local map's LandmarkMap: matched
 /// landmarks are refined (information-weighted fusion of the positions) and take the newest
 /// descriptor, unmatched keypoints with depth become landmarks with a new track id, landmarks
-/// found in too few of the frames they projected into are pruned.
+/// found in too few of the frames they projected into are pruned. Each landmark keeps the
+/// reference distance of its last observation (distance times the keypoint's pyramid scale).
 template <class S>
 class LandmarkMapSlice final : public TrackerSlice<S>,
                                public HandoverSlice<S>,
@@ -133,6 +140,9 @@ class LandmarkMapSlice final : public TrackerSlice<S>,
                              "association radius at the aligned pose", Range{0.5, 1000}};
   Param<int> max_hamming{this, "max_hamming", 50, "bits",
                          "descriptor check: larger Hamming distances are no match", Range{0, 4096}};
+  Param<double> scale_tolerance{this, "scale_tolerance", 1.5, "",
+                                "pyramid keypoints: as the reprojection slice's (0: not checked)",
+                                Range{0, 100}};
   Param<double> fusion_gate{this, "fusion_gate", 11.34, "chi2",
                             "a matched point farther than this squared Mahalanobis distance from "
                             "its landmark is not fused (default: chi-square 99 % for 3 dof)",
