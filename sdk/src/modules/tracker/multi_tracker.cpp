@@ -182,11 +182,17 @@ AlignResult<S> MultiTracker<S>::align(const Frame& frame, const PropertyContaine
     }
   } else if (aligned.valid && beyond(aligned.pose)) {
     // Either the prediction is poor (slip, bad odometry) or the solve slid (a corridor): the
-    // seeder's search around the prediction decides; without one the prediction is kept. A slid
-    // solve that explains more than the seed is not replaced by it: the frame fails.
+    // seeder's search around the prediction decides; without one the prediction is kept. A seed
+    // elsewhere must explain more than the solve it replaces, else the frame fails.
     AlignResult<S> recovered = aligner->recover(frame, scene, context);
     if (recovered.valid) recovered.pose = S::normalized(to_scene.inverse() * recovered.pose);
-    if (recovered.valid && seedCounts(recovered, aligned.inliers)) {
+    // The search is unambiguous over its whole window, so a seed whose solve ends where the
+    // solve from the prediction did confirms it: the prediction was poor, not the solve.
+    const Pose apart = S::normalized(aligned.pose.inverse() * recovered.pose);
+    const bool confirms = recovered.valid &&
+                          S::distance(apart) <= aligner->seed_tolerance()[0] &&
+                          S::angle(apart) <= aligner->seed_tolerance()[1];
+    if (recovered.valid && (confirms || seedCounts(recovered, aligned.inliers))) {
       spdlog::debug("frame {}: {}; {} ({} inliers against {})", frame.seq,
                     describe("alignment", aligned.pose),
                     describe("the seeder's search puts it", recovered.pose), recovered.inliers,
