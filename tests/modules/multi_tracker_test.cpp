@@ -493,10 +493,43 @@ TEST(MultiTracker, AFrameThatFailedToAlignLeavesTheOldMapUnchanged) {
   EXPECT_EQ(tracker->stats().local_maps, 2u);
 }
 
+// Issue 20: the gate grows with the predicted motion. Frame 15's prediction is a 0.6 m step
+// (0.5 m too far): a gate of 1 m per metre of it (0.6 m) lets the right 0.5 m correction through,
+// where the fixed 0.2 m gate kept the wrong prediction; 0.5 m per metre (0.3 m) still rejects it,
+// and the 0.1 m steps stay under the 0.2 m floor either way.
+TEST(MultiTracker, MaxCorrectionGrowsWithThePredictedMotion) {
+  auto grown = makeTracker(100.0);
+  grown->max_correction = std::vector<double>{0.2, 0.5};
+  grown->max_correction_per_motion = std::vector<double>{1.0, 0.0, 0.0, 0.0};
+  grown->configure();
+  auto estimates = driveWithABadPrediction(grown);
+  EXPECT_EQ(grown->stats().failed, 0u);
+  EXPECT_NEAR(estimates[15].translation().x(), 1.5, 1e-6);
+  EXPECT_NEAR(estimates[29].translation().x(), 2.9, 1e-6);
+
+  auto tight = makeTracker(100.0);
+  tight->max_correction = std::vector<double>{0.2, 0.5};
+  tight->max_correction_per_motion = std::vector<double>{0.5, 0.0, 0.0, 0.0};
+  tight->configure();
+  estimates = driveWithABadPrediction(tight);
+  EXPECT_EQ(tight->stats().failed, 1u);
+  EXPECT_EQ(tight->stats().failures[static_cast<size_t>(AlignFailure::gate)], 1u);
+  EXPECT_NEAR(estimates[15].translation().x(), 2.0, 1e-6);
+}
+
 TEST(MultiTracker, MaxCorrectionIsValidated) {
   auto tracker = makeTracker(1.0);
   tracker->max_correction = std::vector<double>{0.2};
   EXPECT_THROW(tracker->configure(), ParamError);
   tracker->max_correction = std::vector<double>{0.2, 0.0};
+  EXPECT_THROW(tracker->configure(), ParamError);
+  tracker->max_correction = std::vector<double>{0.2, 0.5};
+  tracker->max_correction_per_motion = std::vector<double>{0.1, 0.2};
+  EXPECT_THROW(tracker->configure(), ParamError);  // four values
+  tracker->max_correction_per_motion = std::vector<double>{0.1, 0.2, -0.1, 0.0};
+  EXPECT_THROW(tracker->configure(), ParamError);
+  tracker->max_correction_per_motion = std::vector<double>{0.1, 0.2, 0.05, 0.2};
+  EXPECT_NO_THROW(tracker->configure());
+  tracker->max_correction = std::vector<double>{};  // it grows max_correction: needs it
   EXPECT_THROW(tracker->configure(), ParamError);
 }

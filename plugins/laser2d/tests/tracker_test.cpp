@@ -136,6 +136,8 @@ void build(MultiTracker<Space2D>& tracker, bool seeded) {
   tracker.splitter.assign(std::make_shared<DistanceSplitter>());
   tracker.motion.assign(std::make_shared<OdometryIncrement>());
   tracker.max_correction = std::vector<double>{0.3, 0.5};  // the shipped config's gate
+  // A seed beyond the gate (the 1 m / 30 deg frame) needs twice the prediction's support.
+  tracker.seed_beyond_gate = 2.0;
   tracker.configure();
 }
 

@@ -48,6 +48,9 @@ struct AlignResult {
   typename S::Vector weakest = S::Vector::Zero();
   /// The solve started from a seeder's pose (MultiAligner::seeder), not the prediction.
   bool seeded = false;
+  /// With `seeded` from align(): the inliers of the best solve from the prediction (and the
+  /// retry headings) that failed, which the seed's solve replaced.
+  size_t unseeded_inliers = 0;
   /// inliers / factors, 0 without factors.
   double inlierRatio() const { return factors ? double(inliers) / factors : 0.0; }
   /// How much of the measurement the scene explains: inliers over candidates, summed over the

@@ -3,6 +3,8 @@
 // cue), a Multi-Aligner, tracker slices that merge each cue, an optional motion model and a
 // splitter. track() reads like the seed: predict, align, merge, split.
 #include <memory>
+#include <optional>
+#include <utility>
 
 #include "plugslam/motion_model.h"
 #include "plugslam/multi_aligner.h"
@@ -43,6 +45,26 @@ class MultiTracker : public Tracker {
       "translation and rotation: an alignment farther than this from the motion model's "
       "prediction counts as failed and the prediction is kept (empty: no limit; not applied "
       "when the motion model has no prediction)"};
+  // Odometry's error grows with the motion it integrates: wheel scale and slip per metre driven,
+  // skid per radian turned. Over a long step (a slow scan rate, a dropped scan) a right alignment
+  // lands farther from the prediction than a fixed gate allows, so the gate grows with the
+  // motion the model predicts since the last frame (the frame the local map already holds).
+  Param<std::vector<double>> max_correction_per_motion{
+      this, "max_correction_per_motion", {}, "m/m, m/rad, rad/m, rad/rad",
+      "growth of the max_correction gate with the predicted motion since the last frame: "
+      "translation per metre and per radian of it, rotation per metre and per radian; the gate "
+      "is the larger of max_correction and this bound (empty: max_correction alone)"};
+
+  // The aligner's seeder (a wide search around the prediction) proposes where a poor
+  // prediction's frame really is. Within the gate its pose replaces the solve from the
+  // prediction when it explains more of the scan. Beyond the gate it claims the odometry was
+  // wrong (slip, a kidnap), which sparse scans also fake by looking alike elsewhere: that takes
+  // far more support than the prediction's own solve.
+  Param<double> seed_beyond_gate{
+      this, "seed_beyond_gate", 0.0, "",
+      "a seeder's pose beyond the correction gate counts when its solve has at least this many "
+      "times the inliers of the solve from the prediction (0: never; no gate: always)",
+      Range{0, 1e6}};
 
   // Off by default: on laser scans a frame that fails against the current map can align wrongly
   // against the previous one (measured: Slam.FreiburgCampusStaysInOnePiece breaks with it on).
@@ -80,6 +102,10 @@ class MultiTracker : public Tracker {
   // motion model's prediction farther than max_correction.
   AlignResult<S> align(const Frame& frame, const PropertyContainer& scene, const Pose& to_scene,
                        const Pose& previous, const Pose& guess);
+  // The gate (translation m, rotation rad) on this frame's correction from the prediction:
+  // max_correction, grown with the predicted motion (max_correction_per_motion); empty when no
+  // gate applies (no limit set, or the motion model predicted nothing).
+  std::optional<std::pair<double, double>> correctionGate() const;
   // Counts the frame as aligned or failed.
   void count(const Frame& frame, const AlignResult<S>& aligned);
   // What the splitter is asked after the frame was merged.

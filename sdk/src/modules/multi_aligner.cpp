@@ -134,6 +134,7 @@ AlignResult<S> MultiAligner<S>::align(const Frame& frame, const PropertyContaine
   }
   if (result.valid || !seeder) return result;
   AlignResult<S> seeded = recoverBound(frame, scene, context, active);
+  seeded.unseeded_inliers = result.inliers;  // the caller weighs the seed against it
   return seeded.valid ? seeded : result;
 }
 

@@ -1,5 +1,7 @@
 #include "plugslam/multi_tracker.h"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -68,6 +70,18 @@ void MultiTracker<S>::configure() {
                          std::to_string(max_correction().size()));
   for (double v : max_correction())
     if (!(v > 0)) throw ParamError("max_correction", "every value must be > 0");
+  if (!max_correction_per_motion().empty()) {
+    if (max_correction_per_motion().size() != 4)
+      throw ParamError("max_correction_per_motion",
+                       "expected 4 values (translation per m and per rad, rotation per m and per "
+                       "rad) or an empty list, got " +
+                           std::to_string(max_correction_per_motion().size()));
+    if (max_correction().empty())
+      throw ParamError("max_correction_per_motion",
+                       "grows the max_correction gate, so max_correction must be set too");
+  }
+  for (double v : max_correction_per_motion())
+    if (!(v >= 0)) throw ParamError("max_correction_per_motion", "every value must be >= 0");
 }
 
 template <class S>
@@ -137,33 +151,81 @@ AlignResult<S> MultiTracker<S>::align(const Frame& frame, const PropertyContaine
   AlignResult<S> aligned = aligner->align(frame, scene, context);
   // The tangent is the robot's own (boxplus multiplies on the right), so H needs no change.
   aligned.pose = S::normalized(to_scene.inverse() * aligned.pose);
-  // A solution from a seed stands on the aligner's search around the prediction: the gate is
-  // for solves that may have slid from the prediction itself.
-  if (aligned.valid && !aligned.seeded && prediction_.model_motion && !max_correction().empty()) {
-    const Pose correction = S::normalized(guess.inverse() * aligned.pose);
-    if (S::distance(correction) > max_correction()[0] ||
-        S::angle(correction) > max_correction()[1]) {
-      // Either the prediction is poor (slip, bad odometry) or the solve slid (a corridor): the
-      // seeder's search around the prediction decides; without one the prediction is kept.
-      AlignResult<S> recovered = aligner->recover(frame, scene, context);
-      if (recovered.valid) {
-        recovered.pose = S::normalized(to_scene.inverse() * recovered.pose);
-        const Pose moved = S::normalized(guess.inverse() * recovered.pose);
-        spdlog::debug("frame {}: alignment moved the prediction by {:.3f} m, {:.3f} rad; the "
-                      "seeder's search puts it {:.3f} m, {:.3f} rad from it",
-                      frame.seq, S::distance(correction), S::angle(correction),
-                      S::distance(moved), S::angle(moved));
-        aligned = recovered;
-      } else {
-        spdlog::debug("frame {}: alignment moved the prediction by {:.3f} m, {:.3f} rad; "
-                      "rejected", frame.seq, S::distance(correction), S::angle(correction));
-        aligned.valid = false;
-        aligned.failure = AlignFailure::gate;
-      }
+  const std::optional<std::pair<double, double>> gate = correctionGate();
+  if (!gate) {  // nothing bounds the correction: every valid solve counts, seeded or not
+    if (aligned.valid && aligned.seeded) ++stats_.recovered;
+    return aligned;
+  }
+  const auto beyond = [&](const Pose& pose) {
+    const Pose correction = S::normalized(guess.inverse() * pose);
+    return S::distance(correction) > gate->first || S::angle(correction) > gate->second;
+  };
+  // Whether a seeded solve beats the one from the prediction that explained `against` inliers.
+  const auto seedCounts = [&](const AlignResult<S>& seeded, size_t against) {
+    if (!beyond(seeded.pose)) return seeded.inliers > against;
+    return seed_beyond_gate() > 0 &&
+           static_cast<double>(seeded.inliers) >= seed_beyond_gate() * static_cast<double>(against);
+  };
+  const auto describe = [&](const char* what, const Pose& pose) {
+    const Pose moved = S::normalized(guess.inverse() * pose);
+    return fmt::format("{} {:.3f} m, {:.3f} rad from the prediction (gate {:.3f} m, {:.3f} rad)",
+                       what, S::distance(moved), S::angle(moved), gate->first, gate->second);
+  };
+  if (aligned.valid && aligned.seeded) {
+    // The solve from the prediction failed and the seeder's search found a pose.
+    if (!seedCounts(aligned, aligned.unseeded_inliers)) {
+      spdlog::debug("frame {}: {}, {} inliers against the failed solve's {}: rejected", frame.seq,
+                    describe("the seeder's pose is", aligned.pose), aligned.inliers,
+                    aligned.unseeded_inliers);
+      aligned.valid = false;
+      aligned.failure = AlignFailure::gate;
+    }
+  } else if (aligned.valid && beyond(aligned.pose)) {
+    // Either the prediction is poor (slip, bad odometry) or the solve slid (a corridor): the
+    // seeder's search around the prediction decides; without one the prediction is kept. A seed
+    // elsewhere must explain more than the solve it replaces, else the frame fails.
+    AlignResult<S> recovered = aligner->recover(frame, scene, context);
+    if (recovered.valid) recovered.pose = S::normalized(to_scene.inverse() * recovered.pose);
+    // The search is unambiguous over its whole window, so a seed whose solve ends where the
+    // solve from the prediction did confirms it: the prediction was poor, not the solve.
+    const Pose apart = S::normalized(aligned.pose.inverse() * recovered.pose);
+    const bool confirms = recovered.valid &&
+                          S::distance(apart) <= aligner->seed_tolerance()[0] &&
+                          S::angle(apart) <= aligner->seed_tolerance()[1];
+    if (recovered.valid && (confirms || seedCounts(recovered, aligned.inliers))) {
+      spdlog::debug("frame {}: {}; {} ({} inliers against {})", frame.seq,
+                    describe("alignment", aligned.pose),
+                    describe("the seeder's search puts it", recovered.pose), recovered.inliers,
+                    aligned.inliers);
+      aligned = recovered;
+    } else {
+      spdlog::debug("frame {}: {}; rejected{}", frame.seq, describe("alignment", aligned.pose),
+                    recovered.valid ? fmt::format(" ({}, {} inliers against {})",
+                                                  describe("the seeder's pose", recovered.pose),
+                                                  recovered.inliers, aligned.inliers)
+                                    : std::string());
+      aligned.valid = false;
+      aligned.failure = AlignFailure::gate;
     }
   }
   if (aligned.valid && aligned.seeded) ++stats_.recovered;
   return aligned;
+}
+
+template <class S>
+std::optional<std::pair<double, double>> MultiTracker<S>::correctionGate() const {
+  // Without the motion model's prediction (constant velocity, no odometry) nothing bounds how
+  // far off the guess may be.
+  if (max_correction().empty() || !prediction_.model_motion) return std::nullopt;
+  double translation = max_correction()[0], rotation = max_correction()[1];
+  const std::vector<double>& growth = max_correction_per_motion();
+  if (!growth.empty()) {
+    const double d = S::distance(*prediction_.model_motion);
+    const double a = S::angle(*prediction_.model_motion);
+    translation = std::max(translation, growth[0] * d + growth[1] * a);
+    rotation = std::max(rotation, growth[2] * d + growth[3] * a);
+  }
+  return std::make_pair(translation, rotation);
 }
 
 template <class S>
