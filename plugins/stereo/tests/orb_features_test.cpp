@@ -134,7 +134,9 @@ TEST(FeatureExtractor, LevelsShareTheKeypointsGeometrically) {
   int total = 0;
   for (int l = 0; l < 8; ++l) {
     total += extractor.levelFeatures(l);
-    if (l > 0) EXPECT_LT(extractor.levelFeatures(l), extractor.levelFeatures(l - 1));
+    if (l > 0) {
+      EXPECT_LT(extractor.levelFeatures(l), extractor.levelFeatures(l - 1));
+    }
   }
   EXPECT_NEAR(total, 1200, 8);
   EXPECT_NEAR(extractor.levelScale(7), std::pow(1.2, 7), 1e-9);
