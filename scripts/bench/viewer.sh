@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The viewer stream's targets (issue 19), written into docs/benchmarks.md (section viewer), on the
-# intel log (configs/laser2d_carmen.yaml: one laser + odometry, real data) and the simulated
+# built-in default demo (plain `plugslam run`: the simulated office, two lasers + odometry, with
+# loop closing), the intel log (configs/laser2d_carmen.yaml: one laser + odometry, real data) and the simulated
 # stereo street (configs/sim3d_stereo.yaml: two 1241x376 images per frame, landmark tracking):
 #   cost      the viewer's time on the run's thread per frame against the pipeline's frame time,
 #             and the pipeline's own frame time: without a viewer, with --serve and no client,
@@ -10,7 +11,7 @@
 #   stalled   a client that stops reading: the run's rate, its messages dropped and counted.
 # Needs Node and tests/node's packages (scripts/install-web-deps.sh). Run scripts/build.sh first.
 #   scripts/bench/viewer.sh [REPEATS]     (default 3; the median is reported)
-#   PLUGSLAM_VIEWER_CASES="intel street live stall" (default all): run only some, in pieces
+#   PLUGSLAM_VIEWER_CASES="demo intel street live stall" (default all): run only some, in pieces
 #   (each piece keeps its outputs; the table is written from whatever is there)
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -56,11 +57,12 @@ host() {
   fi
 }
 
+demo=()  # no config: the host's built-in default
 intel=("$root/configs/laser2d_carmen.yaml")
 # 300 frames: 30 s of data, two images each; the street's loop needs no more to be typical.
 street=("$root/configs/sim3d_stereo.yaml" --set max_frames=300)
-cases="${PLUGSLAM_VIEWER_CASES:-intel street live stall}"
-for name in intel street; do
+cases="${PLUGSLAM_VIEWER_CASES:-demo intel street live stall}"
+for name in demo intel street; do
   [[ " $cases " == *" $name "* ]] || continue
   declare -n args="$name"
   rm -rf "$out/$name"-{none,serve,client}-*
@@ -108,7 +110,8 @@ def bandwidth(d):
             f"{c['bytes'] / 1e6 / c['seconds']:.3f} | "
             f"{(c['bytes'] / 1e6 / data) if data > 0 else float('nan'):.3f} | {top}")
 
-runs = {"intel": "intel log (laser2d_carmen.yaml)",
+runs = {"demo": "default demo (`plugslam run`, sim2d_double_laser.yaml)",
+        "intel": "intel log (laser2d_carmen.yaml)",
         "street": "stereo street (sim3d_stereo.yaml, 300 frames)"}
 print(f"Cost: median of {repeats} runs each. *viewer* is the `viewer` module of run.json: the "
       "stream's work on the run's thread after each frame (the hub's encoding, JPEG included, and "

@@ -7,41 +7,14 @@
 #include <cmath>
 #include <cstring>
 
+#include "cdr_writer.h"
 #include "plugslam/errors.h"
 #include "readers/cdr_messages.h"
 
 namespace plugslam::io {
 namespace {
 
-// A CDR writer of the test's own.
-class Cdr {
- public:
-  explicit Cdr(bool little = true) : little_(little) {
-    bytes_ = {0, static_cast<uint8_t>(little ? 1 : 0), 0, 0};
-  }
-  template <typename T>
-  Cdr& put(T v) {
-    while ((bytes_.size() - 4) % sizeof(T) != 0) bytes_.push_back(0);
-    uint8_t raw[sizeof(T)];
-    std::memcpy(raw, &v, sizeof(T));  // the machine is little-endian
-    for (size_t k = 0; k < sizeof(T); ++k) bytes_.push_back(raw[little_ ? k : sizeof(T) - 1 - k]);
-    return *this;
-  }
-  Cdr& str(const std::string& s) {
-    put<uint32_t>(static_cast<uint32_t>(s.size() + 1));
-    bytes_.insert(bytes_.end(), s.begin(), s.end());
-    bytes_.push_back(0);
-    return *this;
-  }
-  Cdr& header(int32_t sec, uint32_t nsec, const std::string& frame) {
-    return put<int32_t>(sec).put<uint32_t>(nsec).str(frame);
-  }
-  const std::vector<uint8_t>& bytes() const { return bytes_; }
-
- private:
-  bool little_;
-  std::vector<uint8_t> bytes_;
-};
+using Cdr = plugslam::testing::CdrWriter;
 
 Cdr laserScan(bool little) {
   Cdr c(little);

@@ -17,56 +17,27 @@
 #include "plugslam/mcap/writer.h"
 #include "readers/ros_images.h"
 #include "sources/ros2_bag_source.h"
+#include "cdr_writer.h"
 #include "temp_dir.h"
 
 namespace plugslam::io {
 namespace {
 
-class Cdr {
- public:
-  Cdr() { bytes_ = {0, 1, 0, 0}; }
-  template <typename T>
-  Cdr& put(T v) {
-    while ((bytes_.size() - 4) % sizeof(T) != 0) bytes_.push_back(0);
-    uint8_t raw[sizeof(T)];
-    std::memcpy(raw, &v, sizeof(T));
-    bytes_.insert(bytes_.end(), raw, raw + sizeof(T));
-    return *this;
-  }
-  Cdr& str(const std::string& s) {
-    put<uint32_t>(static_cast<uint32_t>(s.size() + 1));
-    bytes_.insert(bytes_.end(), s.begin(), s.end());
-    bytes_.push_back(0);
-    return *this;
-  }
-  Cdr& blob(const std::vector<uint8_t>& b) {
-    put<uint32_t>(static_cast<uint32_t>(b.size()));
-    bytes_.insert(bytes_.end(), b.begin(), b.end());
-    return *this;
-  }
-  Cdr& header(double t, const std::string& frame) {
-    const auto sec = static_cast<int32_t>(std::floor(t));
-    return put<int32_t>(sec).put<uint32_t>(static_cast<uint32_t>(std::lround((t - sec) * 1e9))).str(frame);
-  }
-  std::string bytes() const { return {bytes_.begin(), bytes_.end()}; }
-
- private:
-  std::vector<uint8_t> bytes_;
-};
+using Cdr = plugslam::testing::CdrWriter;
 
 std::string imageMsg(double t, const std::string& frame, int w, int h, const std::string& enc,
                      int bytes_per_pixel, const std::vector<uint8_t>& data) {
   Cdr c;
   c.header(t, frame).put<uint32_t>(h).put<uint32_t>(w).str(enc).put<uint8_t>(0);
   c.put<uint32_t>(static_cast<uint32_t>(w * bytes_per_pixel)).blob(data);
-  return c.bytes();
+  return c.text();
 }
 
 std::string compressedMsg(double t, const std::string& frame, const std::string& format,
                           const std::vector<uint8_t>& data) {
   Cdr c;
   c.header(t, frame).str(format).blob(data);
-  return c.bytes();
+  return c.text();
 }
 
 // A pinhole CameraInfo; `tx` is P[3] (-fx * baseline for a rectified right camera).
@@ -82,7 +53,7 @@ std::string cameraInfoMsg(const std::string& frame, int w, int h, double f, doub
   c.put<uint32_t>(1).put<uint32_t>(1);
   for (int i = 0; i < 4; ++i) c.put<uint32_t>(0);
   c.put<uint8_t>(0);
-  return c.bytes();
+  return c.text();
 }
 
 // base_link -> camera_optical: 0.2 m forward, 1 m up, optical axes (z forward, x right, y down).
@@ -91,7 +62,7 @@ std::string tfStaticMsg() {
   c.put<uint32_t>(1).header(0.0, "base_link").str("camera_optical");
   for (double v : {0.2, 0.0, 1.0}) c.put<double>(v);
   for (double v : {-0.5, 0.5, -0.5, 0.5}) c.put<double>(v);
-  return c.bytes();
+  return c.text();
 }
 
 mcap::WriterOptions ros2Profile() {
