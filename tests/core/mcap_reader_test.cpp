@@ -12,6 +12,7 @@
 
 #include "plugslam/errors.h"
 #include "plugslam/mcap/reader.h"
+#include "plugslam/mcap/records.h"
 #include "plugslam/mcap/writer.h"
 #include "temp_dir.h"
 
@@ -80,6 +81,33 @@ size_t drain(Reader& r) {
   ReadMessage m;
   while (r.next(m)) ++n;
   return n;
+}
+
+// The records' CRC-32 (slicing-by-8) is the IEEE one byte by byte: the standard check value, and
+// every length and split of a buffer, continued across calls as the reader and writer do.
+TEST(McapCrc32, IsTheIeeeCrcOverAnyLengthAndSplit) {
+  EXPECT_EQ(mcap::crc32("123456789", 9), 0xCBF43926u);
+  EXPECT_EQ(mcap::crc32("", 0), 0u);
+  std::string data(1000, '\0');
+  uint32_t x = 12345;
+  for (char& c : data) c = static_cast<char>((x = x * 1103515245u + 12345u) >> 24);
+  const auto bytewise = [](const std::string& d, size_t n) {
+    uint32_t crc = ~0u;
+    for (size_t i = 0; i < n; ++i) {
+      crc ^= static_cast<uint8_t>(d[i]);
+      for (int k = 0; k < 8; ++k) crc = (crc & 1) ? 0xEDB88320u ^ (crc >> 1) : crc >> 1;
+    }
+    return ~crc;
+  };
+  for (size_t n : {1u, 7u, 8u, 9u, 15u, 16u, 17u, 63u, 64u, 999u, 1000u}) {
+    const uint32_t want = bytewise(data, n);
+    EXPECT_EQ(mcap::crc32(data.data(), n), want) << n << " bytes";
+    for (size_t split : {size_t{0}, size_t{1}, size_t{3}, n / 2, n - 1}) {
+      if (split > n) continue;
+      EXPECT_EQ(mcap::crc32(data.data() + split, n - split, mcap::crc32(data.data(), split)), want)
+          << n << " bytes split at " << split;
+    }
+  }
 }
 
 TEST(McapReader, IndexedAndScannedReadsAgreeForEveryCompression) {
