@@ -80,8 +80,13 @@ if [[ " $cases " == *" live "* ]]; then
   host "$out/street-live" client "${street[@]}" --rate 1
 fi
 if [[ " $cases " == *" stall "* ]]; then
-  rm -rf "$out/street-stall"
-  host "$out/street-stall" stall "${street[@]}"
+  # Each stalled run right after a run without a viewer: the machine's speed drifts over minutes,
+  # so only neighbouring runs compare.
+  rm -rf "$out"/street-stall*
+  for i in $(seq "$repeats"); do
+    host "$out/street-stallbase-$i" none "${street[@]}"
+    host "$out/street-stall-$i" stall "${street[@]}"
+  done
 fi
 
 python3 - "$out" "$repeats" > "$out/section.md" <<'PY'
@@ -146,15 +151,20 @@ for key, label in runs.items():
         print(f"| {label} | {bandwidth(d)} |")
 if (out / "street-live" / "client.json").exists():
     print(f"| stereo street live (`--rate 1`) | {bandwidth(out / 'street-live')} |")
-stall = out / "street-stall"
-if (stall / "run.json").exists():
-    r, _ = run(stall)
-    m = re.search(r"(\d+) stream messages dropped", (stall / "stderr").read_text())
-    base = case([out / f"street-none-{i}" for i in range(1, repeats + 1)]) if (out / "street-none-1").exists() else None
+stalls = sorted(out.glob("street-stall-*"))
+if stalls and all((d / "run.json").exists() for d in stalls):
+    hz = statistics.median(run(d)[0]["hz"] for d in stalls)
+    bases = [out / d.name.replace("stall-", "stallbase-") for d in stalls]
+    base = statistics.median(run(d)[0]["hz"] for d in bases)
+    dropped = []
+    for d in stalls:
+        m = re.search(r"(\d+) stream messages dropped", (d / "stderr").read_text())
+        dropped.append(m.group(1) if m else "none reported")
     print()
-    print(f"Stalled client (stops reading after subscribing, on the stereo street): the run went at "
-          f"{r['hz']:.1f} Hz{f' against {base[2]:.1f} Hz without a viewer' if base else ''}; "
-          f"stream messages dropped and counted on /status: {m.group(1) if m else 'none reported'}.")
+    print(f"Stalled client (stops reading after subscribing, on the stereo street; each of {len(stalls)} "
+          f"runs right after one without a viewer, medians): the run went at {hz:.1f} Hz against "
+          f"{base:.1f} Hz without a viewer; stream messages dropped and counted on /status: "
+          f"{', '.join(dropped)}.")
 PY
 {
   echo "## Viewer stream: cost, bandwidth, stalled client (\`scripts/bench/viewer.sh\`)"
