@@ -39,6 +39,9 @@ struct GraphSlam<S>::State final : detail::GraphOptimizer {
   GraphStats stats;
   uint64_t validator_rejections = 0;
   bool pending = false;  // the graph changed since the last optimization started
+  // The map the tracker started last and has not closed: when the run ends it is final, and is
+  // searched like any closed map (a run that ends where it began closes its loop there).
+  int64_t open_map = -1;
 
   explicit State(GraphSlam& o)
       : owner(o),
@@ -204,12 +207,14 @@ template <class S>
 void GraphSlam<S>::mapStarted(const std::shared_ptr<LocalMap>& map) {
   state_->graph.setWeakEdgeRatio(weak_edge_ratio());
   state_->graph.addMap(map, information_scale());
+  state_->open_map = map->id;
 }
 
 template <class S>
 void GraphSlam<S>::mapClosed(const std::shared_ptr<LocalMap>& query) {
-  if (loop_detectors.empty() || validators.empty()) return;
   State& st = *state_;
+  if (query->id == st.open_map) st.open_map = -1;
+  if (loop_detectors.empty() || validators.empty()) return;
   st.search.enqueue(query->id);
   if (deterministic()) {
     st.searchInline();
@@ -243,6 +248,9 @@ template <class S>
 void GraphSlam<S>::finish() {
   State& st = *state_;
   if (st.search.running()) st.applyLoops(st.search.collect());
+  if (st.open_map >= 0 && !loop_detectors.empty() && !validators.empty())
+    st.search.enqueue(st.open_map);
+  st.open_map = -1;
   if (st.search.queued() > 0) st.searchInline();
   if (st.optimizer.running()) st.apply(st.optimizer.collect());
   if (st.pending || st.stats.optimizations > 0) st.optimizeNow();
