@@ -234,10 +234,7 @@ DepthImage decodeDepthPng(const std::uint8_t* data, std::size_t size, const std:
   DepthImage depth;
   depth.resize(static_cast<int>(r.width), static_cast<int>(r.height));
   const float scale = static_cast<float>(1.0 / units_per_metre);
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    const std::uint16_t v = values[i];
-    depth.data[i] = (v == 0 || v == 65535) ? 0.0f : static_cast<float>(v) * scale;
-  }
+  for (std::size_t i = 0; i < values.size(); ++i) depth.data[i] = depthFromUnits(values[i], scale);
   return depth;
 }
 

@@ -35,6 +35,12 @@ bool isPng(const std::uint8_t* data, std::size_t size);
 /// is corrupt, truncated or too large.
 Image decodePng(const std::uint8_t* data, std::size_t size, const std::string& name,
                 ImageChannels channels = ImageChannels::kAsStored);
+/// A 16-bit depth code in metres, `metres_per_unit` each: 0 and 65535 (the "no reading" codes of
+/// TUM, 7-Scenes and the Kinect drivers) become 0, the one rule for PNG files and bag messages.
+inline float depthFromUnits(std::uint16_t v, float metres_per_unit) {
+  return (v == 0 || v == 65535) ? 0.0f : static_cast<float>(v) * metres_per_unit;
+}
+
 /// Decodes a 16-bit single-channel PNG whose values are depths in 1/units_per_metre metres;
 /// 0 and 65535 (the "no reading" codes of TUM, 7-Scenes and the Kinect drivers) become 0.
 /// Throws ParseError(name) for anything else (8-bit or colour PNGs included).

@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "images/image_file.h"
+#include "images/png.h"
 #include "plugslam/errors.h"
 
 namespace plugslam {
@@ -88,8 +89,7 @@ DepthImage depthFromRos(const ImageMsg& m) {
   checkLayout(m, mm ? 2 : 4);
   DepthImage d;
   d.resize(static_cast<int>(m.width), static_cast<int>(m.height));
-  // The depth PNGs' conversion (images/png.cpp), so a bag and a folder of the same millimetres
-  // give the same floats.
+  // The depth PNGs' conversion, so a bag and a folder of the same millimetres give the same floats.
   const float scale = static_cast<float>(1.0 / 1000.0);
   for (std::uint32_t y = 0; y < m.height; ++y) {
     const std::uint8_t* row = m.data.data() + std::size_t{y} * m.step;
@@ -99,7 +99,7 @@ DepthImage depthFromRos(const ImageMsg& m) {
         const std::uint8_t* p = row + 2 * x;
         const std::uint16_t v = m.is_bigendian ? static_cast<std::uint16_t>(p[0] << 8 | p[1])
                                                : static_cast<std::uint16_t>(p[1] << 8 | p[0]);
-        out[x] = (v == 0 || v == 65535) ? 0.0f : static_cast<float>(v) * scale;
+        out[x] = depthFromUnits(v, scale);
       } else {
         std::uint8_t b[4];
         std::memcpy(b, row + 4 * x, 4);
