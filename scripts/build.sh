@@ -4,6 +4,7 @@
 #   PLUGSLAM_JOBS     parallel compile jobs; default: the machine's cores, at most one per 2 GiB
 #                     of available memory (a heavy translation unit takes about that much)
 #   PLUGSLAM_TARGETS  build only these targets (space separated; default: everything)
+#   PLUGSLAM_WERROR   ON: warnings are errors, as in CI (scripts/test.sh reads it the same way)
 #   scripts/build.sh --print-jobs   prints the default job count and exits
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -23,8 +24,10 @@ if [ "${1:-}" = "--print-jobs" ]; then
 fi
 jobs="${PLUGSLAM_JOBS:-$(default_jobs)}"
 export CCACHE_BASEDIR="$root"
+werror=()
+[ -n "${PLUGSLAM_WERROR:-}" ] && werror=(-DPLUGSLAM_WERROR="$PLUGSLAM_WERROR")
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE="${CMAKE_BUILD_TYPE:-Release}" \
-  -DCMAKE_INSTALL_PREFIX="${PLUGSLAM_PREFIX:-$build/install}" "$@" > "$build.configure.log" 2>&1 \
+  -DCMAKE_INSTALL_PREFIX="${PLUGSLAM_PREFIX:-$build/install}" "${werror[@]}" "$@" > "$build.configure.log" 2>&1 \
   || { cat "$build.configure.log"; exit 1; }
 targets=()
 for t in ${PLUGSLAM_TARGETS:-}; do targets+=(--target "$t"); done
