@@ -9,6 +9,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "build_paths.h"
 #include "commands/commands.h"
 #include "console/status_line.h"
 #include "plugslam/errors.h"
@@ -22,8 +23,8 @@ std::string defaultConfigPath() {
   const char* name = "sim2d_double_laser.yaml";
   fs::path exe = boost::dll::program_location();
   for (const fs::path& dir : {exe.parent_path().parent_path() / "share" / "plugslam" / "configs",
-                              fs::path(PLUGSLAM_INSTALL_DATADIR) / "configs",
-                              fs::path(PLUGSLAM_SOURCE_DIR) / "configs"}) {
+                              fs::path(build_paths::installDataDir()) / "configs",
+                              fs::path(build_paths::sourceDir()) / "configs"}) {
     if (fs::exists(dir / name)) return (dir / name).string();
   }
   throw InputError(std::string("no config given and the default config (configs/") + name +

@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 
+#include "build_paths.h"
 #include "plugslam/errors.h"
 
 namespace plugslam::runtime {
@@ -69,7 +70,7 @@ std::vector<std::string> splitPath(const std::string& path) {
 std::string dataFolder() {
   const char* env = std::getenv("PLUGSLAM_DATA");
   if (env && *env) return env;
-  return (boost::filesystem::path(PLUGSLAM_SOURCE_DIR) / ".." / "shared" / "data")
+  return (boost::filesystem::path(build_paths::sourceDir()) / ".." / "shared" / "data")
       .lexically_normal()
       .string();
 }

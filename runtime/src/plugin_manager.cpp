@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "build_paths.h"
 #include "plugslam/errors.h"
 #include "plugslam/plugin.h"
 #include "plugslam/value_types.h"
@@ -78,9 +79,9 @@ std::vector<std::string> PluginManager::searchPath() const {
   fs::path exe = boost::dll::program_location();
   // Installed layout: <prefix>/bin/plugslam and <prefix>/lib/plugslam/plugins.
   dirs.push_back((exe.parent_path().parent_path() / "lib" / "plugslam" / "plugins").string());
-  dirs.push_back(PLUGSLAM_DEFAULT_PLUGIN_DIR);
+  dirs.push_back(build_paths::defaultPluginDir());
   // Running from the build tree (tests, developers): the build's plugin folder.
-  fs::path build_plugins(PLUGSLAM_BUILD_PLUGIN_DIR);
+  fs::path build_plugins(build_paths::buildPluginDir());
   boost::system::error_code ec;
   fs::path build_root = fs::canonical(build_plugins.parent_path(), ec);
   if (!ec) {

@@ -24,6 +24,7 @@
 #include <sstream>
 #include <thread>
 
+#include "build_paths.h"
 #include "plugslam/errors.h"
 #include "plugslam/view/drawables.h"
 #include "view/client_queue.h"
@@ -798,8 +799,8 @@ std::string findWebRoot(const std::string& explicit_root) {
   if (const char* env = std::getenv("PLUGSLAM_WEB_DIR")) candidates.emplace_back(env);
   const fs::path exe = boost::dll::program_location();
   candidates.push_back(exe.parent_path().parent_path() / "share" / "plugslam" / "web");
-  candidates.push_back(fs::path(PLUGSLAM_INSTALL_DATADIR) / "web");
-  candidates.push_back(fs::path(PLUGSLAM_BUILD_WEB_DIR));
+  candidates.push_back(fs::path(build_paths::installDataDir()) / "web");
+  candidates.push_back(fs::path(build_paths::buildWebDir()));
   for (const auto& c : candidates)
     if (holds(c)) return c.string();
   return "";
