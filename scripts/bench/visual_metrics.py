@@ -14,6 +14,14 @@
                                      reference's own over its rows (it may start later)
   visual_metrics.py rpe1 REF EST     frame-to-frame error of consecutive frames (RPE, delta one
                                      frame): translation [m] and rotation [deg], RMSE and max
+  visual_metrics.py loops RUN_DIR [RADIUS [TRAVEL]]
+                                     the loop edges of RUN_DIR/graph.g2o against the reference
+                                     (each map matched to the frame whose pose is its origin in
+                                     trajectory.tum): count, worst error [m, deg], how many are off
+                                     by > 0.5 m or 2 deg; and the returns to an earlier place, from
+                                     the reference alone (a map within RADIUS m, default 10, of an
+                                     earlier map more than TRAVEL m of path back, default 50), each
+                                     with whether a loop edge ends in it
 Prints one JSON object. Poses are associated by equal timestamps (both files come from one run).
 """
 import bisect
@@ -143,7 +151,71 @@ def static(gt, est):
             "reference_max_deg": max(math.degrees(angle(relative(gt[0], g))) for g in gt)}
 
 
+def read_graph(path):
+    nodes, edges = {}, []
+    for line in open(path):
+        f = line.split()
+        if f and f[0] == "VERTEX_SE3:QUAT":
+            v = list(map(float, f[2:9]))
+            nodes[int(f[1])] = (quat_to_matrix(*v[3:7]), v[0:3])
+        elif f and f[0] == "EDGE_SE3:QUAT":
+            v = list(map(float, f[3:10]))
+            edges.append((int(f[1]), int(f[2]), (quat_to_matrix(*v[3:7]), v[0:3])))
+    return nodes, edges
+
+
+def loops(run, radius=10.0, travel=50.0):
+    gt, est = associated(run + "/reference.tum", run + "/trajectory.tum")
+    nodes, edges = read_graph(run + "/graph.g2o")
+    # A map's origin is the pose of the frame that opened it, so it is that frame's corrected pose.
+    frame = {k: min(range(len(est)), key=lambda i: math.dist(est[i][1], p[1])) for k, p in nodes.items()}
+    path = [0.0]
+    for i in range(1, len(gt)):
+        path.append(path[-1] + math.dist(gt[i][1], gt[i - 1][1]))
+    closed, errors = set(), []
+    for a, b, rel in edges:
+        if abs(b - a) == 1:
+            continue
+        err = relative(relative(gt[frame[a]], gt[frame[b]]), rel)
+        errors.append((norm(err), math.degrees(angle(err)), a, b))
+        closed.update((a, b))
+    ids = sorted(nodes)
+    revisit = {}
+    for j in ids:
+        near = [i for i in ids if i < j and path[frame[j]] - path[frame[i]] > travel
+                and math.dist(gt[frame[i]][1], gt[frame[j]][1]) <= radius]
+        if near:
+            revisit[j] = near
+    returns, run_maps = [], []
+    for j in ids + [None]:
+        if j is not None and j in revisit and (not run_maps or j == run_maps[-1] + 1):
+            run_maps.append(j)
+            continue
+        if run_maps:
+            earlier = sorted({i for m in run_maps for i in revisit[m]})
+            # The viewing direction decides what a camera can recognise: a return driven the
+            # other way sees the other side of the landmarks.
+            heading = min(math.degrees(angle(relative(gt[frame[m]], gt[frame[i]])))
+                          for m in run_maps for i in revisit[m])
+            returns.append({"maps": [run_maps[0], run_maps[-1]], "earlier": [earlier[0], earlier[-1]],
+                            "closest_m": min(math.dist(gt[frame[m]][1], gt[frame[i]][1])
+                                             for m in run_maps for i in revisit[m]),
+                            "heading_deg": heading,
+                            "closed": any(m in closed for m in run_maps)})
+        run_maps = [j] if j is not None and j in revisit else []
+    wrong = [e for e in errors if e[0] > 0.5 or e[1] > 2.0]
+    return {"loops": len(errors), "wrong": len(wrong),
+            "worst_m": max((e[0] for e in errors), default=0.0),
+            "worst_deg": max((e[1] for e in errors), default=0.0),
+            "wrong_pairs": [[e[2], e[3], round(e[0], 3), round(e[1], 3)] for e in wrong[:20]],
+            "returns": len(returns), "returns_closed": sum(r["closed"] for r in returns),
+            "return_list": returns}
+
+
 if __name__ == "__main__":
+    if sys.argv[1:2] == ["loops"] and 3 <= len(sys.argv) <= 5:
+        print(json.dumps(loops(sys.argv[2], *map(float, sys.argv[3:]))))
+        sys.exit(0)
     if sys.argv[1:2] == ["f2f"] and len(sys.argv) == 6:
         gt, est = associated(sys.argv[2], sys.argv[3])
         out = f2f(gt, est)
