@@ -1,0 +1,111 @@
+#!/usr/bin/env bash
+# The visual SLAM bench (issue 16): stereo SLAM on the rendered street (the default drive and the
+# full KITTI-00 path) with its loops checked against the ground truth, and the mixed world's cues
+# alone and together in one Multi-Aligner. Writes the `visual_slam` section of docs/benchmarks.md.
+#   scripts/bench/visual_slam.sh                 every case
+#   scripts/bench/visual_slam.sh street mixed    only these groups (street, kitti00, mixed)
+# Run scripts/build.sh first, and nothing else CPU-heavy at the same time (speed is measured).
+set -euo pipefail
+root="$(cd "$(dirname "$0")/../.." && pwd)"
+bin="$root/build/bin/plugslam"
+[ -x "$bin" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
+data="${PLUGSLAM_DATA:-$root/../shared/data}"
+out="${PLUGSLAM_BENCH_OUT:-$root/out/bench/visual_slam}"
+metrics="$root/scripts/bench/visual_metrics.py"
+mkdir -p "$out"
+k00="$data/stereo/kitti00-trajectories-evo"
+selected=" ${*:-street kitti00 mixed} "
+
+# run NAME CONFIG [--set ...]: one run into $out/NAME; its run.json, or nothing when it failed.
+run() {
+  local name="$1" config="$2"
+  shift 2
+  echo "visual_slam: $name ..." >&2
+  # The peak resident memory of the run (its own, as the kernel counts it) goes to NAME.rss.
+  if ! python3 -c 'import resource, subprocess, sys
+code = subprocess.call(sys.argv[2:], stdout=open(sys.argv[1] + ".log", "w"), stderr=subprocess.STDOUT)
+open(sys.argv[1] + ".rss", "w").write(str(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss // 1024))
+sys.exit(code)' "$out/$name" "$bin" run "$root/$config" -o "$out/$name" -q "$@"; then
+    echo "visual_slam: $name failed, see $out/$name.log" >&2
+    return 1
+  fi
+}
+
+# One row of the SLAM table: run.json figures and the loops against the ground truth.
+slam_row() {
+  local name="$1" dir="$out/$1"
+  python3 - "$dir/run.json" "$(python3 "$metrics" loops "$dir")" "$name" "$(cat "$dir.rss")" <<'PY'
+import json, sys
+r, l, name, rss = json.load(open(sys.argv[1])), json.loads(sys.argv[2]), sys.argv[3], sys.argv[4]
+g, ref = r["graph"], r.get("reference", {})
+opposite = sum(1 for x in l["return_list"] if x["heading_deg"] > 90)
+print(f"| {name} | {r['frames']} | {r['pipeline_hz']:.1f} | {ref.get('ate_rmse_m', float('nan')):.3f} | "
+      f"{g['loops_accepted']} / {g['loops_rejected']} | {l['wrong']} | {l['worst_m']:.3f} m, "
+      f"{l['worst_deg']:.2f} deg | {l['returns_closed']} of {l['returns']} ({opposite} driven the "
+      f"other way) | {rss} |")
+PY
+}
+
+slam_rows=""
+if [[ "$selected" == *" street "* ]] && run street configs/sim3d_stereo_slam.yaml; then
+  slam_rows+="$(slam_row street)"$'\n'
+fi
+if [[ "$selected" == *" kitti00 "* ]]; then
+  if [ ! -e "$k00/KITTI_00_gt.txt" ]; then
+    echo "visual_slam: kitti00 skipped ($k00 is absent)" >&2
+  elif run kitti00 configs/sim3d_stereo_slam.yaml --set "source.trajectory=$k00/KITTI_00_gt.txt" \
+      --set "source.kitti_times=$k00/KITTI_00_gt_times.txt"; then
+    slam_rows+="$(slam_row kitti00)"$'\n'
+  fi
+fi
+
+# The mixed world: each cue's aligner slices alone and together; the tracker keeps every cue's
+# map in all of them, so only what constrains the pose differs.
+laser="{type: laser2d.PointToLineSlice, measurement: front, scene: front}"
+camera="{type: sdk.ReprojectionSlice2D, measurement: features, scene: landmarks, landmark_uncertainty: true}"
+odom="{type: odometry.PriorSlice}"
+mixed_rows=""
+if [[ "$selected" == *" mixed "* ]]; then
+  for c in "laser|$laser" "laser + odometry|$laser, $odom" "RGB-D|$camera" \
+           "RGB-D + odometry|$camera, $odom" "laser + RGB-D|$laser, $camera" \
+           "laser + RGB-D + odometry (sim_mixed_rgbd.yaml)|$laser, $camera, $odom"; do
+    IFS='|' read -r label slices <<< "$c"
+    name="mixed-$(echo "$label" | tr -cd 'a-zA-Z+' | tr '+' '_')"
+    run "$name" configs/sim_mixed_rgbd.yaml --set "pipeline.tracker.aligner.slices=[$slices]" || continue
+    mixed_rows+="$(python3 - "$out/$name/run.json" "$label" "$(cat "$out/$name.rss")" <<'PY'
+import json, sys
+r, label, rss = json.load(open(sys.argv[1])), sys.argv[2], sys.argv[3]
+ref = r.get("reference", {})
+print(f"| {label} | {r['frames']} | {r['pipeline_hz']:.1f} | {ref.get('ate_rmse_m', float('nan')):.4f} | "
+      f"{ref.get('ate_max_m', float('nan')):.4f} | {r['tracking_failures']} | {rss} |")
+PY
+)"$'\n'
+  done
+fi
+
+{
+  echo "## Visual SLAM (issue 16)"
+  echo
+  echo "$("$(dirname "$0")/machine_info.sh")"
+  echo "Command: \`scripts/bench/visual_slam.sh\`. Hz: the pipeline's own rate (run.json pipeline_hz),"
+  echo "the front-end single-threaded, the back-end on its thread; rendering is not counted."
+  echo
+  echo "Stereo SLAM on the rendered street (configs/sim3d_stereo_slam.yaml): \`street\` is the default"
+  echo "drive, \`kitti00\` the full KITTI-00 path (\`--set source.trajectory=KITTI_00_gt.txt\`). Loops:"
+  echo "accepted / rejected by the validators and filters. Wrong: loop edges of the final graph off the"
+  echo "ground truth by > 0.5 m or 2 deg (\`visual_metrics.py loops\`: each map matched to the frame"
+  echo "it opened). Returns: places the ground truth comes back to (a map within 10 m of one more"
+  echo "than 50 m of path back), and how many of them got a loop."
+  echo
+  echo "| run | frames | Hz | ATE [m] | loops | wrong | worst loop | returns closed | peak RSS [MB] |"
+  echo "|---|---|---|---|---|---|---|---|---|"
+  printf "%s" "$slam_rows"
+  echo
+  echo "The mixed world (configs/sim_mixed_rgbd.yaml, a planar laser, wheel odometry and an RGB-D"
+  echo "camera on one robot): the aligner's slices alone and together, ATE against the robot base."
+  echo
+  echo "| aligner slices | frames | Hz | ATE rmse [m] | ATE max [m] | failures | peak RSS [MB] |"
+  echo "|---|---|---|---|---|---|---|"
+  printf "%s" "$mixed_rows"
+} | python3 "$(dirname "$0")/update_section.py" visual_slam "$root/docs/benchmarks.md"
+echo "wrote docs/benchmarks.md (visual_slam)"
