@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # The visual SLAM bench (issue 16): stereo SLAM on the rendered street (the default drive and the
-# full KITTI-00 path) with its loops checked against the ground truth, and the mixed world's cues
-# alone and together in one Multi-Aligner. Writes the `visual_slam` section of docs/benchmarks.md.
+# full KITTI-00 path) with its loops checked against the ground truth, RGB-D SLAM (the rendered
+# living room, the fr1_xyz path in it, real 7-Scenes) against tracking alone, and the mixed world's
+# cues alone and together in one Multi-Aligner. Writes the `visual_slam` section of
+# docs/benchmarks.md.
 #   scripts/bench/visual_slam.sh                 every case
-#   scripts/bench/visual_slam.sh street mixed    only these groups (street, kitti00, mixed)
+#   scripts/bench/visual_slam.sh street mixed    only these groups (street, kitti00, rgbd, mixed)
 # Run scripts/build.sh first, and nothing else CPU-heavy at the same time (speed is measured).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/../.." && pwd)"
@@ -14,7 +16,7 @@ out="${PLUGSLAM_BENCH_OUT:-$root/out/bench/visual_slam}"
 metrics="$root/scripts/bench/visual_metrics.py"
 mkdir -p "$out"
 k00="$data/stereo/kitti00-trajectories-evo"
-selected=" ${*:-street kitti00 mixed} "
+selected=" ${*:-street kitti00 rgbd mixed} "
 
 # run NAME CONFIG [--set ...]: one run into $out/NAME; its run.json, or nothing when it failed.
 run() {
@@ -59,6 +61,38 @@ if [[ "$selected" == *" kitti00 "* ]]; then
   fi
 fi
 
+# RGB-D SLAM against the same data tracked alone. Indoors a return is a map within 1 m of one
+# more than 3 m of path back (the depth camera's range is about 4 m).
+fr1="$data/rgbd/tum-fr1_xyz-trajectories-evo/freiburg1_xyz-groundtruth.txt"
+rgbd_rows=""
+if [[ "$selected" == *" rgbd "* ]]; then
+  for c in "livingroom|configs/sim3d_rgbd.yaml|configs/sim3d_rgbd_slam.yaml|" \
+           "fr1_xyz path|configs/sim3d_rgbd.yaml|configs/sim3d_rgbd_slam.yaml|$fr1" \
+           "7-Scenes (real)|configs/rgbd_7scenes.yaml|configs/rgbd_7scenes_slam.yaml|"; do
+    IFS='|' read -r label tracking slam trajectory <<< "$c"
+    name="rgbd-$(echo "$label" | tr -cd 'a-zA-Z0-9')"
+    args=()
+    if [ -n "$trajectory" ]; then
+      if [ ! -e "$trajectory" ]; then echo "visual_slam: $label skipped ($trajectory is absent)" >&2; continue; fi
+      args=(--set "source.trajectory=$trajectory" --set source.rate=30)
+    fi
+    run "$name-tracking" "$tracking" "${args[@]}" || continue
+    run "$name" "$slam" "${args[@]}" || continue
+    rgbd_rows+="$(python3 - "$out/$name-tracking/run.json" "$out/$name/run.json" \
+        "$(python3 "$metrics" loops "$out/$name" 1.0 3.0)" "$label" "$(cat "$out/$name.rss")" <<'PY'
+import json, sys
+t, r, l, label, rss = (json.load(open(sys.argv[1])), json.load(open(sys.argv[2])),
+                       json.loads(sys.argv[3]), sys.argv[4], sys.argv[5])
+g = r["graph"]
+ate = lambda j: j.get("reference", {}).get("ate_rmse_m", float("nan"))
+print(f"| {label} | {r['frames']} | {r['pipeline_hz']:.1f} | {ate(t):.4f} | {ate(r):.4f} | "
+      f"{r['local_maps']} | {g['loops_accepted']} / {g['loops_rejected']} | {l['wrong']} | "
+      f"{l['returns_closed']} of {l['returns']} | {r['tracking_failures']} | {rss} |")
+PY
+)"$'\n'
+  done
+fi
+
 # The mixed world: each cue's aligner slices alone and together; the tracker keeps every cue's
 # map in all of them, so only what constrains the pose differs.
 laser="{type: laser2d.PointToLineSlice, measurement: front, scene: front}"
@@ -100,6 +134,15 @@ fi
   echo "| run | frames | Hz | ATE [m] | loops | wrong | worst loop | returns closed | peak RSS [MB] |"
   echo "|---|---|---|---|---|---|---|---|---|"
   printf "%s" "$slam_rows"
+  echo
+  echo "RGB-D SLAM (configs/sim3d_rgbd_slam.yaml, configs/rgbd_7scenes_slam.yaml) against the same"
+  echo "data tracked alone (configs/sim3d_rgbd.yaml, configs/rgbd_7scenes.yaml). ATE: SE3-aligned"
+  echo "RMSE (7-Scenes: against KinectFusion's poses, themselves good to 1-2 cm). Returns: a map"
+  echo "within 1 m of one more than 3 m of path back, and how many got a loop."
+  echo
+  echo "| data | frames | Hz | ATE tracking [m] | ATE SLAM [m] | local maps | loops | wrong | returns closed | failures | peak RSS [MB] |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|"
+  printf "%s" "$rgbd_rows"
   echo
   echo "The mixed world (configs/sim_mixed_rgbd.yaml, a planar laser, wheel odometry and an RGB-D"
   echo "camera on one robot): the aligner's slices alone and together, ATE against the robot base."
