@@ -133,42 +133,59 @@ PY
   done
 fi
 
-{
-  echo "## Visual SLAM (issue 16)"
-  echo
-  echo "$("$(dirname "$0")/machine_info.sh")"
-  echo "Command: \`scripts/bench/visual_slam.sh\`. Hz: the pipeline's own rate (run.json pipeline_hz),"
-  echo "the front-end single-threaded, the back-end on its thread; rendering is not counted."
-  echo
-  echo "Stereo SLAM on the rendered street (configs/sim3d_stereo_slam.yaml): \`street\` is the default"
-  echo "drive, \`kitti00\` the full KITTI-00 path (\`--set source.trajectory=KITTI_00_gt.txt\`). Loops:"
-  echo "accepted / rejected by the validators and filters. Wrong: loop edges of the final graph off the"
-  echo "ground truth by > 0.5 m or 2 deg (\`visual_metrics.py loops\`: each map matched to the frame"
-  echo "it opened). Returns: places the ground truth comes back to (a map within 10 m of one more"
-  echo "than 50 m of path back), and how many of them got a loop."
-  echo
-  echo "| run | frames | Hz | ATE [m] | loops | wrong | worst loop | returns closed | peak RSS [MB] |"
-  echo "|---|---|---|---|---|---|---|---|---|"
-  printf "%s" "$slam_rows"
-  echo
-  echo "RGB-D SLAM (configs/sim3d_rgbd_slam.yaml, configs/rgbd_7scenes_slam.yaml) against the same"
-  echo "data tracked alone (configs/sim3d_rgbd.yaml, configs/rgbd_7scenes.yaml). ATE: SE3-aligned"
-  echo "RMSE (7-Scenes: against KinectFusion's poses, themselves good to 1-2 cm). Returns: a map"
-  echo "within 1 m of one more than 3 m of path back, and how many got a loop."
-  echo
-  echo "| data | frames | Hz | ATE tracking [m] | ATE SLAM [m] | local maps | loops | wrong | returns closed | failures | peak RSS [MB] |"
-  echo "|---|---|---|---|---|---|---|---|---|---|---|"
-  printf "%s" "$rgbd_rows"
-  echo
-  echo "The mixed world (configs/sim_mixed_rgbd.yaml, a planar laser, wheel odometry and an RGB-D"
-  echo "camera on one robot): the aligner's slices alone and together, ATE against the robot base."
-  echo
-  echo "Per frame: the RMS error of each frame-to-frame step (x, y; heading) against the truth;"
-  echo "heading drift: those steps' heading errors summed over the run (a bias, where the RMS is the"
-  echo "random part)."
-  echo
-  echo "| aligner slices | frames | Hz | ATE rmse [m] | ATE max [m] | per frame | heading drift [deg] | failures | peak RSS [MB] |"
-  echo "|---|---|---|---|---|---|---|---|---|"
-  printf "%s" "$mixed_rows"
-} | python3 "$(dirname "$0")/update_section.py" visual_slam "$root/docs/benchmarks.md"
-echo "wrote docs/benchmarks.md (visual_slam)"
+# Each group writes its own section of docs/benchmarks.md (with the machine, date and commit it
+# ran on), so one group can be measured again without the others.
+update() { python3 "$(dirname "$0")/update_section.py" "$1" "$root/docs/benchmarks.md"; echo "wrote docs/benchmarks.md ($1)"; }
+machine="$("$(dirname "$0")/machine_info.sh")"
+if [ -n "$slam_rows" ]; then
+  {
+    echo "## Visual SLAM (issue 16)"
+    echo
+    echo "$machine"
+    echo "Command: \`scripts/bench/visual_slam.sh street kitti00\`. Hz: the pipeline's own rate (run.json"
+    echo "pipeline_hz), the front-end single-threaded, the back-end on its thread; rendering is not counted."
+    echo
+    echo "Stereo SLAM on the rendered street (configs/sim3d_stereo_slam.yaml): \`street\` is the default"
+    echo "drive, \`kitti00\` the full KITTI-00 path (\`--set source.trajectory=KITTI_00_gt.txt\`). Loops:"
+    echo "accepted / rejected by the validators and filters. Wrong: loop edges of the final graph off the"
+    echo "ground truth by > 0.5 m or 2 deg (\`visual_metrics.py loops\`: each map matched to the frame"
+    echo "it opened). Returns: places the ground truth comes back to (a map within 10 m of one more"
+    echo "than 50 m of path back), and how many of them got a loop."
+    echo
+    echo "| run | frames | Hz | ATE [m] | loops | wrong | worst loop | returns closed | peak RSS [MB] |"
+    echo "|---|---|---|---|---|---|---|---|---|"
+    printf "%s" "$slam_rows"
+  } | update visual_slam
+fi
+if [ -n "$rgbd_rows" ]; then
+  {
+    echo "### RGB-D SLAM"
+    echo
+    echo "$machine"
+    echo "Command: \`scripts/bench/visual_slam.sh rgbd\`. configs/sim3d_rgbd_slam.yaml and"
+    echo "configs/rgbd_7scenes_slam.yaml against the same data tracked alone (configs/sim3d_rgbd.yaml,"
+    echo "configs/rgbd_7scenes.yaml). ATE: SE3-aligned RMSE (7-Scenes: against KinectFusion's poses,"
+    echo "themselves good to 1-2 cm). Returns: a map within 1 m of one more than 3 m of path back, and"
+    echo "how many got a loop. Hz: the SLAM run's pipeline rate, rendering not counted."
+    echo
+    echo "| data | frames | Hz | ATE tracking [m] | ATE SLAM [m] | local maps | loops | wrong | returns closed | failures | peak RSS [MB] |"
+    echo "|---|---|---|---|---|---|---|---|---|---|---|"
+    printf "%s" "$rgbd_rows"
+  } | update visual_slam_rgbd
+fi
+if [ -n "$mixed_rows" ]; then
+  {
+    echo "### Mixed cues: laser + RGB-D in one aligner"
+    echo
+    echo "$machine"
+    echo "Command: \`scripts/bench/visual_slam.sh mixed\`. The mixed world (configs/sim_mixed_rgbd.yaml,"
+    echo "a planar laser, wheel odometry and an RGB-D camera on one robot): the aligner's slices alone and"
+    echo "together, tracking alone, ATE against the robot base. Per frame: the RMS error of each"
+    echo "frame-to-frame step (x, y; heading) against the truth; heading drift: those steps' heading"
+    echo "errors summed over the run (a bias, where the RMS is the random part)."
+    echo
+    echo "| aligner slices | frames | Hz | ATE rmse [m] | ATE max [m] | per frame | heading drift [deg] | failures | peak RSS [MB] |"
+    echo "|---|---|---|---|---|---|---|---|---|"
+    printf "%s" "$mixed_rows"
+  } | update visual_slam_mixed
+fi
