@@ -19,6 +19,10 @@ preceding laser's pose (the corrected one), which the source treats as "no motio
 degradation of the odometry must survive those restarts, so every variant first turns the ODOM
 lines into the track the source itself integrates (increments composed, restart jumps left out),
 then degrades that track's increments. Laser lines and their (reference) poses stay verbatim.
+One restart is kept as it is: one followed by the next laser line with no reading in between. The
+source takes that laser's odometry as unknown (the wheels were not read across the scan pair; on
+seattle the robot turned 81 deg there), so the variant writes the restart verbatim and continues
+its track from it; written as a point of the continuous track it would say "no motion" instead.
 Nothing of the log is tuned here: the variants are the issue's, the same for every log.
 """
 import gzip
@@ -66,14 +70,38 @@ def degrade(step, variant):
     return step
 
 
+def unknown_restarts(lines):
+    """Indices of the ODOM lines that restart dead reckoning and are followed by a laser line
+    before any other reading: the source marks that laser's odometry as unknown."""
+    found = set()
+    after_laser = None
+    pending = None
+    for i, line in enumerate(lines):
+        tokens = line.split()
+        if not tokens:
+            continue
+        if tokens[0] == "FLASER":
+            if pending is not None:
+                found.add(pending)
+            pending = None
+            after_laser = laser_pose(tokens)
+        elif tokens[0] == "ODOM":
+            raw = tuple(float(v) for v in tokens[1:4])
+            pending = i if after_laser is not None and same(raw, after_laser) else None
+            after_laser = None
+    return found
+
+
 def write_variant(lines, variant, path):
     track = None      # the degraded continuous track (what the source will integrate)
     last_raw = None   # the previous ODOM line's logged pose
     after_laser = None
     odom_index = 0
     laser_index = 0
+    laser_kept = False  # whether the last laser line was written
+    unknown = unknown_restarts(lines)
     with gzip.open(path, "wt") as out:
-        for line in lines:
+        for i, line in enumerate(lines):
             tokens = line.split()
             if not tokens:
                 out.write(line)
@@ -84,6 +112,7 @@ def write_variant(lines, variant, path):
                 keep = variant not in ("decimate3", "decimate5") or \
                     (laser_index - 1) % (3 if variant == "decimate3" else 5) == 0
                 after_laser = laser_pose(tokens)
+                laser_kept = keep
                 if keep:
                     out.write(line)
                 continue
@@ -91,6 +120,14 @@ def write_variant(lines, variant, path):
                 out.write(line)
                 continue
             raw = tuple(float(v) for v in tokens[1:4])
+            if i in unknown and laser_kept and variant != "no_odom":
+                # Verbatim, so the source sees the restart after the laser it follows; the track
+                # goes on from the restarted pose.
+                track = raw
+                last_raw = raw
+                after_laser = None
+                out.write(line)
+                continue
             if last_raw is None:
                 track = raw
             elif not (after_laser is not None and same(raw, after_laser)):
