@@ -1,6 +1,8 @@
 #include "simulator3d_source.h"
 
 #include "plugslam/errors.h"
+#include "sim3d/odometry.h"
+#include "sim3d/trajectory.h"
 
 namespace plugslam {
 namespace sim {
@@ -27,10 +29,30 @@ void Simulator3DSource::configure() {
   o.depth_noise.max_range = depth_max_range();
   if (!kitti_times().empty() && trajectory().empty())
     throw ParamError("kitti_times", "only used with a trajectory file");
-  for (const char* fixed : {"left", "right", "rgb", "depth", "camera"})
+  for (const char* fixed : {"left", "right", "rgb", "depth", "camera"}) {
     if (ground_truth() == fixed)
       throw ParamError("ground_truth", std::string("clashes with the image entry '") + fixed + "'");
+    if (odometry() == fixed)
+      throw ParamError("odometry", std::string("clashes with the image entry '") + fixed + "'");
+  }
+  if (odometry() == ground_truth()) throw ParamError("odometry", "must differ from ground_truth");
   sim_ = std::make_unique<sim3d::Simulator3D>(sim3d::Simulator3D::fromOptions(o));
+  odometry_.clear();
+  if (!odometry().empty()) {
+    // Odometry integrates over the whole drive, so it is computed once here (it costs nothing
+    // next to rendering) and frame k stays the same whatever order frames are asked in.
+    sim3d::WheelOdometryOptions w;
+    const double k = odometry_noise();
+    w.noise.left_scale_error *= k;
+    w.noise.right_scale_error *= k;
+    w.noise.wheel_base_error *= k;
+    w.noise.slip_per_distance *= k;
+    w.noise.slip_per_rotation *= k;
+    w.wheel_base = wheel_base();
+    w.camera_height = sim3d::kCameraHeight;
+    w.seed = o.seed;
+    odometry_ = sim3d::wheelOdometry(sim_->trajectory(), w);
+  }
   next_ = 0;
 }
 
@@ -48,6 +70,7 @@ std::vector<ProvidedEntry> Simulator3DSource::provides() const {
     out = {{"rgb", typeid(Image)}, {"depth", typeid(DepthImage)}};
   out.push_back({"camera", typeid(CameraInfo)});
   out.push_back({ground_truth(), typeid(Eigen::Isometry3d)});
+  if (!odometry().empty()) out.push_back({odometry(), typeid(Odometry2D)});
   return out;
 }
 
@@ -59,6 +82,8 @@ bool Simulator3DSource::next(Frame& frame) {
   if (!sim_) configure();
   if (next_ >= sim_->frameCount()) return false;
   sim3d::Sim3DFrame f;
+  if (!odometry_.empty())
+    frame.raw.set<Odometry2D>(odometry(), {sim_->trajectory()[next_].t, odometry_[next_]});
   sim_->render(next_++, &f);
   frame.stamp = f.stamp;
   if (sim_->rig() == sim3d::Rig::kStereo) {

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "plugslam/sensor_data.h"
 #include "plugslam/source.h"
@@ -13,7 +14,8 @@ namespace sim {
 
 /// Emits one frame per trajectory pose. Stereo: raw["left"], raw["right"] (grey Image);
 /// RGB-D: raw["rgb"] (RGB Image), raw["depth"] (DepthImage, metres); both: raw["camera"]
-/// (CameraInfo) and raw[ground_truth] (Eigen::Isometry3d, the left / RGB camera in the world).
+/// (CameraInfo) and raw[ground_truth] (Eigen::Isometry3d, the left / RGB camera in the world);
+/// with `odometry` set, raw[odometry] (Odometry2D, the vehicle's wheel odometry).
 /// Deterministic for a given seed.
 class Simulator3DSource : public Source {
  public:
@@ -59,6 +61,29 @@ class Simulator3DSource : public Source {
   Param<int64_t> seed{this, "seed", 0, "", "seeds textures, buildings and noise", Range{0, 9.0e15}};
   Param<std::string> ground_truth{this, "ground_truth", "ground_truth", "",
                                   "raw entry for the true camera pose"};
+  // The camera rides on a vehicle (a car on the street) whose base frame is the road point
+  // under the camera, x forward, y left, z up: its wheel odometry is the true motion projected
+  // on the base's plane with sim2d's wheel-encoder errors, so 2D and 3D share one model.
+  Param<std::string> odometry{
+      this, "odometry", "", "",
+      "raw entry for the vehicle's wheel odometry (Odometry2D: the base, 1.65 m below the camera, "
+      "x forward, z up, in the odometry frame); empty = no odometry"};
+  Param<double> odometry_noise{
+      this,
+      "odometry_noise",
+      1.0,
+      "",
+      "scale on sim2d's wheel-encoder errors (wheel scale 0.08 % left, 0.03 % right: 0.055 % "
+      "distance scale and a heading drift of 0.0005 / wheel_base rad/m; wheel base 0.3 %: "
+      "0.3 % of every turn; slip 0.002 m/sqrt(m) and 0.002 m/sqrt(rad) per wheel); 0 = exact",
+      Range{0.0, 1000.0}};
+  Param<double> wheel_base{this,
+                           "wheel_base",
+                           1.6,
+                           "m",
+                           "distance between the vehicle's left and right wheels, which turns "
+                           "their travel errors into heading errors",
+                           Range{0.1, 10.0}};
 
   Simulator3DSource();
   ~Simulator3DSource() override;
@@ -75,6 +100,7 @@ class Simulator3DSource : public Source {
 
  private:
   std::unique_ptr<sim3d::Simulator3D> sim_;
+  std::vector<Eigen::Isometry2d> odometry_;  // one reading per frame; empty without odometry
   size_t next_ = 0;
 };
 

@@ -42,7 +42,7 @@ Simulator3D Simulator3D::fromOptions(const ScenarioOptions& o) {
   if (!(o.rate >= 0.0)) throw InputError("sim3d: rate must be >= 0");
   const bool stereo = o.rig == Rig::kStereo;
   const double rate = o.rate > 0.0 ? o.rate : (stereo ? 10.0 : 30.0);
-  const double camera_height = 1.65;  // KITTI's camera above the road
+  const double camera_height = kCameraHeight;
   Trajectory trajectory;
   RoadPath road;
   if (o.trajectory_file.empty()) {

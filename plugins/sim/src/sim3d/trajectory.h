@@ -11,6 +11,9 @@ namespace plugslam {
 namespace sim {
 namespace sim3d {
 
+/// KITTI's camera above the road: the street drive's camera height [m].
+inline constexpr double kCameraHeight = 1.65;
+
 /// A camera at `position` looking along `forward` (any length, not vertical), image x axis
 /// horizontal.
 Eigen::Isometry3d lookAlong(const Eigen::Vector3d& position, const Eigen::Vector3d& forward);
