@@ -1,11 +1,25 @@
 // The rgbd plugin's register function. The landmark cue's slices and writers are the SDK's
-// (sdk.ReprojectionSlice3D, sdk.LandmarkMapSlice3D): this plugin adds what needs OpenCV.
+// (sdk.ReprojectionSlice3D, sdk.LandmarkMapSlice3D): this plugin adds what needs OpenCV, and the
+// dense depth cue.
 #include "plugslam/plugin.h"
 
+#include "depth_slices.h"
 #include "rgbd_preprocessor.h"
 
-PLUGSLAM_PLUGIN("rgbd", "1.0.0", "RGB-D cameras: FAST + ORB keypoints with depth from the depth image") {
-  registrar.add<plugslam::rgbd::RgbdPreprocessor>(
+PLUGSLAM_PLUGIN("rgbd", "1.0.0", "RGB-D cameras: keypoints with depth, and the dense depth cue") {
+  using namespace plugslam::rgbd;
+  using plugslam::Space2D;
+  using plugslam::Space3D;
+  registrar.addValueType<DepthKeyframe>("DepthKeyframe");
+  registrar.add<RgbdPreprocessor>(
       "RgbdPreprocessor",
       "colour + depth -> keypoints (grid-bucketed FAST + ORB) with depth and its noise");
+  registrar.add<DepthSlice<Space2D>>(
+      "DepthSlice2D", "dense depth: point-to-plane factors against the map's depth keyframe");
+  registrar.add<DepthSlice<Space3D>>(
+      "DepthSlice3D", "dense depth: point-to-plane factors against the map's depth keyframe");
+  registrar.add<DepthKeyframeSlice<Space2D>>(
+      "DepthKeyframeSlice2D", "keeps the local map's depth keyframe for the dense depth cue");
+  registrar.add<DepthKeyframeSlice<Space3D>>(
+      "DepthKeyframeSlice3D", "keeps the local map's depth keyframe for the dense depth cue");
 }

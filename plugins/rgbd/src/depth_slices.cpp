@@ -1,0 +1,235 @@
+#include "depth_slices.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace plugslam {
+namespace rgbd {
+
+void save(OutArchive& ar, const DepthKeyframe& k) {
+  ar.beginObject();
+  ar.field("depth", k.depth);
+  ar.field("camera", k.camera);
+  ar.field("pose", k.pose);
+  ar.field("seq", k.seq);
+  ar.endObject();
+}
+
+void load(InArchive& ar, DepthKeyframe& k) {
+  ar.beginObject();
+  ar.field("depth", k.depth);
+  ar.field("camera", k.camera);
+  ar.field("pose", k.pose);
+  ar.field("seq", k.seq);
+  ar.endObject();
+  if (!k.empty() && (k.camera.width != k.depth.width || k.camera.height != k.depth.height))
+    ar.fail("depth keyframe: the camera's size differs from the depth image's");
+}
+
+void subsampleDepth(const DepthImage& depth, const CameraIntrinsics& camera, int stride,
+                    DepthImage& out_depth, CameraIntrinsics& out_camera) {
+  const int s = std::max(1, stride);
+  const int w = (depth.width + s - 1) / s, h = (depth.height + s - 1) / s;
+  out_depth.stamp = depth.stamp;
+  out_depth.resize(w, h);
+  for (int v = 0; v < h; ++v)
+    for (int u = 0; u < w; ++u)
+      out_depth.data[static_cast<size_t>(v * w + u)] = depth.at(u * s, v * s);
+  // Pixel u' of the subsampled image is pixel s u' of the original: u = fx x/z + cx = s u'.
+  out_camera = camera;
+  out_camera.fx = camera.fx / s;
+  out_camera.fy = camera.fy / s;
+  out_camera.cx = camera.cx / s;
+  out_camera.cy = camera.cy / s;
+  out_camera.width = w;
+  out_camera.height = h;
+}
+
+namespace {
+
+struct Stopwatch {
+  explicit Stopwatch(double& total) : total_(total), start_(std::chrono::steady_clock::now()) {}
+  ~Stopwatch() {
+    total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  double& total_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+double perFrame(uint64_t total, uint64_t frames) {
+  return frames ? static_cast<double>(total) / static_cast<double>(frames) : 0.0;
+}
+
+DepthNoiseModel noiseModel(double a, double b, double z0) {
+  DepthNoiseModel m;
+  m.a = a;
+  m.b = b;
+  m.z0 = z0;
+  return m;
+}
+
+}  // namespace
+
+template <class S>
+typename DepthPointToPlane<S>::Error DepthPointToPlane<S>::error(const typename S::Pose& t) const {
+  const Eigen::Isometry3d x = S::to3D(t);
+  return Error(n.dot(x.linear() * p + x.translation() - q));
+}
+
+template <class S>
+void DepthPointToPlane<S>::errorAndJacobian(const typename S::Pose& t, Error& e,
+                                            Jacobian& j) const {
+  const Eigen::Isometry3d x = S::to3D(t);
+  e[0] = n.dot(x.linear() * p + x.translation() - q);
+  // T <- T exp(delta): d e = n^T R (d_t + d_w x p) = (R^T n) . d_t + (p x R^T n) . d_w.
+  const Eigen::Vector3d nr = x.linear().transpose() * n;
+  const Eigen::Vector3d pw = p.cross(nr);
+  if constexpr (S::kDim == 3) {
+    j << nr.transpose(), pw.transpose();
+  } else {
+    j << nr.x(), nr.y(), pw.z();  // a planar robot moves x, y and the yaw
+  }
+}
+
+template <class S>
+DepthSlice<S>::DepthSlice() = default;
+template <class S>
+DepthSlice<S>::~DepthSlice() = default;
+
+template <class S>
+void DepthSlice<S>::configure() {
+  kernel_ = makeRobustKernel("huber", kernel_scale());
+  // Of the readings within one correlation window, the sampled ones share one error: each
+  // sample weighs (stride / correlation)^2 of an independent reading.
+  const double r = static_cast<double>(stride()) / correlation();
+  information_scale_ = std::min(1.0, r * r);
+}
+
+template <class S>
+bool DepthSlice<S>::prepare(const AlignContext<S>& context) {
+  if (!kernel_) configure();
+  pairs_total_ += pairs_.size();  // the previous frame's association at its solution
+  pairs_.clear();
+  points_.clear();
+  sigmas_.clear();
+  round_ = 0;
+  if (scene->empty()) return false;
+  const DepthKeyframe& k = *scene;
+  const Eigen::Isometry3d from_keyframe = k.pose.inverse() * S::to3D(context.guess) * camera->mount;
+  if (from_keyframe.translation().norm() > keyframe_distance() ||
+      Eigen::AngleAxisd(from_keyframe.linear()).angle() > keyframe_angle())
+    return false;
+  Stopwatch watch(time_s_);
+  // The keyframe's surface is built once per keyframe (it changes when the tracker slice takes
+  // a new one or the map is a new one).
+  if (k.seq != keyframe_seq_ || !k.pose.isApprox(keyframe_pose_) ||
+      keyframe_.width != k.depth.width) {
+    keyframe_ = makeDepthSurface(k.depth, k.camera, 1);
+    keyframe_seq_ = k.seq;
+    keyframe_pose_ = k.pose;
+  }
+  registration_.prepare(*camera);
+  const DepthImage& d = registration_.apply(*depth);
+  const CameraInfo& c = *camera;
+  const DepthNoiseModel noise = noiseModel(depth_sigma_a(), depth_sigma_b(), depth_sigma_z0());
+  const int s = stride();
+  for (int v = 0; v < d.height; v += s)
+    for (int u = 0; u < d.width; u += s) {
+      const double z = d.at(u, v);
+      if (!(z > 0) || !std::isfinite(z)) continue;
+      const Eigen::Vector3d pc((u - c.cx) / c.fx * z, (v - c.cy) / c.fy * z, z);
+      points_.push_back(c.mount * pc);
+      sigmas_.push_back(noise.sigma(z));
+    }
+  ++frames_;
+  points_total_ += points_.size();
+  return !points_.empty();
+}
+
+template <class S>
+void DepthSlice<S>::associate(const Pose& t) {
+  pairs_.clear();
+  if (!scene.bound() || keyframe_.width == 0 || round_++ < first_round()) return;
+  Stopwatch watch(time_s_);
+  const DepthNoiseModel noise = noiseModel(depth_sigma_a(), depth_sigma_b(), depth_sigma_z0());
+  const Eigen::Isometry3d to_keyframe = keyframe_pose_.inverse() * S::to3D(t);
+  const CameraIntrinsics& k = keyframe_.camera;
+  const double gate = max_distance();
+  for (size_t i = 0; i < points_.size(); ++i) {
+    const Eigen::Vector3d x = to_keyframe * points_[i];
+    if (x.z() <= 1e-6) continue;
+    const long u = std::lround(k.fx * x.x() / x.z() + k.cx);
+    const long v = std::lround(k.fy * x.y() / x.z() + k.cy);
+    if (u < 0 || v < 0 || u >= keyframe_.width || v >= keyframe_.height) continue;
+    const size_t j = static_cast<size_t>(v) * static_cast<size_t>(keyframe_.width) +
+                     static_cast<size_t>(u);
+    const Eigen::Vector3f& n = keyframe_.normals[j];
+    if (n.squaredNorm() == 0) continue;
+    const Eigen::Vector3d q = keyframe_.points[j].cast<double>();
+    const double sq = noise.sigma(q.z());
+    const double sigma = std::sqrt(sigmas_[i] * sigmas_[i] + sq * sq);
+    // Far readings are noisier (2.6 cm at 4 m for a Kinect): the gate widens by three of the
+    // pair's sigmas, or the far wall, the one surface that fixes the depth axis, drops out.
+    if ((x - q).norm() > gate + 3.0 * sigma) continue;
+    pairs_.push_back(Pair{static_cast<int>(i), keyframe_pose_ * q,
+                          keyframe_pose_.linear() * n.cast<double>(), sigma});
+  }
+}
+
+template <class S>
+void DepthSlice<S>::linearize(const Pose& t, NormalEquations<S>& eq) const {
+  if (!scene.bound()) return;
+  Stopwatch watch(time_s_);
+  eq.candidates += points_.size();
+  Robust robust{kernel_.get()};
+  robust.inlier_bound = -1;  // counts no inliers (see the class comment)
+  for (const Pair& p : pairs_) {
+    const DepthPointToPlane<S> f{points_[static_cast<size_t>(p.point)], p.q, p.n};
+    eq.add(f, t, information_scale_ / (p.sigma * p.sigma), robust);
+  }
+}
+
+template <class S>
+std::vector<Statistic> DepthSlice<S>::statistics() const {
+  return {{"frames", static_cast<double>(frames_)},
+          {"alignment_s", time_s_},
+          {"points_per_frame", perFrame(points_total_, frames_)},
+          {"pairs_per_frame", perFrame(pairs_total_ + pairs_.size(), frames_)}};
+}
+
+template <class S>
+void DepthKeyframeSlice<S>::integrate(const MergeContext<S>& context) {
+  const Eigen::Isometry3d pose = S::to3D(context.pose) * camera->mount;
+  DepthKeyframe& k = scene.getOrInsert();
+  if (!k.empty()) {
+    const Eigen::Isometry3d moved = k.pose.inverse() * pose;
+    if (moved.translation().norm() < distance() &&
+        Eigen::AngleAxisd(moved.linear()).angle() < angle())
+      return;
+  }
+  registration_.prepare(*camera);
+  subsampleDepth(registration_.apply(*depth), camera->intrinsics(), stride(), k.depth, k.camera);
+  k.camera.distortion = Distortion();  // registered depth is in the colour camera's ideal pinhole
+  k.pose = pose;
+  k.seq = context.seq;
+}
+
+template <class S>
+void DepthKeyframeSlice<S>::handOver(const PropertyContainer& previous, PropertyContainer& next,
+                                     const Pose& origin, uint64_t) {
+  const DepthKeyframe* old = previous.find<DepthKeyframe>(scene.name());
+  if (!old || old->empty()) return;
+  DepthKeyframe& k = next.emplace<DepthKeyframe>(scene.name(), *old);
+  k.pose = S::to3D(origin).inverse() * old->pose;
+}
+
+template struct DepthPointToPlane<Space2D>;
+template struct DepthPointToPlane<Space3D>;
+template class DepthSlice<Space2D>;
+template class DepthSlice<Space3D>;
+template class DepthKeyframeSlice<Space2D>;
+template class DepthKeyframeSlice<Space3D>;
+
+}  // namespace rgbd
+}  // namespace plugslam

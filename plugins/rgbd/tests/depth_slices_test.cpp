@@ -1,0 +1,165 @@
+// The dense depth cue's slices on ray-cast depth of a box-shaped room: the factor passes the
+// SDK's Jacobian check (free camera, and a camera on a planar robot), the aligner slice alone
+// recovers a known motion and counts no inliers, the keyframe slice keeps, renews and hands
+// over its keyframe, and the keyframe survives a session archive.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <sstream>
+
+#include "depth_slices.h"
+#include "plugslam/multi_aligner.h"
+#include "plugslam/slice_check.h"
+#include "room_depth.h"
+
+namespace plugslam::rgbd {
+namespace {
+
+using namespace plugslam::rgbd::testing;
+
+CameraInfo cameraInfo(const Eigen::Isometry3d& mount = Eigen::Isometry3d::Identity()) {
+  CameraInfo c;
+  c.setIntrinsics(pinhole());
+  c.mount = mount;
+  c.second = pinhole();  // depth registered to colour
+  return c;
+}
+
+Frame depthFrame(uint64_t seq, const DepthImage& depth, const CameraInfo& camera) {
+  Frame f;
+  f.seq = seq;
+  f.raw.set<DepthImage>("depth", depth);
+  f.raw.set<CameraInfo>("camera", camera);
+  return f;
+}
+
+// A scene holding the keyframe the keyframe slice takes from the camera at `camera_pose`.
+PropertyContainer keyframeScene(const SE3& camera_pose) {
+  PropertyContainer scene;
+  DepthKeyframeSlice<Space3D> k;
+  k.configure();
+  k.merge(depthFrame(0, render(room(), camera_pose), cameraInfo()), scene, camera_pose);
+  return scene;
+}
+
+TEST(DepthSlice3D, ItsFactorsPassTheSdkJacobianCheck) {
+  const PropertyContainer scene = keyframeScene(SE3::Identity());
+  const SE3 truth = motion({0.02, -0.05, 0.01}, {0.1, 0.0, 0.2});
+  DepthSlice<Space3D> slice;
+  slice.first_round = 0;
+  slice.configure();
+  AlignContext<Space3D> ctx{SE3::Identity(), truth};
+  ASSERT_TRUE(slice.bind(depthFrame(1, render(room(), truth), cameraInfo()), scene, ctx));
+  const SE3 t = motion({0.003, 0.002, -0.004}, {0.01, -0.005, 0.008}) * truth;
+  slice.associate(t);
+  const SliceJacobianCheck r = checkSliceJacobians(slice, t);
+  EXPECT_GT(r.factors, 1000u);
+  EXPECT_TRUE(r.ok()) << r;
+}
+
+TEST(DepthSlice2D, ItsFactorsPassTheSdkJacobianCheckThroughAMount) {
+  // A camera looking along a planar robot's x axis, 0.3 m ahead and 1 m up (as the mixed world's).
+  Eigen::Isometry3d mount = Eigen::Isometry3d::Identity();
+  mount.linear() << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  mount.translation() << 0.3, 0.0, 1.0;
+  const Eigen::Isometry2d robot = se2(0.2, -0.1, 0.05);
+  // The keyframe from the robot at the origin; the frame from `robot`, both through the mount.
+  PropertyContainer scene;
+  DepthKeyframeSlice<Space2D> k;
+  k.configure();
+  k.merge(depthFrame(0, render(room(), mount), cameraInfo(mount)), scene,
+          Eigen::Isometry2d::Identity());
+  DepthSlice<Space2D> slice;
+  slice.first_round = 0;
+  slice.configure();
+  AlignContext<Space2D> ctx{Eigen::Isometry2d::Identity(), robot};
+  const SE3 camera = Space2D::to3D(robot) * mount;
+  ASSERT_TRUE(slice.bind(depthFrame(1, render(room(), camera), cameraInfo(mount)), scene, ctx));
+  const Eigen::Isometry2d t = robot * se2(0.01, -0.01, 0.004);
+  slice.associate(t);
+  const SliceJacobianCheck r = checkSliceJacobians(slice, t);
+  EXPECT_GT(r.factors, 1000u);
+  EXPECT_TRUE(r.ok()) << r;
+}
+
+TEST(DepthSlice3D, AloneRecoversAKnownMotionAndCountsNoInliers) {
+  const PropertyContainer scene = keyframeScene(SE3::Identity());
+  const SE3 truth = motion({0.03, -0.06, 0.02}, {0.12, -0.03, 0.15});
+  auto slice = std::make_shared<DepthSlice<Space3D>>();
+  slice->first_round = 0;  // no other cue to pull the pose first
+  slice->configure();
+  MultiAligner<Space3D> aligner;
+  aligner.slices.assign(slice);
+  aligner.min_inliers = 0;
+  // 2 cm and 1 deg off, inside the projective association's basin.
+  const SE3 start = motion({0.01, 0.01, -0.005}, {0.02, 0.01, -0.01}) * truth;
+  AlignContext<Space3D> ctx{SE3::Identity(), start};
+  const AlignResult<Space3D> r =
+      aligner.align(depthFrame(1, render(room(), truth), cameraInfo()), scene, ctx);
+  EXPECT_LT((r.pose.translation() - truth.translation()).norm(), 1e-3);
+  EXPECT_LT(degrees(truth.inverse() * r.pose), 0.02);
+  EXPECT_GT(r.factors, 4000u);  // of 80 x 60 sampled readings
+  EXPECT_EQ(r.inliers, 0u);  // a smooth surface pairs at a wrong pose too: it vouches for none
+}
+
+TEST(DepthSlice3D, WaitsForTheFirstRoundItJoinsAt) {
+  const PropertyContainer scene = keyframeScene(SE3::Identity());
+  DepthSlice<Space3D> slice;  // first_round 1: the second association round
+  slice.configure();
+  AlignContext<Space3D> ctx{SE3::Identity(), SE3::Identity()};
+  ASSERT_TRUE(slice.bind(depthFrame(1, render(room(), SE3::Identity()), cameraInfo()), scene, ctx));
+  NormalEquations<Space3D> eq;
+  slice.associate(SE3::Identity());
+  slice.linearize(SE3::Identity(), eq);
+  EXPECT_EQ(eq.factors, 0u);
+  slice.associate(SE3::Identity());
+  slice.linearize(SE3::Identity(), eq);
+  EXPECT_GT(eq.factors, 1000u);
+  EXPECT_LT(eq.chi2, 1e-6);
+}
+
+TEST(DepthKeyframeSlice3D, KeepsRenewsAndHandsOverItsKeyframe) {
+  DepthKeyframeSlice<Space3D> k;
+  k.configure();  // stride 2, renewed after 0.1 m or 0.1 rad
+  PropertyContainer scene;
+  const SE3 a = SE3::Identity(), b = motion({0, 0.05, 0}, {0.05, 0, 0}),
+            c = motion({0, 0.05, 0}, {0.15, 0, 0});
+  k.merge(depthFrame(0, render(room(), a), cameraInfo()), scene, a);
+  const DepthKeyframe& kf = scene.get<DepthKeyframe>("depth_keyframe");
+  EXPECT_EQ(kf.depth.width, kW / 2);
+  EXPECT_DOUBLE_EQ(kf.camera.fx, kF / 2);
+  EXPECT_EQ(kf.seq, 0u);
+  k.merge(depthFrame(1, render(room(), b), cameraInfo()), scene, b);
+  EXPECT_EQ(scene.get<DepthKeyframe>("depth_keyframe").seq, 0u);  // 5 cm, 2.9 deg: kept
+  k.merge(depthFrame(2, render(room(), c), cameraInfo()), scene, c);
+  EXPECT_EQ(scene.get<DepthKeyframe>("depth_keyframe").seq, 2u);  // 15 cm: renewed
+  EXPECT_TRUE(scene.get<DepthKeyframe>("depth_keyframe").pose.isApprox(c));
+  // A split at `origin`: the keyframe moves into the new map's frame.
+  const SE3 origin = motion({0, 0.3, 0}, {1.0, 0, 0.5});
+  PropertyContainer next;
+  k.handOver(scene, next, origin, 2);
+  EXPECT_TRUE(next.get<DepthKeyframe>("depth_keyframe").pose.isApprox(origin.inverse() * c));
+}
+
+TEST(DepthKeyframe, SurvivesASessionArchive) {
+  const PropertyContainer scene = keyframeScene(motion({0.1, 0.2, 0.3}, {1, 2, 3}));
+  const DepthKeyframe& kf = scene.get<DepthKeyframe>("depth_keyframe");
+  for (ArchiveFormat format : {ArchiveFormat::kBinary, ArchiveFormat::kText}) {
+    std::stringstream io;
+    {
+      auto out = makeOutArchive(io, format);
+      save(*out, kf);
+      out->finish();
+    }
+    DepthKeyframe back;
+    auto in = makeInArchive(io, format);
+    load(*in, back);
+    EXPECT_EQ(back.depth.data, kf.depth.data);
+    EXPECT_DOUBLE_EQ(back.camera.cx, kf.camera.cx);
+    EXPECT_TRUE(back.pose.isApprox(kf.pose, 1e-12));
+    EXPECT_EQ(back.seq, kf.seq);
+  }
+}
+
+}  // namespace
+}  // namespace plugslam::rgbd
