@@ -107,7 +107,7 @@ void DepthSlice<S>::configure() {
 }
 
 template <class S>
-bool DepthSlice<S>::prepare(const AlignContext<S>& context) {
+bool DepthSlice<S>::prepare(const AlignContext<S>&) {
   if (!kernel_) configure();
   pairs_total_ += pairs_.size();  // the previous frame's association at its solution
   pairs_.clear();
@@ -115,12 +115,8 @@ bool DepthSlice<S>::prepare(const AlignContext<S>& context) {
   sigmas_.clear();
   round_ = 0;
   if (scene->empty()) return false;
-  const DepthKeyframe& k = *scene;
-  const Eigen::Isometry3d from_keyframe = k.pose.inverse() * S::to3D(context.guess) * camera->mount;
-  if (from_keyframe.translation().norm() > keyframe_distance() ||
-      Eigen::AngleAxisd(from_keyframe.linear()).angle() > keyframe_angle())
-    return false;
   Stopwatch watch(time_s_);
+  const DepthKeyframe& k = *scene;
   // The keyframe's surface is built once per keyframe (it changes when the tracker slice takes
   // a new one or the map is a new one).
   if (k.seq != keyframe_seq_ || !k.pose.isApprox(keyframe_pose_) ||
@@ -152,6 +148,10 @@ void DepthSlice<S>::associate(const Pose& t) {
   pairs_.clear();
   if (!scene.bound() || keyframe_.width == 0 || round_++ < first_round()) return;
   Stopwatch watch(time_s_);
+  // Checked at every round's estimate, so a recovered pose near the keyframe gets the cue.
+  const Eigen::Isometry3d from_keyframe =
+      keyframe_pose_.inverse() * S::to3D(t) * camera->mount;
+  if (from_keyframe.translation().norm() > keyframe_distance()) return;
   const DepthNoiseModel noise = noiseModel(depth_sigma_a(), depth_sigma_b(), depth_sigma_z0());
   const Eigen::Isometry3d to_keyframe = keyframe_pose_.inverse() * S::to3D(t);
   const CameraIntrinsics& k = keyframe_.camera;

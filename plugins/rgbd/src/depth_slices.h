@@ -94,14 +94,10 @@ class DepthSlice final : public AlignerSlice<S>, public StatisticsSource {
                          "keypoints to pull the pose from the prediction",
                          Range{0, 1000}};
   Param<double> keyframe_distance{this, "keyframe_distance", 0.5, "m",
-                                  "no factors when the predicted camera is farther than this "
+                                  "no factors while the estimated camera is farther than this "
                                   "from the keyframe (a frozen map's keyframe seen from across "
                                   "the room shares little, and its pairs mislead)",
                                   Range{0, 1e6}};
-  Param<double> keyframe_angle{this, "keyframe_angle", 0.5, "rad",
-                               "or turned more than this from it (30 deg: half a depth camera's "
-                               "field of view no longer overlaps)",
-                               Range{0, 10}};
   Param<double> depth_sigma_a{this, "depth_sigma_a", 0.0012, "m",
                               "depth noise sigma(z) = a + b (z - z0)^2: a (as the preprocessor's)",
                               Range{0, 10}};
