@@ -1,5 +1,7 @@
 #include "plugslam/landmarks/appearance_validator.h"
 
+#include <spdlog/spdlog.h>
+
 #include "plugslam/geometry.h"
 #include "plugslam/landmarks/landmark_map.h"
 #include "plugslam/landmarks/point_registration.h"
@@ -94,6 +96,9 @@ bool AppearanceValidator::validate(const LocalMap& candidate, const LocalMap& qu
       registrationInformation(source, target, reg.inliers, reg.target_from_source);
   closure.overlap = static_cast<double>(reg.inliers.size()) / static_cast<double>(source.size());
   closure.residual = 0;
+  // The margins a rejection's reason gives, for an accepted loop too (how near its gates it is).
+  spdlog::debug("{}: map {} -> {}: {} of {} matches agree on a rigid motion (ratio {:.3f})",
+                name(), query.id, candidate.id, reg.inliers.size(), matches.size(), inlier_ratio);
   return count(kAccepted);
 }
 
