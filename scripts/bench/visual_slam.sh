@@ -98,11 +98,13 @@ fi
 laser="{type: laser2d.PointToLineSlice, measurement: front, scene: front}"
 camera="{type: sdk.ReprojectionSlice2D, measurement: features, scene: landmarks, landmark_uncertainty: true}"
 odom="{type: odometry.PriorSlice}"
+dense="{type: rgbd.DepthSlice2D}"
 mixed_rows=""
 if [[ "$selected" == *" mixed "* ]]; then
   for c in "laser|$laser" "laser + odometry|$laser, $odom" "RGB-D|$camera" \
            "RGB-D + odometry|$camera, $odom" "laser + RGB-D|$laser, $camera" \
-           "laser + RGB-D + odometry (sim_mixed_rgbd.yaml)|$laser, $camera, $odom"; do
+           "laser + RGB-D + odometry (sim_mixed_rgbd.yaml)|$laser, $camera, $odom" \
+           "RGB-D + dense depth|$camera, $dense" "laser + RGB-D + dense depth|$laser, $camera, $dense"; do
     IFS='|' read -r label slices <<< "$c"
     name="mixed-$(echo "$label" | tr -cd 'a-zA-Z+' | tr '+' '_')"
     run "$name" configs/sim_mixed_rgbd.yaml --set "pipeline.tracker.aligner.slices=[$slices]" || continue
