@@ -125,9 +125,9 @@ bool DepthSlice<S>::prepare(const AlignContext<S>&) {
     keyframe_seq_ = k.seq;
     keyframe_pose_ = k.pose;
   }
-  registration_.prepare(*camera);
-  const DepthImage& d = registration_.apply(*depth);
-  const CameraInfo& c = *camera;
+  registration_.prepare(*raw.camera);
+  const DepthImage& d = registration_.apply(*raw.depth);
+  const CameraInfo& c = *raw.camera;
   const DepthNoiseModel noise = noiseModel(depth_sigma_a(), depth_sigma_b(), depth_sigma_z0());
   const int s = stride();
   for (int v = 0; v < d.height; v += s)
@@ -150,7 +150,7 @@ void DepthSlice<S>::associate(const Pose& t) {
   Stopwatch watch(time_s_);
   // Checked at every round's estimate, so a recovered pose near the keyframe gets the cue.
   const Eigen::Isometry3d from_keyframe =
-      keyframe_pose_.inverse() * S::to3D(t) * camera->mount;
+      keyframe_pose_.inverse() * S::to3D(t) * raw.camera->mount;
   if (from_keyframe.translation().norm() > keyframe_distance()) return;
   const DepthNoiseModel noise = noiseModel(depth_sigma_a(), depth_sigma_b(), depth_sigma_z0());
   const Eigen::Isometry3d to_keyframe = keyframe_pose_.inverse() * S::to3D(t);
@@ -200,7 +200,7 @@ std::vector<Statistic> DepthSlice<S>::statistics() const {
 
 template <class S>
 void DepthKeyframeSlice<S>::integrate(const MergeContext<S>& context) {
-  const Eigen::Isometry3d pose = S::to3D(context.pose) * camera->mount;
+  const Eigen::Isometry3d pose = S::to3D(context.pose) * raw.camera->mount;
   DepthKeyframe& k = scene.getOrInsert();
   if (!k.empty()) {
     const Eigen::Isometry3d moved = k.pose.inverse() * pose;
@@ -208,8 +208,9 @@ void DepthKeyframeSlice<S>::integrate(const MergeContext<S>& context) {
         Eigen::AngleAxisd(moved.linear()).angle() < angle())
       return;
   }
-  registration_.prepare(*camera);
-  subsampleDepth(registration_.apply(*depth), camera->intrinsics(), stride(), k.depth, k.camera);
+  registration_.prepare(*raw.camera);
+  subsampleDepth(registration_.apply(*raw.depth), raw.camera->intrinsics(), stride(), k.depth,
+                 k.camera);
   k.camera.distortion = Distortion();  // registered depth is in the colour camera's ideal pinhole
   k.pose = pose;
   k.seq = context.seq;

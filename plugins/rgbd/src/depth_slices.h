@@ -57,6 +57,17 @@ struct DepthPointToPlane {
   void errorAndJacobian(const typename S::Pose& t, Error& e, Jacobian& j) const;
 };
 
+/// The raw entries both depth slices read: the depth image and the calibration it goes with.
+struct RawDepthEntries {
+  /// Declares the entries on `owner`.
+  explicit RawDepthEntries(Configurable* owner)
+      : depth{owner, Container::raw, "depth", "depth", "the depth image (metres, 0 = no reading)"},
+        camera{owner, Container::raw, "camera", "camera",
+               "the calibration (colour camera; second = depth camera)"} {}
+  Input<DepthImage> depth;   ///< metres, 0 = no reading
+  Input<CameraInfo> camera;  ///< the colour camera; `second` = the depth camera
+};
+
 /// "rgbd.DepthSlice2D/3D": projective association of this frame's depth points with the local
 /// map's depth keyframe and Huber-robust point-to-plane factors, each weighted by both
 /// readings' depth noise and by how many of the sampled readings are independent. Its factors
@@ -67,10 +78,7 @@ template <class S>
 class DepthSlice final : public AlignerSlice<S>, public StatisticsSource {
  public:
   using Pose = typename S::Pose;
-  Input<DepthImage> depth{this, Container::raw, "depth", "depth",
-                          "the depth image (metres, 0 = no reading)"};
-  Input<CameraInfo> camera{this, Container::raw, "camera", "camera",
-                           "the calibration (colour camera; second = depth camera)"};
+  RawDepthEntries raw{this};  ///< the keys `depth` and `camera`
   Input<DepthKeyframe> scene{this, Container::scene, "scene", "depth_keyframe",
                              "the local map's depth keyframe to align to"};
   Param<int> stride{this, "stride", 4, "px",
@@ -145,10 +153,7 @@ template <class S>
 class DepthKeyframeSlice final : public TrackerSlice<S>, public HandoverSlice<S> {
  public:
   using Pose = typename S::Pose;
-  Input<DepthImage> depth{this, Container::raw, "depth", "depth",
-                          "the depth image (metres, 0 = no reading)"};
-  Input<CameraInfo> camera{this, Container::raw, "camera", "camera",
-                           "the calibration (colour camera; second = depth camera)"};
+  RawDepthEntries raw{this};  ///< the keys `depth` and `camera`
   Output<DepthKeyframe> scene{this, Container::scene, "scene", "depth_keyframe",
                               "the local map's depth keyframe"};
   Param<int> stride{this, "stride", 2, "px",
