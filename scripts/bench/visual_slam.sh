@@ -184,7 +184,8 @@ if [ -n "$mixed_rows" ]; then
     echo "a planar laser, wheel odometry and an RGB-D camera on one robot): the aligner's slices alone and"
     echo "together, tracking alone, ATE against the robot base. Per frame: the RMS error of each"
     echo "frame-to-frame step (x, y; heading) against the truth; heading drift: those steps' heading"
-    echo "errors summed over the run (a bias, where the RMS is the random part)."
+    echo "errors summed over the run (a bias, where the RMS is the random part). Dense depth: the RGB-D"
+    echo "plugin's rgbd.DepthSlice2D joined to the aligner (the config keeps its depth keyframe)."
     echo
     echo "| aligner slices | frames | Hz | ATE rmse [m] | ATE max [m] | per frame | heading drift [deg] | failures | peak RSS [MB] |"
     echo "|---|---|---|---|---|---|---|---|---|"
