@@ -52,6 +52,16 @@ DepthSurface makeDepthSurface(const DepthImage& depth, const CameraIntrinsics& c
   return s;
 }
 
+long projectOnto(const DepthSurface& surface, const Eigen::Vector3d& x) {
+  if (x.z() <= 1e-6) return -1;
+  const CameraIntrinsics& k = surface.camera;
+  const long u = std::lround(k.fx * x.x() / x.z() + k.cx);
+  const long v = std::lround(k.fy * x.y() / x.z() + k.cy);
+  if (u < 0 || v < 0 || u >= surface.width || v >= surface.height) return -1;
+  const long i = v * surface.width + u;
+  return surface.normals[static_cast<size_t>(i)].squaredNorm() > 0 ? i : -1;
+}
+
 namespace {
 
 // The pairs at estimate T and, when `eq` is given, their weighted normal equations.
@@ -68,7 +78,6 @@ Linearisation linearise(const DepthSurface& fixed, const DepthSurface& moving, c
   Linearisation out;
   const Eigen::Matrix3d rot = t.linear();
   const Eigen::Vector3d tr = t.translation();
-  const CameraIntrinsics& k = fixed.camera;
   const int stride = o.stride > 0 ? o.stride : 1;
   for (int v = 0; v < moving.height; v += stride)
     for (int u = 0; u < moving.width; u += stride) {
@@ -76,15 +85,10 @@ Linearisation linearise(const DepthSurface& fixed, const DepthSurface& moving, c
       if (pm.z() <= 0) continue;
       ++out.points;
       const Eigen::Vector3d p = rot * pm.cast<double>() + tr;
-      if (p.z() <= 1e-6) continue;
-      const long fu = std::lround(k.fx * p.x() / p.z() + k.cx);
-      const long fv = std::lround(k.fy * p.y() / p.z() + k.cy);
-      if (fu < 0 || fv < 0 || fu >= fixed.width || fv >= fixed.height) continue;
-      const size_t i = static_cast<size_t>(fv) * static_cast<size_t>(fixed.width) +
-                       static_cast<size_t>(fu);
-      const Eigen::Vector3f& nf = fixed.normals[i];
-      if (nf.squaredNorm() == 0) continue;
-      const Eigen::Vector3d q = fixed.points[i].cast<double>();
+      const long i = projectOnto(fixed, p);
+      if (i < 0) continue;
+      const Eigen::Vector3f& nf = fixed.normals[static_cast<size_t>(i)];
+      const Eigen::Vector3d q = fixed.points[static_cast<size_t>(i)].cast<double>();
       if ((p - q).norm() > o.max_distance) continue;
       const Eigen::Vector3d n = nf.cast<double>();
       const double r = n.dot(p - q);

@@ -27,6 +27,11 @@ struct DepthSurface {
 DepthSurface makeDepthSurface(const DepthImage& depth, const CameraIntrinsics& camera,
                               int spacing = 2, double max_step = 0.05);
 
+/// The pixel of `surface` that point `x` (in the surface's camera frame) projects onto, when
+/// that pixel has a reading with a normal: projective association, the nearest pixel. -1 when
+/// x is behind the camera, outside the image, or lands where no normal is defined.
+long projectOnto(const DepthSurface& surface, const Eigen::Vector3d& x);
+
 /// Settings of a dense alignment.
 struct DepthAlignmentOptions {
   int stride = 2;              ///< use every stride-th pixel of the moving image, in both axes

@@ -5,6 +5,23 @@
 namespace plugslam {
 namespace rgbd {
 
+DepthNoiseParams::DepthNoiseParams(Configurable* owner)
+    : a{owner, "depth_sigma_a", 0.0012, "m",
+        "depth noise sigma(z) = a + b (z - z0)^2: a (Kinect v1, Nguyen et al. 2012)",
+        Range{0, 10}},
+      b{owner, "depth_sigma_b", 0.0019, "1/m", "depth noise growth b (Kinect v1: 1.9 mm/m^2)",
+        Range{0, 10}},
+      z0{owner, "depth_sigma_z0", 0.4, "m", "depth noise z0 (Kinect v1: its 0.4 m minimum range)",
+         Range{0, 100}} {}
+
+DepthNoiseModel DepthNoiseParams::model() const {
+  DepthNoiseModel m;
+  m.a = a();
+  m.b = b();
+  m.z0 = z0();
+  return m;
+}
+
 DepthSample sampleDepth(const DepthImage& depth, int x, int y, const DepthSampling& s) {
   if (x < 1 || y < 1 || x + 1 >= depth.width || y + 1 >= depth.height) return {};
   const double z = depth.at(x, y);

@@ -1,6 +1,8 @@
 #pragma once
 // The depth of a keypoint from a depth image: a noise model for structured-light depth and the
 // checks that keep a keypoint's depth only where the surface under it is continuous.
+#include "plugslam/configurable.h"
+#include "plugslam/param.h"
 #include "plugslam/sensor_data.h"
 
 namespace plugslam {
@@ -16,6 +18,18 @@ struct DepthNoiseModel {
   double z0 = 0.4;    ///< distance of the least noise [m]
   /// Standard deviation of a depth reading at z [m].
   double sigma(double z) const { return a + b * (z - z0) * (z - z0); }
+};
+
+/// The noise model as a module's parameters `depth_sigma_a`, `_b` and `_z0` (Kinect v1 by
+/// default): the preprocessor and the dense depth cue read the same sensor, and say it alike.
+struct DepthNoiseParams {
+  /// Declares the three parameters on `owner`.
+  explicit DepthNoiseParams(Configurable* owner);
+  Param<double> a;   ///< `depth_sigma_a` [m]
+  Param<double> b;   ///< `depth_sigma_b` [1/m]
+  Param<double> z0;  ///< `depth_sigma_z0` [m]
+  /// The model the parameters state.
+  DepthNoiseModel model() const;
 };
 
 /// How a keypoint's depth is read.

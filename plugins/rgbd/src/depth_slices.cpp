@@ -1,7 +1,6 @@
 #include "depth_slices.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 namespace plugslam {
@@ -46,30 +45,6 @@ void subsampleDepth(const DepthImage& depth, const CameraIntrinsics& camera, int
   out_camera.height = h;
 }
 
-namespace {
-
-struct Stopwatch {
-  explicit Stopwatch(double& total) : total_(total), start_(std::chrono::steady_clock::now()) {}
-  ~Stopwatch() {
-    total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  }
-  double& total_;
-  std::chrono::steady_clock::time_point start_;
-};
-
-double perFrame(uint64_t total, uint64_t frames) {
-  return frames ? static_cast<double>(total) / static_cast<double>(frames) : 0.0;
-}
-
-DepthNoiseModel noiseModel(double a, double b, double z0) {
-  DepthNoiseModel m;
-  m.a = a;
-  m.b = b;
-  m.z0 = z0;
-  return m;
-}
-
-}  // namespace
 
 template <class S>
 typename DepthPointToPlane<S>::Error DepthPointToPlane<S>::error(const typename S::Pose& t) const {
@@ -128,7 +103,7 @@ bool DepthSlice<S>::prepare(const AlignContext<S>&) {
   registration_.prepare(*raw.camera);
   const DepthImage& d = registration_.apply(*raw.depth);
   const CameraInfo& c = *raw.camera;
-  const DepthNoiseModel noise = noiseModel(depth_sigma_a(), depth_sigma_b(), depth_sigma_z0());
+  noise_ = depth_sigma.model();
   const int s = stride();
   for (int v = 0; v < d.height; v += s)
     for (int u = 0; u < d.width; u += s) {
@@ -136,7 +111,7 @@ bool DepthSlice<S>::prepare(const AlignContext<S>&) {
       if (!(z > 0) || !std::isfinite(z)) continue;
       const Eigen::Vector3d pc((u - c.cx) / c.fx * z, (v - c.cy) / c.fy * z, z);
       points_.push_back(c.mount * pc);
-      sigmas_.push_back(noise.sigma(z));
+      sigmas_.push_back(noise_.sigma(z));
     }
   ++frames_;
   points_total_ += points_.size();
@@ -149,25 +124,16 @@ void DepthSlice<S>::associate(const Pose& t) {
   if (!scene.bound() || keyframe_.width == 0 || round_++ < first_round()) return;
   Stopwatch watch(time_s_);
   // Checked at every round's estimate, so a recovered pose near the keyframe gets the cue.
-  const Eigen::Isometry3d from_keyframe =
-      keyframe_pose_.inverse() * S::to3D(t) * raw.camera->mount;
-  if (from_keyframe.translation().norm() > keyframe_distance()) return;
-  const DepthNoiseModel noise = noiseModel(depth_sigma_a(), depth_sigma_b(), depth_sigma_z0());
   const Eigen::Isometry3d to_keyframe = keyframe_pose_.inverse() * S::to3D(t);
-  const CameraIntrinsics& k = keyframe_.camera;
+  if ((to_keyframe * raw.camera->mount).translation().norm() > keyframe_distance()) return;
   const double gate = max_distance();
   for (size_t i = 0; i < points_.size(); ++i) {
     const Eigen::Vector3d x = to_keyframe * points_[i];
-    if (x.z() <= 1e-6) continue;
-    const long u = std::lround(k.fx * x.x() / x.z() + k.cx);
-    const long v = std::lround(k.fy * x.y() / x.z() + k.cy);
-    if (u < 0 || v < 0 || u >= keyframe_.width || v >= keyframe_.height) continue;
-    const size_t j = static_cast<size_t>(v) * static_cast<size_t>(keyframe_.width) +
-                     static_cast<size_t>(u);
-    const Eigen::Vector3f& n = keyframe_.normals[j];
-    if (n.squaredNorm() == 0) continue;
-    const Eigen::Vector3d q = keyframe_.points[j].cast<double>();
-    const double sq = noise.sigma(q.z());
+    const long j = projectOnto(keyframe_, x);
+    if (j < 0) continue;
+    const Eigen::Vector3f& n = keyframe_.normals[static_cast<size_t>(j)];
+    const Eigen::Vector3d q = keyframe_.points[static_cast<size_t>(j)].cast<double>();
+    const double sq = noise_.sigma(q.z());
     const double sigma = std::sqrt(sigmas_[i] * sigmas_[i] + sq * sq);
     // Far readings are noisier (2.6 cm at 4 m for a Kinect): the gate widens by three of the
     // pair's sigmas, or the far wall, the one surface that fixes the depth axis, drops out.

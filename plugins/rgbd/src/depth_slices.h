@@ -106,13 +106,7 @@ class DepthSlice final : public AlignerSlice<S>, public StatisticsSource {
                                   "from the keyframe (a frozen map's keyframe seen from across "
                                   "the room shares little, and its pairs mislead)",
                                   Range{0, 1e6}};
-  Param<double> depth_sigma_a{this, "depth_sigma_a", 0.0012, "m",
-                              "depth noise sigma(z) = a + b (z - z0)^2: a (as the preprocessor's)",
-                              Range{0, 10}};
-  Param<double> depth_sigma_b{this, "depth_sigma_b", 0.0019, "1/m", "depth noise growth b",
-                              Range{0, 10}};
-  Param<double> depth_sigma_z0{this, "depth_sigma_z0", 0.4, "m", "depth noise z0",
-                               Range{0, 100}};
+  DepthNoiseParams depth_sigma{this};  ///< depth_sigma_a, _b, _z0: as the preprocessor's
 
   DepthSlice();
   ~DepthSlice() override;
@@ -138,6 +132,7 @@ class DepthSlice final : public AlignerSlice<S>, public StatisticsSource {
   Eigen::Isometry3d keyframe_pose_ = Eigen::Isometry3d::Identity();
   std::vector<Eigen::Vector3d> points_;  // robot frame
   std::vector<double> sigmas_;           // their depth noise
+  DepthNoiseModel noise_;                // this frame's (the parameters may change)
   std::vector<Pair> pairs_;
   std::unique_ptr<RobustKernel> kernel_;
   double information_scale_ = 1;

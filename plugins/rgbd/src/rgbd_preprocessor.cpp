@@ -49,9 +49,7 @@ bool RgbdPreprocessor::process(Frame& frame) {
   t0 = std::chrono::steady_clock::now();
   const DepthImage& d = registration_.apply(*raw_depth);
   DepthSampling sampling;
-  sampling.noise.a = depth_sigma_a();
-  sampling.noise.b = depth_sigma_b();
-  sampling.noise.z0 = depth_sigma_z0();
+  sampling.noise = depth_sigma.model();
   sampling.tan_max_incidence = std::tan(max_incidence() * M_PI / 180.0);
   sampling.focal = std::min(cam->fx, cam->fy);  // registered depth is in the colour pixels
   // Keypoints are found in the raw colour image; the cue's pixels are its ideal pinhole's.

@@ -25,15 +25,7 @@ class RgbdPreprocessor final : public visual::KeypointPreprocessor {
                            "its pose in the colour frame"};
   Output<FeatureSet> output{this, Container::measurement, "output", "features",
                             "keypoints with depth (colour camera's ideal pinhole)"};
-  Param<double> depth_sigma_a{this, "depth_sigma_a", 0.0012, "m",
-                              "depth noise sigma(z) = a + b (z - z0)^2: a (Kinect v1, Nguyen et "
-                              "al. 2012)",
-                              Range{0, 10}};
-  Param<double> depth_sigma_b{this, "depth_sigma_b", 0.0019, "1/m",
-                              "depth noise growth b (Kinect v1: 1.9 mm/m^2)", Range{0, 10}};
-  Param<double> depth_sigma_z0{this, "depth_sigma_z0", 0.4, "m",
-                               "depth noise z0 (Kinect v1: its 0.4 m minimum range)",
-                               Range{0, 100}};
+  DepthNoiseParams depth_sigma{this};  ///< depth_sigma_a, _b, _z0
   Param<double> max_incidence{this, "max_incidence", 80.0, "deg",
                               "steepest surface ranged: larger depth steps between neighbouring "
                               "pixels are occlusion edges, where a keypoint gets no depth",

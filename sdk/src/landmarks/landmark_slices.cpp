@@ -2,7 +2,6 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include <spdlog/spdlog.h>
@@ -17,22 +16,6 @@ namespace {
 // Chi-square 95 % quantiles: the inlier band of a residual with 2 (no depth) or 3 dimensions.
 constexpr double kInlierChi2[4] = {0.0, 3.841, 5.991, 7.815};
 
-// Adds the lifetime of a scope to a seconds counter.
-class Stopwatch {
- public:
-  explicit Stopwatch(double& total) : total_(total), start_(std::chrono::steady_clock::now()) {}
-  ~Stopwatch() {
-    total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  }
-
- private:
-  double& total_;
-  std::chrono::steady_clock::time_point start_;
-};
-
-double perFrame(uint64_t total, uint64_t frames) {
-  return frames ? static_cast<double>(total) / static_cast<double>(frames) : 0.0;
-}
 
 // Columns of the SE3 tangent (x, y, z, rx, ry, rz) a pose space moves: all six in 3D, (x, y, rz)
 // for a planar robot (its tangent is (x, y, theta)).
