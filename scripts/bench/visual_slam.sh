@@ -99,15 +99,21 @@ laser="{type: laser2d.PointToLineSlice, measurement: front, scene: front}"
 camera="{type: sdk.ReprojectionSlice2D, measurement: features, scene: landmarks, landmark_uncertainty: true}"
 odom="{type: odometry.PriorSlice}"
 dense="{type: rgbd.DepthSlice2D}"
+# The dense depth rows add its keyframe to the tracker (the shipped config has no dense cue).
+with_keyframe="pipeline.tracker.slices=[{type: laser2d.PointMapSlice, measurement: front, scene: front}, {type: sdk.LandmarkMapSlice2D, measurement: features, scene: landmarks}, {type: rgbd.DepthKeyframeSlice2D}]"
 mixed_rows=""
 if [[ "$selected" == *" mixed "* ]]; then
   for c in "laser|$laser" "laser + odometry|$laser, $odom" "RGB-D|$camera" \
            "RGB-D + odometry|$camera, $odom" "laser + RGB-D|$laser, $camera" \
            "laser + RGB-D + odometry (sim_mixed_rgbd.yaml)|$laser, $camera, $odom" \
-           "RGB-D + dense depth|$camera, $dense" "laser + RGB-D + dense depth|$laser, $camera, $dense"; do
-    IFS='|' read -r label slices <<< "$c"
+           "RGB-D + dense depth|$camera, $dense|$with_keyframe" \
+           "laser + RGB-D + dense depth|$laser, $camera, $dense|$with_keyframe"; do
+    IFS='|' read -r label slices tracker <<< "$c"
     name="mixed-$(echo "$label" | tr -cd 'a-zA-Z+' | tr '+' '_')"
-    run "$name" configs/sim_mixed_rgbd.yaml --set "pipeline.tracker.aligner.slices=[$slices]" || continue
+    extra=()
+    [ -n "$tracker" ] && extra=(--set "$tracker")
+    run "$name" configs/sim_mixed_rgbd.yaml --set "pipeline.tracker.aligner.slices=[$slices]" \
+        "${extra[@]}" || continue
     mixed_rows+="$(python3 - "$out/$name" "$label" "$(cat "$out/$name.rss")" <<'PY'
 import json, math, sys
 d, label, rss = sys.argv[1], sys.argv[2], sys.argv[3]
@@ -185,7 +191,7 @@ if [ -n "$mixed_rows" ]; then
     echo "together, tracking alone, ATE against the robot base. Per frame: the RMS error of each"
     echo "frame-to-frame step (x, y; heading) against the truth; heading drift: those steps' heading"
     echo "errors summed over the run (a bias, where the RMS is the random part). Dense depth: the RGB-D"
-    echo "plugin's rgbd.DepthSlice2D joined to the aligner (the config keeps its depth keyframe)."
+    echo "plugin's rgbd.DepthSlice2D joined to the aligner and its keyframe slice to the tracker."
     echo
     echo "| aligner slices | frames | Hz | ATE rmse [m] | ATE max [m] | per frame | heading drift [deg] | failures | peak RSS [MB] |"
     echo "|---|---|---|---|---|---|---|---|---|"
