@@ -1,5 +1,7 @@
 #include "depth_slices.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 
@@ -121,12 +123,14 @@ bool DepthSlice<S>::prepare(const AlignContext<S>&) {
 template <class S>
 void DepthSlice<S>::associate(const Pose& t) {
   pairs_.clear();
+  vouched_ = 0;
   if (!scene.bound() || keyframe_.width == 0 || round_++ < first_round()) return;
   Stopwatch watch(time_s_);
   // Checked at every round's estimate, so a recovered pose near the keyframe gets the cue.
   const Eigen::Isometry3d to_keyframe = keyframe_pose_.inverse() * S::to3D(t);
   if ((to_keyframe * raw.camera->mount).translation().norm() > keyframe_distance()) return;
   const double gate = max_distance();
+  std::vector<double> residuals;  // point-to-plane, at t
   for (size_t i = 0; i < points_.size(); ++i) {
     const Eigen::Vector3d x = to_keyframe * points_[i];
     const long j = projectOnto(keyframe_, x);
@@ -140,7 +144,10 @@ void DepthSlice<S>::associate(const Pose& t) {
     if ((x - q).norm() > gate + 3.0 * sigma) continue;
     pairs_.push_back(Pair{static_cast<int>(i), keyframe_pose_ * q,
                           keyframe_pose_.linear() * n.cast<double>(), sigma});
+    residuals.push_back(n.cast<double>().dot(x - q));
   }
+  // Judged at each association's pose: the last one is the solution's.
+  vouched_ = pinnedDirections(t, residuals);
 }
 
 template <class S>
@@ -149,11 +156,54 @@ void DepthSlice<S>::linearize(const Pose& t, NormalEquations<S>& eq) const {
   Stopwatch watch(time_s_);
   eq.candidates += points_.size();
   Robust robust{kernel_.get()};
-  robust.inlier_bound = -1;  // counts no inliers (see the class comment)
+  robust.inlier_bound = -1;  // pairs are not inliers one by one (see the class comment)
   for (const Pair& p : pairs_) {
     const DepthPointToPlane<S> f{points_[static_cast<size_t>(p.point)], p.q, p.n};
     eq.add(f, t, information_scale_ / (p.sigma * p.sigma), robust);
   }
+  eq.inliers += static_cast<size_t>(vouched_);
+}
+
+template <class S>
+int DepthSlice<S>::pinnedDirections(const Pose& t, const std::vector<double>& residuals) const {
+  // The readings on the keyframe's surface, within the kernel's width: only they can vouch.
+  std::vector<size_t> on;
+  for (size_t k = 0; k < pairs_.size(); ++k)
+    if (std::abs(residuals[k]) <= kernel_scale() * pairs_[k].sigma) on.push_back(k);
+  if (on.empty() ||
+      static_cast<double>(on.size()) < vouch_share() * static_cast<double>(points_.size()))
+    return 0;
+  // Their information, with a rotation of a rad in metres at their mean range (it moves the
+  // readings by about that much), and their mean sigma. An even sample of a thousand readings
+  // gives both to a few percent, and the test below has a wide margin either way (a pinned
+  // direction of a room clears it ten times over, a free one has no information at all).
+  const size_t step = std::max<size_t>(1, on.size() / 1000);
+  typename S::Matrix h = S::Matrix::Zero();
+  double range = 0, sigma = 0;
+  size_t used = 0;
+  typename DepthPointToPlane<S>::Error e;
+  typename DepthPointToPlane<S>::Jacobian j;
+  for (size_t k = 0; k < on.size(); k += step, ++used) {
+    const Pair& p = pairs_[on[k]];
+    const Eigen::Vector3d& x = points_[static_cast<size_t>(p.point)];
+    DepthPointToPlane<S>{x, p.q, p.n}.errorAndJacobian(t, e, j);
+    h.noalias() += j.transpose() * j * (information_scale_ / (p.sigma * p.sigma));
+    range += x.norm();
+    sigma += p.sigma;
+  }
+  h *= static_cast<double>(on.size()) / static_cast<double>(used);
+  range /= static_cast<double>(used);
+  sigma /= static_cast<double>(used);
+  typename S::Matrix to_metres = S::Matrix::Identity();
+  for (int i = S::kDof == 3 ? 2 : 3; i < S::kDof; ++i) to_metres(i, i) = 1.0 / range;
+  const Eigen::SelfAdjointEigenSolver<typename S::Matrix> eig(to_metres * h * to_metres,
+                                                              Eigen::EigenvaluesOnly);
+  // Pinned: known at least as well as one reading knows its depth (information of at least
+  // 1 / sigma^2). Along a surface the readings give next to none.
+  int pinned = 0;
+  for (int i = 0; i < S::kDof; ++i)
+    if (eig.eigenvalues()(i) * sigma * sigma >= 1.0) ++pinned;
+  return pinned;
 }
 
 template <class S>

@@ -70,10 +70,14 @@ struct RawDepthEntries {
 
 /// "rgbd.DepthSlice2D/3D": projective association of this frame's depth points with the local
 /// map's depth keyframe and Huber-robust point-to-plane factors, each weighted by both
-/// readings' depth noise and by how many of the sampled readings are independent. Its factors
-/// count as no inliers: a smooth surface pairs with itself at a wrong pose too, so the pairs do
-/// not say the pose is right (the other cues' inliers do, and a failed frame is recovered by
-/// them).
+/// readings' depth noise and by how many of the sampled readings are independent. Its pairs
+/// are not inliers one by one: a smooth surface pairs with itself at a wrong pose too, and its
+/// thousands of readings are one surface, not thousands of independent witnesses. It vouches
+/// for the pose as a whole instead: when most of the frame's readings lie on the keyframe's
+/// surface, it counts one inlier per pose direction its pairs pin (a wall pins three of six, a
+/// room's corner all six), so a frame whose other cues have a few inliers short of the aligner's
+/// min_inliers still passes where its depth agrees, and a frame the depth does not confirm does
+/// not.
 template <class S>
 class DepthSlice final : public AlignerSlice<S>, public StatisticsSource {
  public:
@@ -106,6 +110,16 @@ class DepthSlice final : public AlignerSlice<S>, public StatisticsSource {
                                   "from the keyframe (a frozen map's keyframe seen from across "
                                   "the room shares little, and its pairs mislead)",
                                   Range{0, 1e6}};
+  // A right pose leaves off the keyframe's surface only what the keyframe did not see: with the
+  // keyframe renewed every 0.1 m or 0.1 rad (DepthKeyframeSlice), the view has moved on by at
+  // most a sixth of a 60 degree field, and occlusions add little. A wrong pose that still puts
+  // that much on the surface slides along it, and the directions it slides in are not pinned,
+  // so not counted.
+  Param<double> vouch_share{this, "vouch_share", 0.8, "",
+                            "the cue counts one inlier per pose direction its pairs pin when at "
+                            "least this share of the frame's readings lie within kernel_scale "
+                            "sigmas of the keyframe's surface (above 1: never)",
+                            Range{0, 2}};
   DepthNoiseParams depth_sigma{this};  ///< depth_sigma_a, _b, _z0: as the preprocessor's
 
   DepthSlice();
@@ -134,6 +148,10 @@ class DepthSlice final : public AlignerSlice<S>, public StatisticsSource {
   std::vector<double> sigmas_;           // their depth noise
   DepthNoiseModel noise_;                // this frame's (the parameters may change)
   std::vector<Pair> pairs_;
+  // How many pose directions the pairs on the keyframe's surface pin at t (0 unless they are
+  // vouch_share of the frame's readings); `residuals` are the pairs' at t.
+  int pinnedDirections(const Pose& t, const std::vector<double>& residuals) const;
+  int vouched_ = 0;  // at the last association
   std::unique_ptr<RobustKernel> kernel_;
   double information_scale_ = 1;
   int round_ = 0;

@@ -1,6 +1,7 @@
 // The dense depth cue's slices on ray-cast depth of a box-shaped room: the factor passes the
 // SDK's Jacobian check (free camera, and a camera on a planar robot), the aligner slice alone
-// recovers a known motion and counts no inliers, the keyframe slice keeps, renews and hands
+// recovers a known motion and vouches for as many directions as its surfaces pin (none at a
+// pose off the surface), the keyframe slice keeps, renews and hands
 // over its keyframe, and the keyframe survives a session archive.
 #include <gtest/gtest.h>
 
@@ -34,12 +35,29 @@ Frame depthFrame(uint64_t seq, const DepthImage& depth, const CameraInfo& camera
 }
 
 // A scene holding the keyframe the keyframe slice takes from the camera at `camera_pose`.
-PropertyContainer keyframeScene(const SE3& camera_pose) {
+PropertyContainer keyframeScene(const SE3& camera_pose,
+                                const std::vector<Plane>& planes = room()) {
   PropertyContainer scene;
   DepthKeyframeSlice<Space3D> k;
   k.configure();
-  k.merge(depthFrame(0, render(room(), camera_pose), cameraInfo()), scene, camera_pose);
+  k.merge(depthFrame(0, render(planes, camera_pose), cameraInfo()), scene, camera_pose);
   return scene;
+}
+
+// The inliers the slice alone counts at `at` for a frame seen from `truth` (it joins at once).
+size_t inliersAt(const std::vector<Plane>& planes, const SE3& truth, const SE3& at,
+                 size_t* factors = nullptr) {
+  const PropertyContainer scene = keyframeScene(SE3::Identity(), planes);
+  DepthSlice<Space3D> slice;
+  slice.first_round = 0;
+  slice.configure();
+  AlignContext<Space3D> ctx{SE3::Identity(), at};
+  EXPECT_TRUE(slice.bind(depthFrame(1, render(planes, truth), cameraInfo()), scene, ctx));
+  slice.associate(at);
+  NormalEquations<Space3D> eq;
+  slice.linearize(at, eq);
+  if (factors) *factors = eq.factors;
+  return eq.inliers;
 }
 
 TEST(DepthSlice3D, ItsFactorsPassTheSdkJacobianCheck) {
@@ -82,7 +100,7 @@ TEST(DepthSlice2D, ItsFactorsPassTheSdkJacobianCheckThroughAMount) {
   EXPECT_TRUE(r.ok()) << r;
 }
 
-TEST(DepthSlice3D, AloneRecoversAKnownMotionAndCountsNoInliers) {
+TEST(DepthSlice3D, AloneRecoversAKnownMotionAndVouchesForAllSixDirections) {
   const PropertyContainer scene = keyframeScene(SE3::Identity());
   const SE3 truth = motion({0.03, -0.06, 0.02}, {0.12, -0.03, 0.15});
   auto slice = std::make_shared<DepthSlice<Space3D>>();
@@ -99,7 +117,33 @@ TEST(DepthSlice3D, AloneRecoversAKnownMotionAndCountsNoInliers) {
   EXPECT_LT((r.pose.translation() - truth.translation()).norm(), 1e-3);
   EXPECT_LT(degrees(truth.inverse() * r.pose), 0.02);
   EXPECT_GT(r.factors, 4000u);  // of 80 x 60 sampled readings
-  EXPECT_EQ(r.inliers, 0u);  // a smooth surface pairs at a wrong pose too: it vouches for none
+  // A room's corner pins every direction: one surface, counted once per direction.
+  EXPECT_EQ(r.inliers, 6u);
+}
+
+TEST(DepthSlice3D, VouchesOnlyForTheDirectionsAWallPins) {
+  // A wall 3 m ahead fixes the depth axis and the two tilts; sliding along it or turning about
+  // its normal moves no reading off it.
+  const std::vector<Plane> wall{{{0, 0, 1}, 3.0}};
+  const SE3 truth = motion({0.01, -0.02, 0.0}, {0.05, 0.02, 0.03});
+  size_t factors = 0;
+  EXPECT_EQ(inliersAt(wall, truth, truth, &factors), 3u);
+  EXPECT_GT(factors, 4000u);
+  EXPECT_EQ(inliersAt(room(), truth, truth), 6u);
+}
+
+TEST(DepthSlice3D, DoesNotVouchForAPoseOffTheSurface) {
+  const SE3 truth = motion({0.01, -0.02, 0.0}, {0.05, 0.02, 0.03});
+  // The room's readings are 1-5 m away, where a Kinect's pair of readings is uncertain by
+  // 1-5 cm: a pose 2 cm off every wall is within their noise, and the cue rightly vouches.
+  EXPECT_EQ(inliersAt(room(), truth, truth * motion({0, 0, 0}, {0.012, 0.012, 0.012})), 6u);
+  // 10 cm off every wall, or turned by 6 degrees: the readings still pair, but too many lie
+  // off their surface.
+  size_t factors = 0;
+  EXPECT_EQ(inliersAt(room(), truth, truth * motion({0, 0, 0}, {0.06, 0.06, 0.06}), &factors),
+            0u);
+  EXPECT_GT(factors, 1000u);
+  EXPECT_EQ(inliersAt(room(), truth, truth * motion({0, 0.1, 0}, {0, 0, 0})), 0u);
 }
 
 TEST(DepthSlice3D, WaitsForTheFirstRoundItJoinsAt) {
