@@ -55,9 +55,9 @@ struct AlignContext {
   /// The raw entry `motion` was measured from, when the motion model reads exactly one (a slice
   /// that reads the same entry can take `motion` instead of computing it again); else empty.
   std::string motion_entry;
-  /// The part of `motion` the motion model extrapolated rather than measured (a reading older
-  /// than the frame); empty when all of it was measured. A motion prior is no surer of the
-  /// motion than that part's size.
+  /// How much of `motion` the motion model extrapolated rather than measured (a motion whose
+  /// distance and angle bound that part: ExtrapolatingMotionModel); empty when all of it was
+  /// measured. A motion prior is no surer of the motion than that.
   std::optional<typename S::Pose> motion_extrapolated;
 };
 

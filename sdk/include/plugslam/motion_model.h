@@ -34,8 +34,9 @@ template <class S>
 class ExtrapolatingMotionModel {
  public:
   virtual ~ExtrapolatingMotionModel();
-  /// The part of the last predict()'s motion that was extrapolated (in the robot frame at the
-  /// reading); empty when all of it was measured.
+  /// How much of the last predict()'s motion was extrapolated rather than measured: a motion
+  /// whose distance and angle bound that part (the guess the motion ends with, plus the one it
+  /// starts from, whose error comes back in it); empty when all of it was measured.
   virtual std::optional<typename S::Pose> extrapolated() const = 0;
 };
 
@@ -51,8 +52,8 @@ struct MotionPrediction {
   /// The raw entry `model_motion` was measured from when the model reads exactly one (a slice
   /// reading the same entry then takes that delta rather than computing it again); else empty.
   std::string model_entry;
-  /// The part of `model_motion` the model extrapolated rather than measured
-  /// (ExtrapolatingMotionModel); empty when all of it was measured.
+  /// How much of `model_motion` the model extrapolated rather than measured
+  /// (ExtrapolatingMotionModel::extrapolated()); empty when all of it was measured.
   std::optional<Pose> model_extrapolated;
 
   /// The pose predicted for `frame` from the robot's pose `from`.
