@@ -317,6 +317,33 @@ TEST(CarmenSource, RawLogOdometryIsInterpolatedAtTheLaserTime) {
   expectPose(se2(3, 0, 0.4), odom[3], 1e-12);
   EXPECT_DOUBLE_EQ(frames[0].stamp, 1.25);
   EXPECT_DOUBLE_EQ(frames[3].stamp, 1.8);
+  // Each reading carries its own time: the interpolated ones the laser's, the kept one its
+  // line's (0.1 and 0.2 s before those frames), so the motion model knows what it covers.
+  EXPECT_DOUBLE_EQ(frames[0].raw.get<Odometry2D>("odom").stamp, 1.25);
+  EXPECT_DOUBLE_EQ(frames[1].raw.get<Odometry2D>("odom").stamp, 1.4);
+  EXPECT_DOUBLE_EQ(frames[2].raw.get<Odometry2D>("odom").stamp, 1.6);
+  EXPECT_DOUBLE_EQ(frames[3].raw.get<Odometry2D>("odom").stamp, 1.6);
+}
+
+// An ODOM line without a time (GMapping-corrected logs write 0 on their restart lines) was
+// logged after the last line with one, and is taken at that time; a laser logged long after it
+// (beyond max_odometry_gap, no later reading to interpolate with) gets it with that stamp.
+TEST(CarmenSource, AReadingWithoutTimeIsTakenAtTheLastLineWithOne) {
+  const std::string text =
+      "ODOM 0 0 0 0 0 0 1.0 h 1.0\n"
+      "FLASER 3 1 2 3 0 0 0 0 0 0 1.0 h 1.0\n"
+      "ODOM 0.5 0 0 0 0 0 0 h 0\n"
+      "FLASER 3 1 2 3 9 9 0 9 9 0 1.9 h 1.9\n";
+  CarmenSource source;
+  source.path = writeLog("untimed_odom.log", text);
+  source.configure();
+  Frame a, b;
+  ASSERT_TRUE(source.next(a));
+  ASSERT_TRUE(source.next(b));
+  const Odometry2D& odom = b.raw.get<Odometry2D>("odom");
+  expectPose(se2(0.5, 0, 0), odom.pose, 1e-12);
+  EXPECT_DOUBLE_EQ(b.stamp, 1.9);
+  EXPECT_DOUBLE_EQ(odom.stamp, 1.0);
 }
 
 // The GMapping-corrected intel log: 910 scans of 180 beams; the odometry increments between

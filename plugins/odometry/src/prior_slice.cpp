@@ -85,15 +85,23 @@ bool OdometryPriorSlice<S>::prepare(const AlignContext<S>& context) {
   // The tracker's motion model read this same odometry: its delta (the same product of the same
   // readings) is the one to use, not computed again. Otherwise (no motion model, another entry,
   // a validator's alignment) the slice's own readings give it.
-  const Eigen::Isometry2d delta = context.motion && context.motion_entry == input.name()
-                                      ? planar(*context.motion)
-                                      : before_bound_->inverse() * odom->pose;
+  const bool model_delta = context.motion && context.motion_entry == input.name();
+  const Eigen::Isometry2d delta =
+      model_delta ? planar(*context.motion) : before_bound_->inverse() * odom->pose;
   prior_ = context.previous * lift(delta);
   const double d = delta.translation().norm();
   const double a = std::abs(angleOf(delta.linear()));
-  const double model_st = std::max(min_sigma_translation(), sigma_translation_per_m() * d);
-  const double model_sr =
+  double model_st = std::max(min_sigma_translation(), sigma_translation_per_m() * d);
+  double model_sr =
       std::max(min_sigma_rotation(), sigma_rotation_per_rad() * a + sigma_rotation_per_m() * d);
+  if (model_delta && context.motion_extrapolated) {
+    // The model extrapolated part of the delta (a reading older than the frame): the wheels
+    // did not measure that part, the robot went anywhere between standing still and the
+    // extrapolation, so the prior is no surer than its size.
+    const Eigen::Isometry2d e = planar(*context.motion_extrapolated);
+    model_st += e.translation().norm();
+    model_sr += std::abs(angleOf(e.linear()));
+  }
   if (new_frame) last_sigmas_ = Eigen::Vector2d(model_st, model_sr);
   information_ = informationFor(scale_.x() * model_st, scale_.y() * model_sr);
   return true;

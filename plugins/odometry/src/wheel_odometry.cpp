@@ -2,8 +2,11 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+
 #include "odometry_frame.h"
 #include "plugslam/errors.h"
+#include "plugslam/geometry.h"
 
 namespace plugslam {
 namespace odometry {
@@ -16,6 +19,7 @@ void WheelOdometryModel<S>::configure() {
 template <class S>
 std::optional<typename S::Pose> WheelOdometryModel<S>::predict(const Frame& frame) {
   const Odometry2D* odom = input.find(frame);
+  extrapolated_.reset();
   if (!odom) {
     // A log or bag without odometry runs on the other cues alone (the tracker predicts constant
     // velocity): said once, when it is clear the readings are not just late.
@@ -27,15 +31,78 @@ std::optional<typename S::Pose> WheelOdometryModel<S>::predict(const Frame& fram
     return std::nullopt;
   }
   seen_ = true;
+  if (history_.empty() || odom->stamp > history_.back().stamp) {
+    history_.push_back(*odom);
+    if (history_.size() > kHistory) history_.pop_front();
+  } else if (odom->stamp == history_.back().stamp) {
+    history_.back() = *odom;
+  } else {
+    history_.assign(1, *odom);  // the clock went back (a replay, a new log): start over
+  }
+  // A reading new since the previous frame measured part of this frame's step, and the
+  // tracker's gate allows for the rest (its time says little more: CARMEN logs interleave
+  // readings stamped before a laser but logged after it). The previous frame's reading again
+  // measured none of the step: "no motion" is then a claim the wheels never made, and the
+  // prediction goes on from where the previous frame's left off, by the time between them.
+  double covered = 0;
+  const bool again = previous_reading_ && odom->stamp == previous_reading_->stamp &&
+                     odom->pose.isApprox(previous_reading_->pose, 0.0);
+  if (again && previous_stamp_ && frame.stamp > *previous_stamp_)
+    covered = std::min(max_extrapolation(), covered_ + (frame.stamp - *previous_stamp_));
+  const std::optional<Eigen::Isometry2d> carried =
+      covered > 0 ? extrapolation(*odom, covered) : std::nullopt;
+  const Eigen::Isometry2d at = carried ? odom->pose * *carried : odom->pose;
   std::optional<Pose> delta;
-  if (last_) delta = lift(last_->inverse() * odom->pose);
-  last_ = odom->pose;
+  if (last_) {
+    delta = lift(last_->inverse() * at);
+    // Not measured in this delta: the guess it ends with, and the one the last delta ended with
+    // (this delta starts from it, so that guess's error comes back here, the other way).
+    double distance = 0, angle = 0;
+    const auto add = [&](const std::optional<Eigen::Isometry2d>& guess) {
+      if (!guess) return;
+      distance += guess->translation().norm();
+      angle += std::abs(angleOf(guess->linear()));
+    };
+    add(last_carried_);
+    add(carried);
+    if (last_carried_ || carried) extrapolated_ = lift(se2(distance, 0, angle));
+  }
+  last_ = at;
+  last_carried_ = carried;
+  previous_reading_ = *odom;
+  previous_stamp_ = frame.stamp;
+  covered_ = carried ? covered : 0.0;
   return delta;
+}
+
+template <class S>
+std::optional<Eigen::Isometry2d> WheelOdometryModel<S>::extrapolation(const Odometry2D& odom,
+                                                                       double time) const {
+  if (history_.size() < 2 || history_.back().stamp != odom.stamp) return std::nullopt;
+  // The velocity over the newest span of readings at least as long as the time carried, so the
+  // motion extrapolated is never more than the motion measured (with too short a history: all
+  // of it).
+  const Odometry2D* from = &history_.front();
+  for (auto it = history_.rbegin() + 1; it != history_.rend(); ++it)
+    if (odom.stamp - it->stamp >= time) {
+      from = &*it;
+      break;
+    }
+  const double span = odom.stamp - from->stamp;
+  if (!(span > 0)) return std::nullopt;
+  const double ratio = std::min(1.0, time / span);
+  return se2(ratio * toVector(from->pose.inverse() * odom.pose));
 }
 
 template <class S>
 void WheelOdometryModel<S>::reset() {
   last_.reset();
+  history_.clear();
+  extrapolated_.reset();
+  last_carried_.reset();
+  previous_reading_.reset();
+  previous_stamp_.reset();
+  covered_ = 0;
 }
 
 template class WheelOdometryModel<Space2D>;

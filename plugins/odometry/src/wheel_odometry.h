@@ -1,6 +1,7 @@
 #pragma once
 // odometry.WheelOdometry / odometry.WheelOdometry3D: motion prediction from the wheel odometry in
 // the raw frame, for a 2D pipeline and (lifted into the robot frame) for a 3D one.
+#include <deque>
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,15 +15,33 @@ namespace odometry {
 /// Predicts the motion since the previous reading as last_odom^-1 * odom (in the previous base
 /// frame), turned into the pipeline's pose space by lift(). A frame without the entry predicts
 /// nothing and keeps the last reading, so the next prediction spans the gap.
+///
+/// A frame given the previous frame's reading again (the odometry arrives less often than the
+/// scans: the reading's stamp is its own, older than the frame's) learns nothing of its step
+/// from it, and taking it as the pose at the frame predicts "no motion". The model carries it on
+/// with the odometry's recent velocity (its readings over a span at least as long as the time
+/// carried) from where the previous frame's prediction left off, and says which part it
+/// extrapolated (ExtrapolatingMotionModel), so the tracker's gate and the prior widen by it.
+/// The next reading's delta starts from the extrapolated pose, so the deltas still compose to
+/// the readings.
 template <class S>
-class WheelOdometryModel : public MotionModel<S> {
+class WheelOdometryModel : public MotionModel<S>, public ExtrapolatingMotionModel<S> {
  public:
   using Pose = typename S::Pose;
   Input<Odometry2D> input{this, Container::raw, "input", "odom", "wheel odometry to read"};
+  // A robot's velocity changes within about a second (its acceleration limit), so the last
+  // velocity says little beyond that; farther, the prediction stays where it got to.
+  Param<double> max_extrapolation{
+      this, "max_extrapolation", 1.0, "s",
+      "a frame given the previous frame's odometry reading again is predicted by carrying that "
+      "reading on with the odometry's recent velocity, up to this long after it (0: never; the "
+      "reading is then taken as the pose at the frame)",
+      Range{0, 3600}};
 
   void configure() override;
   std::optional<Pose> predict(const Frame& frame) override;
   void reset() override;
+  std::optional<Pose> extrapolated() const override { return extrapolated_; }
 
  protected:
   /// The planar delta (in the previous base frame) as a motion of the robot frame.
@@ -30,7 +49,18 @@ class WheelOdometryModel : public MotionModel<S> {
 
  private:
   static constexpr int kSayLaserOnlyAfter = 10;  // frames without a reading
+  static constexpr size_t kHistory = 8;          // readings kept for the velocity
+  // The motion that carries the reading `odom` on by `time` seconds at the recent velocity
+  // (empty: no velocity known).
+  std::optional<Eigen::Isometry2d> extrapolation(const Odometry2D& odom, double time) const;
+  std::optional<Pose> extrapolated_;  // of the last prediction
+  std::optional<Odometry2D> previous_reading_;  // the last frame's reading
+  std::optional<double> previous_stamp_;    // the last frame's stamp
+  double covered_ = 0;                      // time last_carried_ carries its reading on
+  std::optional<Eigen::Isometry2d> last_carried_;  // the extrapolation last_ ends with
+  // The odometry pose the last prediction ended at (the reading, extrapolated when stale).
   std::optional<Eigen::Isometry2d> last_;
+  std::deque<Odometry2D> history_;  // the last distinct readings, oldest first
   bool seen_ = false;       // a reading arrived once
   int frames_without_ = 0;  // before the first reading
 };

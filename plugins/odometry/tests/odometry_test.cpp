@@ -78,6 +78,77 @@ TEST(WheelOdometry, ReadsTheConfiguredEntry) {
   EXPECT_THROW(model.configure(), plugslam::ParamError);
 }
 
+// Odometry arriving less often than the scans: a frame between two readings gets the last one,
+// stamped with its own (older) time. The model carries it to the frame's time with the recent
+// velocity, so each frame's delta is the motion of its own interval, not zero then five at once;
+// and the deltas still compose to the readings wherever a fresh one arrives.
+TEST(WheelOdometry, AStaleReadingIsExtrapolatedWithTheRecentVelocity) {
+  // 0.5 m/s forward, turning 0.3 rad/s; frames every 0.2 s, readings at every 5th frame after 10.
+  const auto truth = [](double t) {
+    const double w = 0.3, v = 0.5;
+    return se2(v / w * std::sin(w * t), v / w * (1 - std::cos(w * t)), w * t);
+  };
+  const auto frameAt = [&](uint64_t seq) {
+    Frame f;
+    f.seq = seq;
+    f.stamp = 0.2 * static_cast<double>(seq);
+    const uint64_t read = seq < 10 ? seq : seq - seq % 5;  // the last reading's frame
+    const double t = 0.2 * static_cast<double>(read);
+    f.raw.set<Odometry2D>("odom", {t, truth(t)});
+    return f;
+  };
+  WheelOdometry model, stale;
+  model.configure();
+  stale.max_extrapolation = 0.0;  // the reading taken as the pose at the frame
+  stale.configure();
+  model.predict(frameAt(0));
+  stale.predict(frameAt(0));
+  Eigen::Isometry2d composed = truth(0);
+  double worst = 0, worst_stale = 0;
+  for (uint64_t i = 1; i < 40; ++i) {
+    const Frame f = frameAt(i);
+    const auto delta = model.predict(f);
+    const auto delta_stale = stale.predict(f);
+    ASSERT_TRUE(delta && delta_stale);
+    const Eigen::Isometry2d step = truth(f.stamp - 0.2).inverse() * truth(f.stamp);
+    worst = std::max(worst, (step.inverse() * *delta).translation().norm());
+    worst_stale = std::max(worst_stale, (step.inverse() * *delta_stale).translation().norm());
+    composed = composed * *delta;
+    if (i % 5 == 0) expectPose(truth(f.stamp), composed, 1e-9);  // fresh: back on the readings
+    // What was not measured is said (the tracker's gate and the prior widen by it): the
+    // extrapolation this delta ends with and the one it starts from (0.1 m per frame carried).
+    const double carried = i > 10 ? 0.1 * static_cast<double>(i % 5) : 0.0;
+    const double before = i > 11 ? 0.1 * static_cast<double>((i - 1) % 5) : 0.0;
+    EXPECT_EQ(model.extrapolated().has_value(), carried + before > 0) << i;
+    EXPECT_FALSE(stale.extrapolated().has_value());
+    if (model.extrapolated()) {
+      EXPECT_NEAR(model.extrapolated()->translation().norm(), carried + before, 0.01) << i;
+    }
+  }
+  // The true step is 0.1 m: the extrapolation is off by the turn's curvature only (1.2 cm);
+  // the stale reading predicts no motion (0.1 m off) and then five steps at once (0.4 m off).
+  EXPECT_LT(worst, 0.02);
+  EXPECT_GT(worst_stale, 0.35);
+}
+
+// The extrapolation never carries more motion than the readings measured: a reading older than
+// the history behind it is carried by at most that history's motion, and max_extrapolation caps
+// the age.
+TEST(WheelOdometry, ExtrapolationIsBoundedByTheMeasuredMotionAndItsLimit) {
+  WheelOdometry model;
+  model.max_extrapolation = 2.0;
+  model.configure();
+  Frame a, b, c;
+  a.seq = 0, a.stamp = 0.0, a.raw.set<Odometry2D>("odom", {0.0, se2(0, 0, 0)});
+  b.seq = 1, b.stamp = 0.5, b.raw.set<Odometry2D>("odom", {0.5, se2(0.25, 0, 0)});
+  c.seq = 2, c.stamp = 10.0, c.raw.set<Odometry2D>("odom", {0.5, se2(0.25, 0, 0)});
+  model.predict(a);
+  model.predict(b);
+  const auto delta = model.predict(c);  // 9.5 s old, 0.5 s of readings behind it
+  ASSERT_TRUE(delta.has_value());
+  expectPose(se2(0.25, 0, 0), *delta, 1e-12);
+}
+
 TEST(PriorSlice, JacobianMatchesNumericalDifferentiation) {
   PriorSlice slice;
   slice.configure();
@@ -244,6 +315,34 @@ TEST(PriorSlice, TakesTheMotionModelsDeltaWhenItReadTheSameEntry) {
     ASSERT_TRUE(slice.bind(odomFrame(1, se2(2, 0, 0), "wheels"), scene, ctx));
     expectPose(se2(1.0, 1.0, 0.2) * se2(2, 0, 0), slice.prior(), 1e-12);
   }
+}
+
+// The part of the model's delta it extrapolated (a reading older than the frame) was not
+// measured: the prior's sigmas grow by its size (translation and turn), so the prior does not
+// hold the solve on a guess.
+TEST(PriorSlice, AnExtrapolatedDeltaWeighsLess) {
+  PropertyContainer scene;
+  AlignContext<Space2D> ctx{se2(0, 0, 0), se2(0, 0, 0), se2(0.5, 0.0, 0.1)};
+  ctx.motion_entry = "odom";
+  PriorSlice measured, extrapolated;
+  for (PriorSlice* s : {&measured, &extrapolated}) {
+    s->sigma_translation_per_m = 0.02;
+    s->min_sigma_translation = 0.02;
+    s->sigma_rotation_per_rad = 0.2;
+    s->min_sigma_rotation = 0.05;
+    s->configure();
+  }
+  EXPECT_FALSE(measured.bind(odomFrame(0, se2(0, 0, 0)), scene, ctx));
+  ASSERT_TRUE(measured.bind(odomFrame(1, se2(0.5, 0, 0.1)), scene, ctx));
+  ctx.motion_extrapolated = se2(0.3, 0.0, 0.05);
+  EXPECT_FALSE(extrapolated.bind(odomFrame(0, se2(0, 0, 0)), scene, ctx));
+  ASSERT_TRUE(extrapolated.bind(odomFrame(1, se2(0.5, 0, 0.1)), scene, ctx));
+  expectPose(measured.prior(), extrapolated.prior(), 1e-12);  // the same delta
+  // sigma_t 0.02 -> 0.02 + 0.3, sigma_r max(0.05, 0.2 * 0.1 + 0.02 * 0.5) = 0.05 -> 0.1.
+  EXPECT_NEAR(measured.information()(0, 0), 1 / (0.02 * 0.02), 1e-6);
+  EXPECT_NEAR(extrapolated.information()(0, 0), 1 / (0.32 * 0.32), 1e-6);
+  EXPECT_NEAR(measured.information()(2, 2), 1 / (0.05 * 0.05), 1e-6);
+  EXPECT_NEAR(extrapolated.information()(2, 2), 1 / (0.1 * 0.1), 1e-6);
 }
 
 // The tracker's prediction names the one raw entry the wheel odometry read, so a PriorSlice

@@ -55,6 +55,10 @@ struct AlignContext {
   /// The raw entry `motion` was measured from, when the motion model reads exactly one (a slice
   /// that reads the same entry can take `motion` instead of computing it again); else empty.
   std::string motion_entry;
+  /// How much of `motion` the motion model extrapolated rather than measured (a motion whose
+  /// distance and angle bound that part: ExtrapolatingMotionModel); empty when all of it was
+  /// measured. A motion prior is no surer of the motion than that.
+  std::optional<typename S::Pose> motion_extrapolated;
 };
 
 /// One cue's contribution to the Multi-Aligner.

@@ -26,6 +26,20 @@ class MotionModel : public Configurable {
   virtual void reset() {}
 };
 
+/// A second base a motion model may add when part of its prediction is not measured but
+/// extrapolated (a reading older than the frame, carried to the frame's time with the recent
+/// velocity): how the robot moved in that part is known only to lie between standing still and
+/// the extrapolation, so the tracker's correction gate and a motion prior widen by it.
+template <class S>
+class ExtrapolatingMotionModel {
+ public:
+  virtual ~ExtrapolatingMotionModel();
+  /// How much of the last predict()'s motion was extrapolated rather than measured: a motion
+  /// whose distance and angle bound that part (the guess the motion ends with, plus the one it
+  /// starts from, whose error comes back in it); empty when all of it was measured.
+  virtual std::optional<typename S::Pose> extrapolated() const = 0;
+};
+
 /// The pose a tracker predicts before aligning: the motion model's delta when it has one for the
 /// frame, else the last motion again (constant velocity) or none.
 template <class S>
@@ -38,15 +52,22 @@ struct MotionPrediction {
   /// The raw entry `model_motion` was measured from when the model reads exactly one (a slice
   /// reading the same entry then takes that delta rather than computing it again); else empty.
   std::string model_entry;
+  /// How much of `model_motion` the model extrapolated rather than measured
+  /// (ExtrapolatingMotionModel::extrapolated()); empty when all of it was measured.
+  std::optional<Pose> model_extrapolated;
 
   /// The pose predicted for `frame` from the robot's pose `from`.
   Pose predict(MotionModel<S>* model, bool constant_velocity, const Frame& frame,
                const Pose& from) {
     model_motion.reset();
     model_entry.clear();
+    model_extrapolated.reset();
     if (model) {
       model_motion = model->predict(frame);
       if (model_motion) model_entry = soleRawInput(*model);
+      if (const auto* e = dynamic_cast<const ExtrapolatingMotionModel<S>*>(model);
+          e && model_motion)
+        model_extrapolated = e->extrapolated();
     }
     const Pose delta =
         model_motion ? *model_motion : constant_velocity ? last_motion : Pose::Identity();
@@ -57,6 +78,7 @@ struct MotionPrediction {
     last_motion = Pose::Identity();
     model_motion.reset();
     model_entry.clear();
+    model_extrapolated.reset();
   }
 
  private:
@@ -75,6 +97,8 @@ struct MotionPrediction {
 
 extern template class MotionModel<Space2D>;
 extern template class MotionModel<Space3D>;
+extern template class ExtrapolatingMotionModel<Space2D>;
+extern template class ExtrapolatingMotionModel<Space3D>;
 
 }  // namespace abi_v1
 }  // namespace plugslam

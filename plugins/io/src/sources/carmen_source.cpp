@@ -54,6 +54,7 @@ void CarmenSource::open() {
   unknown_odometry_frames_ = 0;
   last_odom_stamp_ = 0;
   last_odom_has_stamp_ = false;
+  have_record_stamp_ = false;
   held_.reset();
   pushed_back_.reset();
   any_frame_ = false;
@@ -105,6 +106,7 @@ void CarmenSource::rewind() {
   odometry_unknown_ = false;
   last_odom_stamp_ = 0;
   last_odom_has_stamp_ = false;
+  have_record_stamp_ = false;
   held_.reset();
   pushed_back_.reset();
 }
@@ -202,11 +204,29 @@ void CarmenSource::onOdometry(const CarmenOdometry& odom) {
     odometry_unknown_ = false;
   }
   laser_before_odom_.reset();
-  last_odom_stamp_ = odom.timestamp;
-  last_odom_has_stamp_ = odom.has_timestamp;
+  ++reading_id_;
+  // A line without a time (GMapping-corrected logs write 0 on their restart lines) was logged
+  // after the last line with one: it is taken at that time, so the age of the reading a later
+  // laser gets is still known (never shorter than the truth).
+  last_odom_stamp_ = odom.has_timestamp ? odom.timestamp : last_record_stamp_;
+  last_odom_has_stamp_ = odom.has_timestamp || have_record_stamp_;
+  if (odom.has_timestamp) noteRecordStamp(odom.timestamp);
 }
 
-void CarmenSource::fill(Frame& frame, Held& held, const std::optional<Eigen::Isometry2d>& odom) {
+void CarmenSource::noteRecordStamp(double t) {
+  if (!std::isfinite(t)) return;
+  last_record_stamp_ = t;
+  have_record_stamp_ = true;
+}
+
+std::optional<double> CarmenSource::readingAge(const CarmenLaser& laser) const {
+  if (!laser.has_timestamp || !std::isfinite(laser.timestamp) || !last_odom_has_stamp_)
+    return std::nullopt;
+  return std::max(0.0, laser.timestamp - last_odom_stamp_);
+}
+
+void CarmenSource::fill(Frame& frame, Held& held, const std::optional<Eigen::Isometry2d>& odom,
+                        std::optional<double> age) {
   const CarmenLaser& laser = held.laser;
   frame.stamp = held.stamp;
   LaserScan scan = toScan(laser);
@@ -225,7 +245,20 @@ void CarmenSource::fill(Frame& frame, Held& held, const std::optional<Eigen::Iso
                   "before; frame without odometry",
                   path(), held.stamp);
   } else if (odom) {
-    odometry.set(frame, {held.stamp, *odom});
+    // The reading's own time, on the frame's clock: a laser logged after the last ODOM line
+    // gets that reading, which says nothing about the motion since (the motion model
+    // extrapolates it). Without times, a reading given to a second frame keeps the stamp of the
+    // first one it was given to.
+    double stamp = held.stamp;
+    if (age)
+      stamp = held.stamp - *age;
+    else if (reading_id_ == stamped_reading_)
+      stamp = stamped_at_;
+    if (reading_id_ != stamped_reading_) {
+      stamped_reading_ = reading_id_;
+      stamped_at_ = stamp;
+    }
+    odometry.set(frame, {stamp, *odom});
   }
   // The reference is the robot's pose: the logged laser pose moved back by the mount. In raw
   // logs that is the logged robot pose; GMapping-corrected logs write GMapping's estimate of the
@@ -261,7 +294,8 @@ bool CarmenSource::next(Frame& frame) {
         rewind();
         continue;
       }
-      fill(frame, *held_, have_odom_ ? std::optional<Eigen::Isometry2d>(track_) : std::nullopt);
+      fill(frame, *held_, have_odom_ ? std::optional<Eigen::Isometry2d>(track_) : std::nullopt,
+           readingAge(held_->laser));
       held_.reset();
       return true;
     }
@@ -275,13 +309,15 @@ bool CarmenSource::next(Frame& frame) {
       // The reading after a held laser: interpolate between the two around the laser's time,
       // unless this line restarted dead reckoning or the gap is too long to trust.
       std::optional<Eigen::Isometry2d> odom = before;
+      std::optional<double> age = std::max(0.0, held_->laser.timestamp - t0);  // `before`'s
       const double t1 = record.odometry.timestamp;
       if (restarts_ == restarts && record.odometry.has_timestamp && t1 > held_->laser.timestamp &&
           t1 - t0 <= max_odometry_gap()) {
         const double alpha = (held_->laser.timestamp - t0) / (t1 - t0);
         odom = before * se2(alpha * toVector(before.inverse() * track_));
+        age = 0.0;
       }
-      fill(frame, *held_, odom);
+      fill(frame, *held_, odom, age);
       held_.reset();
       return true;
     }
@@ -289,6 +325,7 @@ bool CarmenSource::next(Frame& frame) {
     const CarmenLaser& laser = record.laser;
     if (isRear(laser)) {
       if (laser.has_pose) laser_before_odom_ = laser.robot_pose;
+      if (laser.has_timestamp) noteRecordStamp(laser.timestamp);
       pending_rear_ = toScan(laser);
       continue;
     }
@@ -296,11 +333,13 @@ bool CarmenSource::next(Frame& frame) {
     if (held_) {
       // Another laser before any further odometry: the held one keeps the preceding reading.
       pushed_back_ = std::move(record);
-      fill(frame, *held_, have_odom_ ? std::optional<Eigen::Isometry2d>(track_) : std::nullopt);
+      fill(frame, *held_, have_odom_ ? std::optional<Eigen::Isometry2d>(track_) : std::nullopt,
+           readingAge(held_->laser));
       held_.reset();
       return true;
     }
     if (laser.has_pose) laser_before_odom_ = laser.robot_pose;
+    if (laser.has_timestamp) noteRecordStamp(laser.timestamp);
 
     Held held;
     held.stamp = laser.timestamp;
@@ -333,7 +372,8 @@ bool CarmenSource::next(Frame& frame) {
       held_ = std::move(held);
       continue;
     }
-    fill(frame, held, have_odom_ ? std::optional<Eigen::Isometry2d>(track_) : std::nullopt);
+    fill(frame, held, have_odom_ ? std::optional<Eigen::Isometry2d>(track_) : std::nullopt,
+         readingAge(laser));
     return true;
   }
 }

@@ -105,7 +105,13 @@ class CarmenSource : public Source {
   void openReader();
   // Reopens the log for the next replay, keeping the odometry track and the clock going.
   void rewind();
-  void fill(Frame& frame, Held& held, const std::optional<Eigen::Isometry2d>& odom);
+  // Emits `held` with the odometry `odom`, read `age` seconds before the laser (empty: not
+  // known, the log has no times).
+  void fill(Frame& frame, Held& held, const std::optional<Eigen::Isometry2d>& odom,
+            std::optional<double> age);
+  // How long before `laser` the last ODOM reading was taken (empty: either has no time).
+  std::optional<double> readingAge(const CarmenLaser& laser) const;
+  void noteRecordStamp(double t);
   double maxRangeFor(const CarmenLaser& laser) const;
   LaserScan toScan(const CarmenLaser& laser) const;
   void onOdometry(const CarmenOdometry& odom);
@@ -122,6 +128,13 @@ class CarmenSource : public Source {
   Eigen::Isometry2d last_raw_ = Eigen::Isometry2d::Identity();
   double last_odom_stamp_ = 0;
   bool last_odom_has_stamp_ = false;
+  // The time of the last line that had one (an ODOM line without one is taken at it).
+  double last_record_stamp_ = 0;
+  bool have_record_stamp_ = false;
+  // ODOM lines read so far, and the last one given to a frame with the stamp it was given.
+  uint64_t reading_id_ = 0;
+  uint64_t stamped_reading_ = UINT64_MAX;
+  double stamped_at_ = 0;
   std::optional<Held> held_;
   std::optional<CarmenRecord> pushed_back_;
   // The robot pose of the most recent laser line, while no ODOM line has followed it.

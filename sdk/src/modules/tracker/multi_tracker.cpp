@@ -148,6 +148,7 @@ AlignResult<S> MultiTracker<S>::align(const Frame& frame, const PropertyContaine
   AlignContext<S> context{S::normalized(to_scene * previous), S::normalized(to_scene * guess),
                           prediction_.model_motion, prediction_.model_entry};
   context.motion_residual = motion_residual_;
+  context.motion_extrapolated = prediction_.model_extrapolated;
   AlignResult<S> aligned = aligner->align(frame, scene, context);
   // The tangent is the robot's own (boxplus multiplies on the right), so H needs no change.
   aligned.pose = S::normalized(to_scene.inverse() * aligned.pose);
@@ -224,6 +225,12 @@ std::optional<std::pair<double, double>> MultiTracker<S>::correctionGate() const
     const double a = S::angle(*prediction_.model_motion);
     translation = std::max(translation, growth[0] * d + growth[1] * a);
     rotation = std::max(rotation, growth[2] * d + growth[3] * a);
+  }
+  if (prediction_.model_extrapolated) {
+    // The extrapolated part was not measured: the robot went anywhere between standing still
+    // at the reading and keeping its velocity, so the gate widens by all of it.
+    translation += S::distance(*prediction_.model_extrapolated);
+    rotation += S::angle(*prediction_.model_extrapolated);
   }
   return std::make_pair(translation, rotation);
 }

@@ -41,6 +41,8 @@ void TrackerSlice<S>::merge(const Frame& frame, PropertyContainer& scene, const 
 }
 template <class S>
 MotionModel<S>::~MotionModel() = default;
+template <class S>
+ExtrapolatingMotionModel<S>::~ExtrapolatingMotionModel() = default;
 
 template <class S>
 HandoverSlice<S>::~HandoverSlice() = default;
@@ -51,6 +53,8 @@ template class HandoverSlice<Space2D>;
 template class HandoverSlice<Space3D>;
 template class MotionModel<Space2D>;
 template class MotionModel<Space3D>;
+template class ExtrapolatingMotionModel<Space2D>;
+template class ExtrapolatingMotionModel<Space3D>;
 
 }  // namespace abi_v1
 }  // namespace plugslam
