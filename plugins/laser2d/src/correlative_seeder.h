@@ -43,6 +43,10 @@ class CorrelativeSeeder : public AlignSeeder<Space2D> {
                              Range{0, 10}};
   Param<double> max_range{this, "max_range", 30.0, "m", "scan points farther are left out",
                           Range{0.1, 1000}};
+  Param<bool> with_measured_motion{
+      this, "with_measured_motion", true, "",
+      "also search frames whose motion the motion model measured (odometry); false: only frames "
+      "without, where the prediction is the last step again (laser only)"};
 
   void configure() override;
 

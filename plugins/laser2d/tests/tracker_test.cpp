@@ -59,13 +59,13 @@ std::vector<SE2> lap() {
 // returns the worst world-pose error over it (m, rad).
 std::pair<double, double> trackLap(
     MultiTracker<Space2D>& tracker,
-    const std::function<SE2(size_t, const Eigen::Vector3d&)>& odometry) {
+    const std::function<SE2(size_t, const Eigen::Vector3d&)>& odometry,
+    const std::vector<SE2>& truth = lap()) {
   Pipeline pipeline;  // places the local maps and composes the world pose
   pipeline.tracker.assign(std::shared_ptr<Tracker>(std::shared_ptr<Tracker>(), &tracker));
   ScanPreprocessor pre;
   pre.configure();
   const auto world = office();
-  const auto truth = lap();
   test::ScanSpec spec;
   spec.beams = 180;
   spec.fov = M_PI;
@@ -164,6 +164,76 @@ TEST(MultiTracker2D, RecoversFromAPredictionOffByOneMetreAndThirtyDegrees) {
   EXPECT_EQ(seeded.stats().failed, 0u);
   EXPECT_GE(seeded.stats().recovered, 1u);
   // Same bounds as the exact-odometry lap above (its worst error is ~1 cm, 0.3 deg).
+  EXPECT_LT(worst, 0.05);
+  EXPECT_LT(worst_angle, 0.75 * M_PI / 180);
+}
+
+// Laser only at a slow scan rate: 0.5 m steps that stop, start and turn one way then the
+// other (0.5 rad per frame), so the constant-velocity prediction is off by a whole step (0.5 m,
+// or 1 rad where the turn reverses).
+std::vector<SE2> stopAndGo() {
+  std::vector<SE2> poses;
+  SE2 t = se2(1.5, 1.5, 0.0);
+  poses.push_back(t);
+  auto go = [&](int steps, double step, double turn) {
+    for (int i = 0; i < steps; ++i) {
+      t = t * se2(step, 0.0, turn);
+      poses.push_back(t);
+    }
+  };
+  go(6, 0.5, 0.0);
+  go(2, 0.0, 0.0);
+  go(4, 0.5, 0.0);
+  go(3, 0.0, 0.5);
+  go(3, 0.0, -0.5);
+  go(3, 0.0, 0.5);
+  go(4, 0.5, 0.0);
+  go(2, 0.0, 0.0);
+  go(3, 0.5, 0.0);
+  return poses;
+}
+
+void buildLaserOnly(MultiTracker<Space2D>& tracker, bool seeded) {
+  auto aligner = std::make_shared<MultiAligner<Space2D>>();
+  aligner->slices.assign(std::make_shared<PointToLineSlice>());
+  if (seeded) {
+    // The shipped CARMEN config's laser-only search.
+    auto seeder = std::make_shared<CorrelativeSeeder>();
+    seeder->linear_window = 1.5;
+    seeder->angular_window = 1.5;
+    seeder->min_score = 0.3;
+    seeder->with_measured_motion = false;
+    seeder->configure();
+    aligner->seeder.assign(seeder);
+  }
+  aligner->configure();
+  tracker.aligner.assign(aligner);
+  tracker.slices.assign(std::make_shared<PointMapSlice>());
+  tracker.splitter.assign(std::make_shared<DistanceSplitter>());
+  tracker.max_correction = std::vector<double>{0.3, 0.5};  // no gate applies: nothing measured
+  tracker.configure();
+}
+
+TEST(MultiTracker2D, LaserOnlyTheSeedersSearchChecksEveryFrame) {
+  // Issue 20, no odometry: without the search the solve from the constant-velocity prediction
+  // settles in a wrong minimum at a stop or a reversed turn; with it every frame is recovered.
+  const auto unused = [](size_t, const Eigen::Vector3d& d) { return se2(d.x(), d.y(), d.z()); };
+  MultiTracker<Space2D> plain;
+  buildLaserOnly(plain, false);
+  const auto [plain_worst, plain_angle] = trackLap(plain, unused, stopAndGo());
+  std::printf("laser only, no search: %lu failed, worst %.3f m, %.2f deg\n",
+              static_cast<unsigned long>(plain.stats().failed), plain_worst,
+              plain_angle * 180 / M_PI);
+  MultiTracker<Space2D> checked;
+  buildLaserOnly(checked, true);
+  const auto [worst, worst_angle] = trackLap(checked, unused, stopAndGo());
+  std::printf("laser only, searched: %lu failed, %lu recovered, worst %.4f m, %.3f deg\n",
+              static_cast<unsigned long>(checked.stats().failed),
+              static_cast<unsigned long>(checked.stats().recovered), worst,
+              worst_angle * 180 / M_PI);
+  EXPECT_GT(plain_worst, 0.3);
+  EXPECT_EQ(checked.stats().failed, 0u);
+  EXPECT_GE(checked.stats().recovered, 1u);
   EXPECT_LT(worst, 0.05);
   EXPECT_LT(worst_angle, 0.75 * M_PI / 180);
 }

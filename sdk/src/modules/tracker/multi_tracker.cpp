@@ -150,6 +150,8 @@ AlignResult<S> MultiTracker<S>::align(const Frame& frame, const PropertyContaine
   context.motion_residual = motion_residual_;
   context.motion_extrapolated = prediction_.model_extrapolated;
   AlignResult<S> aligned = aligner->align(frame, scene, context);
+  if (aligned.valid && !aligned.seeded && !prediction_.model_motion && aligner->seeder)
+    aligned = checkUnmeasured(frame, scene, context, std::move(aligned));
   // The tangent is the robot's own (boxplus multiplies on the right), so H needs no change.
   aligned.pose = S::normalized(to_scene.inverse() * aligned.pose);
   const std::optional<std::pair<double, double>> gate = correctionGate();
@@ -211,6 +213,28 @@ AlignResult<S> MultiTracker<S>::align(const Frame& frame, const PropertyContaine
   }
   if (aligned.valid && aligned.seeded) ++stats_.recovered;
   return aligned;
+}
+
+template <class S>
+AlignResult<S> MultiTracker<S>::checkUnmeasured(const Frame& frame, const PropertyContainer& scene,
+                                                const AlignContext<S>& context,
+                                                AlignResult<S> aligned) {
+  // Without a measured motion the prediction is the last step again, off by a whole step when
+  // the robot stopped, started or turned the other way, and the solve converges to whatever
+  // minimum lies nearest it, with every pair an inlier: no count or gate tells it from the right
+  // one. The seeder's search covers the step's reach; where it is unambiguous and its solve
+  // explains more of the scan elsewhere, it wins (issue 20: laser only).
+  AlignResult<S> searched = aligner->recover(frame, scene, context);
+  if (!searched.valid || searched.inliers <= aligned.inliers) return aligned;
+  const Pose apart = S::normalized(aligned.pose.inverse() * searched.pose);
+  if (S::distance(apart) <= aligner->seed_tolerance()[0] &&
+      S::angle(apart) <= aligner->seed_tolerance()[1])
+    return aligned;  // the same minimum
+  spdlog::debug("frame {}: without measured motion the solve landed {:.3f} m, {:.3f} rad from "
+                "the seeder's, which explains more of the scan ({} inliers against {}): taken",
+                frame.seq, S::distance(apart), S::angle(apart), searched.inliers,
+                aligned.inliers);
+  return searched;
 }
 
 template <class S>
