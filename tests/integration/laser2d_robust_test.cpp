@@ -159,38 +159,15 @@ INSTANTIATE_TEST_SUITE_P(
 // Odometry arriving less often than the scans, where it matters most: freiburg-079 scans every
 // 0.25 s, so with every 5th ODOM line (about 1.1 s apart) most frames get the previous frame's
 // reading again. Taken as the pose at the frame it predicted no motion, the correction gate threw
-// the right alignments away and the map broke (24 gated frames, relations 5.24 m / 35 deg);
+// the right alignments away and the map broke (24 gated frames, relations 5.24 m / 35 deg).
 // odometry.WheelOdometry carries such a reading on with the recent velocity and the gate and the
-// prior widen by what it extrapolated: 3 gated frames, 0.049 m / 1.07 deg (deterministic
-// back-end, so the bound is the same in every run; the rotation is still above the 1 deg,
-// the bound here is the broken-map one in translation, with room for the threaded back-end's
-// spread).
-TEST(DegradedFreiburg079, EveryFifthOdometryLineStaysInOnePiece) {
-  const std::string log = plugslam::testing::dataDir() +
-                          "/laser2d/freiburg-079-gfs-corrected/freiburg-079-corrected.log.gz";
-  if (!fs::exists(log)) GTEST_SKIP() << "freiburg-079 log not found at " << log;
-  if (shell("python3 --version").code != 0) GTEST_SKIP() << "python3 not found (writes the variant)";
-  const plugslam::testing::TempDir tmp("plugslam_robust079");
-  Result r = shell("python3 " + plugslam::testing::sourceDir() +
-                   "/scripts/bench/laser2d_variants.py " + log + " " + tmp.path().string() +
-                   " sparse");
-  ASSERT_EQ(r.code, 0) << r.out;
-  const fs::path out = tmp.path() / "run";
-  r = plugslamCli("run configs/laser2d_carmen.yaml -o " + out.string() + " --set source.path=" +
-                  (tmp.path() / "sparse.log.gz").string() +
-                  " --set pipeline.graph.deterministic=true");
-  ASSERT_EQ(r.code, 0) << r.out;
-  const nlohmann::json run = readJson(out / "run.json");
-  ASSERT_TRUE(run.is_object());
-  EXPECT_LE(run["tracking_failure_reasons"]["correction_gate"].get<uint64_t>(), 10u);
-  const Trajectory est = readTrajectory((out / "trajectory.tum").string());
-  const Trajectory ref = readTrajectory((out / "reference.tum").string());
-  const RelationResult rel = evaluateRelations(est, relationsFromTrajectory(ref, 2.0));
-  std::printf("freiburg-079 sparse: %s failures, relations %.4f m %.3f deg\n",
-              run["tracking_failures"].dump().c_str(), rel.translation.mean,
-              rel.rotation_deg.mean);
-  EXPECT_LE(rel.translation.mean, 0.15);
-  EXPECT_LE(rel.rotation_deg.mean, 2.0);
+// prior widen by what it extrapolated: 3 gated frames, 0.049 m / 1.06 deg, crispness 0.0091
+// against the reference's 0.0079. The extrapolated part is a constant-velocity guess, so the
+// seeder's search checks those frames as it does laser-only ones: no failure, 0.042 m /
+// 0.72 deg, crispness 0.0074 (one threaded run of scripts/bench/laser2d_robust.sh).
+TEST(DegradedFreiburg079, EveryFifthOdometryLineStaysAMapLikeTheReference) {
+  expectAMapLikeTheReference("freiburg-079-gfs-corrected", "freiburg-079-corrected.log.gz",
+                             "sparse");
 }
 
 }  // namespace

@@ -45,8 +45,9 @@ class CorrelativeSeeder : public AlignSeeder<Space2D> {
                           Range{0.1, 1000}};
   Param<bool> with_measured_motion{
       this, "with_measured_motion", true, "",
-      "also search frames whose motion the motion model measured (odometry); false: only frames "
-      "without, where the prediction is the last step again (laser only)"};
+      "also search frames whose motion the motion model measured in full (odometry read at the "
+      "frame); false: only frames where it measured none (laser only: the prediction is the last "
+      "step again) or extrapolated part of it (odometry read less often than the scans)"};
 
   void configure() override;
 

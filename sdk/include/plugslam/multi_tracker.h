@@ -102,8 +102,9 @@ class MultiTracker : public Tracker {
   // motion model's prediction farther than max_correction.
   AlignResult<S> align(const Frame& frame, const PropertyContainer& scene, const Pose& to_scene,
                        const Pose& previous, const Pose& guess);
-  // A frame without measured motion: the seeder's search checks the solve from the prediction
-  // (in the scene's frame, like `aligned`), and its solve replaces it when it explains more.
+  // A frame whose motion was not measured, or only in part (extrapolated): the seeder's search
+  // checks the solve from the prediction (in the scene's frame, like `aligned`), and its solve
+  // replaces it when it explains more of the scan (within the correction gate, if one applies).
   AlignResult<S> checkUnmeasured(const Frame& frame, const PropertyContainer& scene,
                                  const AlignContext<S>& context, AlignResult<S> aligned);
   // The gate (translation m, rotation rad) on this frame's correction from the prediction:

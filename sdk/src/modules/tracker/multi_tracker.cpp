@@ -150,7 +150,8 @@ AlignResult<S> MultiTracker<S>::align(const Frame& frame, const PropertyContaine
   context.motion_residual = motion_residual_;
   context.motion_extrapolated = prediction_.model_extrapolated;
   AlignResult<S> aligned = aligner->align(frame, scene, context);
-  if (aligned.valid && !aligned.seeded && !prediction_.model_motion && aligner->seeder)
+  const bool unmeasured = !prediction_.model_motion || prediction_.model_extrapolated;
+  if (aligned.valid && !aligned.seeded && unmeasured && aligner->seeder)
     aligned = checkUnmeasured(frame, scene, context, std::move(aligned));
   // The tangent is the robot's own (boxplus multiplies on the right), so H needs no change.
   aligned.pose = S::normalized(to_scene.inverse() * aligned.pose);
@@ -223,14 +224,21 @@ AlignResult<S> MultiTracker<S>::checkUnmeasured(const Frame& frame, const Proper
   // the robot stopped, started or turned the other way, and the solve converges to whatever
   // minimum lies nearest it, with every pair an inlier: no count or gate tells it from the right
   // one. The seeder's search covers the step's reach; where it is unambiguous and its solve
-  // explains more of the scan elsewhere, it wins (issue 20: laser only).
+  // explains more of the scan elsewhere, it wins (issue 20: laser only). The same holds for the
+  // part of a motion the model extrapolated (odometry read less often than the scans), within
+  // the gate, which has grown by that part.
   AlignResult<S> searched = aligner->recover(frame, scene, context);
   if (!searched.valid || searched.inliers <= aligned.inliers) return aligned;
+  if (const auto gate = correctionGate()) {
+    const Pose correction = S::normalized(context.guess.inverse() * searched.pose);
+    if (S::distance(correction) > gate->first || S::angle(correction) > gate->second)
+      return aligned;
+  }
   const Pose apart = S::normalized(aligned.pose.inverse() * searched.pose);
   if (S::distance(apart) <= aligner->seed_tolerance()[0] &&
       S::angle(apart) <= aligner->seed_tolerance()[1])
     return aligned;  // the same minimum
-  spdlog::debug("frame {}: without measured motion the solve landed {:.3f} m, {:.3f} rad from "
+  spdlog::debug("frame {}: with unmeasured motion the solve landed {:.3f} m, {:.3f} rad from "
                 "the seeder's, which explains more of the scan ({} inliers against {}): taken",
                 frame.seq, S::distance(apart), S::angle(apart), searched.inliers,
                 aligned.inliers);
