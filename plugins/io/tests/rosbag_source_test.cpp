@@ -191,6 +191,7 @@ TEST(RosbagSource, SynchronisesScansAndOdometry) {
     EXPECT_NEAR(odom.pose.translation().x(), xs[i], 1e-6);
     EXPECT_NEAR(odom.pose.translation().y(), 2.0, 1e-9);
     EXPECT_NEAR(plugslam::angleOf(odom.pose.linear()), 0.5, 1e-9);
+    EXPECT_NEAR(odom.stamp, stamps[i], 1e-6);  // interpolated at the frame's time
   }
   // /rear: 10.02 pairs with 10.0, 10.13 with 10.1; 10.31 is too far from 10.2.
   EXPECT_DOUBLE_EQ(frames[0].raw.get<LaserScan>("rear_laser").ranges[0], 2.0);
@@ -242,6 +243,32 @@ TEST(RosbagSource, MissingScanTopicListsTheBagsTopics) {
     EXPECT_NE(what.find("/scna"), std::string::npos) << what;
     EXPECT_NE(what.find("/scan (sensor_msgs/LaserScan, 3)"), std::string::npos) << what;
   }
+}
+
+// Odometry slower than max_odometry_gap is not interpolated: a frame gets the nearest reading
+// within the gap, stamped with that reading's own time, so odometry.WheelOdometry can tell a
+// reading taken again (and extrapolate it) from a new one (issue 20).
+TEST(RosbagSource, TheNearestReadingKeepsItsOwnStamp) {
+  RosbagSource source;
+  source.path = syntheticBag();
+  source.max_odometry_gap = 0.07;  // readings at 9.95, 10.05, 10.25: none are interpolated
+  source.configure();
+  std::vector<Frame> frames;
+  for (Frame f; source.next(f); f = Frame()) frames.push_back(f);
+  ASSERT_EQ(frames.size(), 3u);
+  // 10.1: 10.05 is 0.05 s away, 10.25 too far; 10.2: 10.25 is 0.05 s away.
+  const double stamps[] = {10.05, 10.25};
+  const double xs[] = {1.0, 3.0};
+  for (size_t i = 0; i < 2; ++i) {
+    SCOPED_TRACE(i);
+    const auto& odom = frames[i + 1].raw.get<Odometry2D>("odom");
+    EXPECT_NEAR(odom.stamp, stamps[i], 1e-6);
+    EXPECT_NEAR(odom.pose.translation().x(), xs[i], 1e-9);
+  }
+  // 10.0 is 0.05 s from both 9.95 and 10.05: either reading, with its own stamp.
+  const auto& first = frames[0].raw.get<Odometry2D>("odom");
+  EXPECT_NEAR(first.pose.translation().x(), first.stamp < 10.0 ? 0.0 : 1.0, 1e-9);
+  EXPECT_NE(first.stamp, frames[0].stamp);
 }
 
 TEST(RosbagSource, OdometryGapLeavesFramesWithout) {

@@ -214,7 +214,7 @@ bool BagSource::ready(double t) const {
   return true;
 }
 
-std::optional<Eigen::Isometry2d> BagSource::odometryAt(double t) const {
+std::optional<BagSource::Pose> BagSource::odometryAt(double t) const {
   if (odom_.empty()) return std::nullopt;
   auto it = std::lower_bound(odom_.begin(), odom_.end(), t,
                              [](const Pose& p, double v) { return p.t < v; });
@@ -224,14 +224,14 @@ std::optional<Eigen::Isometry2d> BagSource::odometryAt(double t) const {
     if (b.t - a.t <= max_odometry_gap()) {
       const double alpha = b.t > a.t ? (t - a.t) / (b.t - a.t) : 0.0;
       const Eigen::Vector3d d = toVector(a.pose.inverse() * b.pose);
-      return a.pose * se2(alpha * d);
+      return Pose{t, a.pose * se2(alpha * d)};
     }
   }
   // Before the first, after the last, or across a gap: the nearest reading if close enough.
   const Pose* best = nullptr;
   if (it != odom_.end()) best = &*it;
   if (it != odom_.begin() && (!best || t - (it - 1)->t < best->t - t)) best = &*(it - 1);
-  if (best && std::abs(best->t - t) <= max_odometry_gap()) return best->pose;
+  if (best && std::abs(best->t - t) <= max_odometry_gap()) return *best;
   return std::nullopt;
 }
 
@@ -302,8 +302,8 @@ bool BagSource::emit(Frame& frame) {
     frame.stamp = t;
     setEntry(frame.raw, streams_[0].entry, std::move(s.value));
     if (!odom_topic_.empty()) {
-      if (auto pose = odometryAt(t)) {
-        frame.raw.set<Odometry2D>(odom_entry_, {t, *pose});
+      if (auto odom = odometryAt(t)) {
+        frame.raw.set<Odometry2D>(odom_entry_, {odom->t, odom->pose});
       } else {
         ++frames_without_odometry_;
       }

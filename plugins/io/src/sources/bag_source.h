@@ -53,7 +53,7 @@ struct BagReading {
 /// One frame per message of the first stream (the first scan topic, else the source's first image
 /// topic), stamped with its header time. The odometry is interpolated at that time between the
 /// neighbouring odometry messages (when they are at most max_odometry_gap apart; else the nearest
-/// within the gap; else none). Every other stream contributes its message nearest in time within
+/// within the gap, with that message's stamp; else none). Every other stream contributes its message nearest in time within
 /// sync_tolerance; a frame that lacks an image stream's message is dropped (a stereo pair or an
 /// RGB-D pair is useless in halves) and counted. A bag with no message on the first stream is an
 /// InputError listing the bag's topics.
@@ -153,7 +153,9 @@ class BagSource : public Source {
   // Builds a frame from the first primary reading; false (reading dropped) when incomplete.
   bool emit(Frame& frame);
   bool ready(double t) const;
-  std::optional<Eigen::Isometry2d> odometryAt(double t) const;
+  // The odometry at t, stamped with the time it holds for: t when interpolated, else the
+  // nearest reading's own stamp (so a motion model can tell a reading taken again from a new one).
+  std::optional<Pose> odometryAt(double t) const;
   [[noreturn]] void noFramesError() const;
 
   bool summarized_ = false;  // the end-of-bag warnings were given
