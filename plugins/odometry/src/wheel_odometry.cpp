@@ -65,7 +65,15 @@ std::optional<typename S::Pose> WheelOdometryModel<S>::predict(const Frame& fram
     };
     add(last_carried_);
     add(carried);
-    if (last_carried_ || carried) extrapolated_ = lift(se2(distance, 0, angle));
+    // A new reading older than its frame measured the step up to its stamp only. The rest is
+    // not carried into the prediction (the stamps of CARMEN logs are too loose for that: see
+    // above), but it is said, bounded by the recent velocity over the reading's age, so the gate
+    // and the prior widen by it and the aligner's seeder may check the frame.
+    std::optional<Eigen::Isometry2d> unseen;
+    if (!again && frame.stamp > odom->stamp)
+      unseen = extrapolation(*odom, std::min(max_extrapolation(), frame.stamp - odom->stamp));
+    add(unseen);
+    if (last_carried_ || carried || unseen) extrapolated_ = lift(se2(distance, 0, angle));
   }
   last_ = at;
   last_carried_ = carried;

@@ -131,6 +131,36 @@ TEST(WheelOdometry, AStaleReadingIsExtrapolatedWithTheRecentVelocity) {
   EXPECT_GT(worst_stale, 0.35);
 }
 
+// A new reading older than its frame measured the step only up to its stamp. The prediction stays
+// the readings' own delta (CARMEN stamps are too loose to carry it on), but the part after the
+// reading is said (the recent velocity over the reading's age), so the tracker's gate and the
+// prior widen by it and the seeder may check the frame (issue 20).
+TEST(WheelOdometry, ANewReadingOlderThanItsFrameSaysWhatItDidNotSee) {
+  WheelOdometry model;
+  model.configure();
+  // 0.5 m/s straight; frames every 0.2 s, each with a reading taken 0.1 s before it.
+  for (uint64_t i = 0; i < 10; ++i) {
+    Frame f;
+    f.seq = i;
+    f.stamp = 0.2 * static_cast<double>(i);
+    const double t = f.stamp - 0.1;
+    f.raw.set<Odometry2D>("odom", {t, se2(0.5 * t, 0, 0)});
+    const auto delta = model.predict(f);
+    if (i == 0) continue;
+    ASSERT_TRUE(delta.has_value()) << i;
+    expectPose(se2(0.1, 0, 0), *delta, 1e-12);  // reading to reading, not carried
+    ASSERT_TRUE(model.extrapolated().has_value()) << i;
+    EXPECT_NEAR(model.extrapolated()->translation().norm(), 0.05, 1e-9) << i;
+  }
+  // A reading stamped at its frame saw all of the step.
+  Frame fresh;
+  fresh.seq = 10;
+  fresh.stamp = 2.0;
+  fresh.raw.set<Odometry2D>("odom", {2.0, se2(1.0, 0, 0)});
+  ASSERT_TRUE(model.predict(fresh).has_value());
+  EXPECT_FALSE(model.extrapolated().has_value());
+}
+
 // The extrapolation never carries more motion than the readings measured: a reading older than
 // the history behind it is carried by at most that history's motion, and max_extrapolation caps
 // the age.
