@@ -154,6 +154,9 @@ struct Case {
   std::string log, file, variant;
 };
 
+// gtest lists a parameter by this (else by its bytes, which differ from run to run).
+void PrintTo(const Case& c, std::ostream* os) { *os << c.log << " " << c.variant; }
+
 class OtherLogs : public ::testing::TestWithParam<Case> {};
 
 TEST_P(OtherLogs, StaysAMapLikeTheReference) {
