@@ -17,7 +17,7 @@ std::vector<SE2> CorrelativeSeeder::search(const AlignContext<Space2D>& context)
   // Measured motion puts the prediction within the tracker's gate; a search over a wider window
   // can only add the scan's look-alike places (a corridor's slides), so it may be left to the
   // frames whose motion was not measured, or only in part (the rest extrapolated).
-  if (context.motion && !context.motion_extrapolated && !with_measured_motion()) return {};
+  if (context.motionMeasuredInFull() && !with_measured_motion()) return {};
   const double r = resolution();
   const std::vector<Eigen::Vector2d> query = correlativeQuery(measurement->points, max_range(), r);
   if (query.empty()) return {};

@@ -59,6 +59,10 @@ struct AlignContext {
   /// distance and angle bound that part: ExtrapolatingMotionModel); empty when all of it was
   /// measured. A motion prior is no surer of the motion than that.
   std::optional<typename S::Pose> motion_extrapolated;
+
+  /// Whether the motion model measured all of this frame's motion (not none, not in part): else
+  /// the prediction is, wholly or in part, the last motion again.
+  bool motionMeasuredInFull() const { return motion && !motion_extrapolated; }
 };
 
 /// One cue's contribution to the Multi-Aligner.

@@ -106,7 +106,12 @@ class MultiTracker : public Tracker {
   // checks the solve from the prediction (in the scene's frame, like `aligned`), and its solve
   // replaces it when it explains more of the scan (within the correction gate, if one applies).
   AlignResult<S> checkUnmeasured(const Frame& frame, const PropertyContainer& scene,
-                                 const AlignContext<S>& context, AlignResult<S> aligned);
+                                 const AlignContext<S>& context,
+                                 const std::optional<std::pair<double, double>>& gate,
+                                 AlignResult<S> aligned);
+  // Whether `pose` corrects `guess` (both in one frame) by more than `gate` (m, rad).
+  static bool beyondGate(const std::pair<double, double>& gate, const Pose& guess,
+                         const Pose& pose);
   // The gate (translation m, rotation rad) on this frame's correction from the prediction:
   // max_correction, grown with the predicted motion (max_correction_per_motion); empty when no
   // gate applies (no limit set, or the motion model predicted nothing).

@@ -53,10 +53,10 @@ struct BagReading {
 /// One frame per message of the first stream (the first scan topic, else the source's first image
 /// topic), stamped with its header time. The odometry is interpolated at that time between the
 /// neighbouring odometry messages (when they are at most max_odometry_gap apart; else the nearest
-/// within the gap, with that message's stamp; else none). Every other stream contributes its message nearest in time within
-/// sync_tolerance; a frame that lacks an image stream's message is dropped (a stereo pair or an
-/// RGB-D pair is useless in halves) and counted. A bag with no message on the first stream is an
-/// InputError listing the bag's topics.
+/// within the gap, with that message's stamp; else none). Every other stream contributes its
+/// message nearest in time within sync_tolerance; a frame that lacks an image stream's message is
+/// dropped (a stereo pair or an RGB-D pair is useless in halves) and counted. A bag with no
+/// message on the first stream is an InputError listing the bag's topics.
 class BagSource : public Source {
  public:
   Param<std::string> path;

@@ -150,20 +150,16 @@ AlignResult<S> MultiTracker<S>::align(const Frame& frame, const PropertyContaine
   context.motion_residual = motion_residual_;
   context.motion_extrapolated = prediction_.model_extrapolated;
   AlignResult<S> aligned = aligner->align(frame, scene, context);
-  const bool unmeasured = !prediction_.model_motion || prediction_.model_extrapolated;
-  if (aligned.valid && !aligned.seeded && unmeasured && aligner->seeder)
-    aligned = checkUnmeasured(frame, scene, context, std::move(aligned));
+  const std::optional<std::pair<double, double>> gate = correctionGate();
+  if (aligned.valid && !aligned.seeded && !context.motionMeasuredInFull() && aligner->seeder)
+    aligned = checkUnmeasured(frame, scene, context, gate, std::move(aligned));
   // The tangent is the robot's own (boxplus multiplies on the right), so H needs no change.
   aligned.pose = S::normalized(to_scene.inverse() * aligned.pose);
-  const std::optional<std::pair<double, double>> gate = correctionGate();
   if (!gate) {  // nothing bounds the correction: every valid solve counts, seeded or not
     if (aligned.valid && aligned.seeded) ++stats_.recovered;
     return aligned;
   }
-  const auto beyond = [&](const Pose& pose) {
-    const Pose correction = S::normalized(guess.inverse() * pose);
-    return S::distance(correction) > gate->first || S::angle(correction) > gate->second;
-  };
+  const auto beyond = [&](const Pose& pose) { return beyondGate(*gate, guess, pose); };
   // Whether a seeded solve beats the one from the prediction that explained `against` inliers.
   const auto seedCounts = [&](const AlignResult<S>& seeded, size_t against) {
     if (!beyond(seeded.pose)) return seeded.inliers > against;
@@ -217,9 +213,9 @@ AlignResult<S> MultiTracker<S>::align(const Frame& frame, const PropertyContaine
 }
 
 template <class S>
-AlignResult<S> MultiTracker<S>::checkUnmeasured(const Frame& frame, const PropertyContainer& scene,
-                                                const AlignContext<S>& context,
-                                                AlignResult<S> aligned) {
+AlignResult<S> MultiTracker<S>::checkUnmeasured(
+    const Frame& frame, const PropertyContainer& scene, const AlignContext<S>& context,
+    const std::optional<std::pair<double, double>>& gate, AlignResult<S> aligned) {
   // Without a measured motion the prediction is the last step again, off by a whole step when
   // the robot stopped, started or turned the other way, and the solve converges to whatever
   // minimum lies nearest it, with every pair an inlier: no count or gate tells it from the right
@@ -229,11 +225,7 @@ AlignResult<S> MultiTracker<S>::checkUnmeasured(const Frame& frame, const Proper
   // the gate, which has grown by that part.
   AlignResult<S> searched = aligner->recover(frame, scene, context);
   if (!searched.valid || searched.inliers <= aligned.inliers) return aligned;
-  if (const auto gate = correctionGate()) {
-    const Pose correction = S::normalized(context.guess.inverse() * searched.pose);
-    if (S::distance(correction) > gate->first || S::angle(correction) > gate->second)
-      return aligned;
-  }
+  if (gate && beyondGate(*gate, context.guess, searched.pose)) return aligned;
   const Pose apart = S::normalized(aligned.pose.inverse() * searched.pose);
   if (S::distance(apart) <= aligner->seed_tolerance()[0] &&
       S::angle(apart) <= aligner->seed_tolerance()[1])
@@ -243,6 +235,13 @@ AlignResult<S> MultiTracker<S>::checkUnmeasured(const Frame& frame, const Proper
                 frame.seq, S::distance(apart), S::angle(apart), searched.inliers,
                 aligned.inliers);
   return searched;
+}
+
+template <class S>
+bool MultiTracker<S>::beyondGate(const std::pair<double, double>& gate, const Pose& guess,
+                                 const Pose& pose) {
+  const Pose correction = S::normalized(guess.inverse() * pose);
+  return S::distance(correction) > gate.first || S::angle(correction) > gate.second;
 }
 
 template <class S>
