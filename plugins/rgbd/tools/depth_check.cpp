@@ -1,9 +1,11 @@
 // How well an RGB-D dataset's reference poses explain its own depth images, and what the depth
 // alone says the frame-to-frame motion is (depth_check.h). The frames are the config's source,
 // so the camera, depth units, registration and the ground truth's frame are exactly those a
-// run sees. With --estimate, a trajectory's frame-to-frame motion is scored against both.
+// run sees. With --estimate, a trajectory's frame-to-frame motion is scored against both; with
+// --planes, every pair is also registered by its planes alone (plane_registration.h, no
+// reference), and the best hypothesis is compared with the depth's motion.
 //   rgbd_depth_check CONFIG [--set path=value]... [--max-gap K] [--estimate TRAJ.tum]
-//                    [--depth ENTRY] [--camera ENTRY] [--ground-truth ENTRY]
+//                    [--planes] [--depth ENTRY] [--camera ENTRY] [--ground-truth ENTRY]
 // Prints one JSON object (scripts/bench/visual.sh reads it).
 #include <cmath>
 #include <cstdio>
@@ -14,6 +16,7 @@
 
 #include "config_builder.h"
 #include "depth_check.h"
+#include "plane_registration.h"
 #include "plugin_manager.h"
 #include "plugslam/trajectory.h"
 #include "run_config.h"
@@ -27,10 +30,12 @@ using namespace plugslam::rgbd;
 
 constexpr const char* kUsage =
     "usage: rgbd_depth_check CONFIG [--set path=value]... [--max-gap K] [--estimate TRAJ.tum]\n"
-    "                        [--depth ENTRY] [--camera ENTRY] [--ground-truth ENTRY]\n"
+    "                        [--planes] [--depth ENTRY] [--camera ENTRY] [--ground-truth ENTRY]\n"
     "Aligns the depth images of every pair of frames at most K apart (default 1), starting at\n"
     "the source's ground truth, and prints how far the depth moves the reference (JSON).\n"
-    "--estimate scores a trajectory's frame-to-frame motion against the depth's.\n";
+    "--estimate scores a trajectory's frame-to-frame motion against the depth's.\n"
+    "--planes also registers each pair by its planes alone, with no reference, and reports the\n"
+    "best hypothesis against the depth's motion (planes_off_mm, planes_off_deg).\n";
 
 double mm(const SE3& x) { return x.translation().norm() * 1000.0; }
 double deg(const SE3& x) { return Eigen::AngleAxisd(x.linear()).angle() * 180.0 / M_PI; }
@@ -52,6 +57,7 @@ int main(int argc, char** argv) {
                                      gt_entry = "ground_truth";
   std::vector<std::string> sets;
   int max_gap = 1;
+  bool planes = false;
   for (int a = 1; a < argc; ++a) {
     const std::string arg = argv[a];
     const auto value = [&]() -> std::string {
@@ -70,6 +76,8 @@ int main(int argc, char** argv) {
       max_gap = std::atoi(value().c_str());
     } else if (arg == "--estimate") {
       estimate_path = value();
+    } else if (arg == "--planes") {
+      planes = true;
     } else if (arg == "--depth") {
       depth_entry = value();
     } else if (arg == "--camera") {
@@ -98,19 +106,44 @@ int main(int argc, char** argv) {
         readDepthCheckFrames(*run->source, depth_entry, camera_entry, gt_entry);
     const DepthCheck check = checkDepth(frames, max_gap);
 
+    std::vector<std::vector<DepthPlane>> frame_planes;
+    if (planes)
+      for (const DepthCheckFrame& f : frames)
+        frame_planes.push_back(extractPlanes(f.surface, DepthNoiseModel{}));
     std::string pairs;
     for (const DepthCheckPair& p : check.pairs) {
-      char buf[512];
+      std::string by_planes;
+      if (planes) {
+        const size_t i = static_cast<size_t>(p.i), j = static_cast<size_t>(p.j);
+        const std::vector<PlaneHypothesis> h =
+            registerPlanes(frames[i].surface, frame_planes[i], frames[j].surface,
+                           frame_planes[j], DepthNoiseModel{});
+        char pb[320];
+        if (h.empty()) {
+          std::snprintf(pb, sizeof pb, ", \"planes\": [%zu, %zu], \"plane_hypotheses\": 0",
+                        frame_planes[i].size(), frame_planes[j].size());
+        } else {
+          const SE3 off = p.alignment.pose.inverse() * h.front().pose;
+          std::snprintf(pb, sizeof pb,
+                        ", \"planes\": [%zu, %zu], \"plane_hypotheses\": %zu, "
+                        "\"planes_share\": %.3f, \"planes_off_mm\": %.1f, "
+                        "\"planes_off_deg\": %.2f",
+                        frame_planes[i].size(), frame_planes[j].size(), h.size(),
+                        h.front().agreement.share(), mm(off), deg(off));
+        }
+        by_planes = pb;
+      }
+      char buf[900];
       std::snprintf(buf, sizeof buf,
                     "%s{\"i\": %d, \"j\": %d, \"shares_surface\": %s, \"overlap\": %.3f, "
                     "\"rms_reference_mm\": %.3f, \"rms_depth_mm\": %.3f, "
                     "\"reference_off_mm\": %.2f, \"reference_off_deg\": %.3f, "
-                    "\"conditioning\": %.2e, \"depth_relative\": %s}",
+                    "\"conditioning\": %.2e, \"depth_relative\": %s%s}",
                     sep(pairs), p.i, p.j, p.shares_surface ? "true" : "false", p.overlap,
                     p.alignment.rms_initial * 1000, p.alignment.rms * 1000,
                     p.shares_surface ? mm(p.reference_off) : 0.0,
                     p.shares_surface ? deg(p.reference_off) : 0.0, p.alignment.conditioning,
-                    poseJson(p.alignment.pose).c_str());
+                    poseJson(p.alignment.pose).c_str(), by_planes.c_str());
       pairs += buf;
     }
 
