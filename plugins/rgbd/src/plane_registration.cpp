@@ -76,16 +76,22 @@ std::vector<DepthPlane> extractPlanes(const DepthSurface& s, const DepthNoiseMod
   return planes;
 }
 
-SurfaceAgreement checkAgreement(const DepthSurface& fixed, const DepthSurface& moving,
-                                const SE3& t, const DepthNoiseModel& noise,
-                                const PlaneRegistrationOptions& o) {
-  SurfaceAgreement a;
+namespace {
+
+// The spacing of an even grid of about check_points of the moving image's readings (0: none).
+int checkStep(const DepthSurface& moving, const PlaneRegistrationOptions& o) {
   size_t readings = 0;
   for (const Eigen::Vector3f& nm : moving.normals) readings += nm.squaredNorm() > 0 ? 1 : 0;
-  if (readings == 0 || fixed.width == 0) return a;
-  // An even grid of about check_points of the moving image's points.
-  const int step = std::max(
+  if (readings == 0) return 0;
+  return std::max(
       1, static_cast<int>(std::sqrt(static_cast<double>(readings) / std::max(1, o.check_points))));
+}
+
+SurfaceAgreement checkOnGrid(const DepthSurface& fixed, const DepthSurface& moving, const SE3& t,
+                             const DepthNoiseModel& noise, const PlaneRegistrationOptions& o,
+                             int step) {
+  SurfaceAgreement a;
+  if (step <= 0 || fixed.width == 0) return a;
   const double cos_normal = std::cos(2.0 * o.max_angle);
   const CameraIntrinsics& k = fixed.camera;
   for (int v = 0; v < moving.height; v += step)
@@ -118,6 +124,14 @@ SurfaceAgreement checkAgreement(const DepthSurface& fixed, const DepthSurface& m
   return a;
 }
 
+}  // namespace
+
+SurfaceAgreement checkAgreement(const DepthSurface& fixed, const DepthSurface& moving,
+                                const SE3& t, const DepthNoiseModel& noise,
+                                const PlaneRegistrationOptions& o) {
+  return checkOnGrid(fixed, moving, t, noise, o, checkStep(moving, o));
+}
+
 namespace {
 
 double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
@@ -140,6 +154,7 @@ std::vector<PlaneHypothesis> registerPlanes(const DepthSurface& fixed,
                                             const PlaneRegistrationOptions& o) {
   std::vector<PlaneHypothesis> out;
   const size_t nm = mp.size(), nf = fp.size();
+  const int step = checkStep(moving, o);  // the same points check every hypothesis
   const double cos_max = std::cos(o.max_angle);
   for (size_t a = 0; a < nm; ++a)
     for (size_t b = a + 1; b < nm; ++b)
@@ -185,7 +200,7 @@ std::vector<PlaneHypothesis> registerPlanes(const DepthSurface& fixed,
               hyp.pose.translation() = rows.colPivHouseholderQr().solve(rhs);
               if (!hyp.pose.translation().allFinite()) continue;
               hyp.planes = 3;
-              hyp.agreement = checkAgreement(fixed, moving, hyp.pose, noise, o);
+              hyp.agreement = checkOnGrid(fixed, moving, hyp.pose, noise, o, step);
               out.push_back(hyp);
             }
       }
