@@ -16,24 +16,6 @@ namespace {
 
 using namespace plugslam::rgbd::testing;
 
-// A camera at `eye` looking at `target` (world <- camera; y down, z forward, the world's y down).
-SE3 lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
-  const Eigen::Vector3d z = (target - eye).normalized();
-  const Eigen::Vector3d x = Eigen::Vector3d::UnitY().cross(z).normalized();
-  SE3 pose = SE3::Identity();
-  pose.linear().col(0) = x;
-  pose.linear().col(1) = z.cross(x);
-  pose.linear().col(2) = z;
-  pose.translation() = eye;
-  return pose;
-}
-
-// The corner of the room's far wall, right wall and floor.
-const Eigen::Vector3d kCorner(2.0, 1.2, 4.0);
-
-// The camera at the room's origin looking into the corner: three planes fill the image.
-SE3 cornerView() { return lookAt({0.0, 0.0, 0.0}, kCorner); }
-
 TEST(PlaneRegistration, FindsTheRoomsPlanesWithTheirOffsets) {
   const SE3 pose = cornerView();  // world <- camera
   const DepthSurface s = makeDepthSurface(render(room(), pose), pinhole());
