@@ -65,6 +65,11 @@ std::optional<typename S::Pose> WheelOdometryModel<S>::predict(const Frame& fram
     };
     add(last_carried_);
     add(carried);
+    // The last frame's reading was older than that frame, and this delta starts from it, so
+    // the motion after it is in this delta too, though that frame's estimate took it up where
+    // its alignment held (where it failed, this delta is right): either way up to that much is
+    // not this frame's step.
+    add(last_unseen_);
     // A new reading older than its frame measured the step up to its stamp only. The rest is
     // not carried into the prediction (the stamps of CARMEN logs are too loose for that: see
     // above), but it is said, bounded by the recent velocity over the reading's age, so the gate
@@ -73,7 +78,11 @@ std::optional<typename S::Pose> WheelOdometryModel<S>::predict(const Frame& fram
     if (!again && frame.stamp > odom->stamp)
       unseen = extrapolation(*odom, std::min(max_extrapolation(), frame.stamp - odom->stamp));
     add(unseen);
-    if (last_carried_ || carried || unseen) extrapolated_ = lift(se2(distance, 0, angle));
+    if (last_carried_ || carried || unseen || last_unseen_)
+      extrapolated_ = lift(se2(distance, 0, angle));
+    last_unseen_ = unseen;
+  } else {
+    last_unseen_.reset();
   }
   last_ = at;
   last_carried_ = carried;
@@ -108,6 +117,7 @@ void WheelOdometryModel<S>::reset() {
   history_.clear();
   extrapolated_.reset();
   last_carried_.reset();
+  last_unseen_.reset();
   previous_reading_.reset();
   previous_stamp_.reset();
   covered_ = 0;

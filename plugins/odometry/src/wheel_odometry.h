@@ -58,6 +58,7 @@ class WheelOdometryModel : public MotionModel<S>, public ExtrapolatingMotionMode
   std::optional<double> previous_stamp_;    // the last frame's stamp
   double covered_ = 0;                      // time last_carried_ carries its reading on
   std::optional<Eigen::Isometry2d> last_carried_;  // the extrapolation last_ ends with
+  std::optional<Eigen::Isometry2d> last_unseen_;   // what the last frame's reading did not see
   // The odometry pose the last prediction ended at (the reading, extrapolated when stale).
   std::optional<Eigen::Isometry2d> last_;
   std::deque<Odometry2D> history_;  // the last distinct readings, oldest first
