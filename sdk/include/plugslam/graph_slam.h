@@ -60,11 +60,8 @@ class GraphBackend : public Configurable {
 };
 
 /// Pose-graph SLAM over local maps ("sdk.GraphSlam2D/3D"). Loop detection and validation, and
-/// the optimization, run on back-end threads (results are applied at a later frame) unless
-/// `deterministic` is set.
-/// Pose-graph SLAM over local maps ("sdk.GraphSlam2D/3D"). Loop detection and validation, and
-/// the optimization, run on back-end threads (results are applied at a later frame) unless
-/// `deterministic` is set.
+/// the optimization, run on back-end threads unless `deterministic` is set; their results are
+/// applied at the first frame they are ready, or with `lockstep` at fixed map closings.
 template <class S>
 class GraphSlam : public GraphBackend {
  public:
@@ -118,6 +115,13 @@ class GraphSlam : public GraphBackend {
       "ones is weak (a tracking failure's fallback edge): the consistency filter widens its "
       "tolerance over it, the odometry audit splits the path there",
       Range{1, 1e12}};
+  Param<int> lockstep{
+      this, "lockstep", 0, "local maps",
+      "threaded back-end whose results join only at map closings: a loop search started at one "
+      "closing is applied at the next, an optimization this many closings after it started (0: "
+      "as soon as each is ready, which depends on the machine's load). Runs are bit-identical; "
+      "at a closing the front-end waits for work not yet done",
+      Range{0, 1000}};
 
   int dimension() const override { return S::kDim; }
   void mapStarted(const std::shared_ptr<LocalMap>& map) override;

@@ -42,6 +42,8 @@ struct GraphSlam<S>::State final : detail::GraphOptimizer {
   // The map the tracker started last and has not closed: when the run ends it is final, and is
   // searched like any closed map (a run that ends where it began closes its loop there).
   int64_t open_map = -1;
+  // lockstep: closings seen, and the closing at which the running optimization started.
+  int64_t closings = 0, optimization_started = 0;
 
   explicit State(GraphSlam& o)
       : owner(o),
@@ -79,6 +81,7 @@ struct GraphSlam<S>::State final : detail::GraphOptimizer {
 
   void startOptimization() {
     pending = false;
+    optimization_started = closings;
     optimizer.start(snapshot(graph.edges()));
   }
 
@@ -220,6 +223,17 @@ void GraphSlam<S>::mapClosed(const std::shared_ptr<LocalMap>& query) {
     st.searchInline();
     return;
   }
+  if (lockstep() > 0) {
+    // Results join at closings only, so what each frame sees does not depend on thread timing.
+    ++st.closings;
+    if (st.optimizer.running() && st.closings - st.optimization_started >= lockstep()) {
+      st.apply(st.optimizer.collect());
+      if (st.pending) st.startOptimization();
+    }
+    if (st.search.running()) st.applyLoops(st.search.collect());
+    st.search.start(st.search.take(st.graph, information_scale()));
+    return;
+  }
   // Back-pressure: a front-end far ahead of the search would close loops on a stale estimate.
   if (st.search.running() && static_cast<int>(st.search.queued()) > max_search_lag())
     st.applyLoops(st.search.collect());
@@ -229,6 +243,7 @@ void GraphSlam<S>::mapClosed(const std::shared_ptr<LocalMap>& query) {
 template <class S>
 bool GraphSlam<S>::poll() {
   State& st = *state_;
+  if (lockstep() > 0 && !deterministic()) return false;  // joined at closings (mapClosed)
   if (st.search.ready()) {
     st.applyLoops(st.search.collect());
     if (st.search.queued() > 0) st.search.start(st.search.take(st.graph, information_scale()));
