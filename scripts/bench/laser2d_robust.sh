@@ -4,7 +4,8 @@
 # them from the originals into the output folder, every time; none is stored): odometry none,
 # scaled +-10 %, drifting 5 deg/m, every 5th reading only; laser lines decimated x3 and x5.
 # Each case runs PLUGSLAM_BENCH_REPEATS times (default 5) with the shipped threaded back-end, since
-# every target must hold in each run. Per run: tracking failures and their reasons, relations
+# every target must hold in each run (the shipped config's lockstep makes the runs bit-identical;
+# the repeats show it for a config without). Per run: tracking failures and their reasons, relations
 # against the log's GMapping poses, crispness and coverage against the reference's (same code,
 # same variant log), graph components. Writes the table into docs/benchmarks.md
 # (section laser2d_robust) from every run found in the output folder, so the bench can be run in

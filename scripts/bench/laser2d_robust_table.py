@@ -92,7 +92,8 @@ def fmt(v, spec, none="n/a"):
 def main(out):
     lines = [
         "Command: `scripts/bench/laser2d_robust.sh` (configs/laser2d_carmen.yaml unchanged, threaded",
-        "back-end; variants from `scripts/bench/laser2d_variants.py`, rebuilt from the originals each",
+        "back-end in lockstep, so a case's runs are bit-identical: PLUGSLAM_BENCH_REPEATS=1 measures",
+        "them all; variants from `scripts/bench/laser2d_variants.py`, rebuilt from the originals each",
         "time). Each cell lists the runs, separated by `/`. Failures: tracking failures of the front-end",
         "(reasons where run.json names them). Relations: `plugslam eval relations` against the log's",
         "GMapping poses (all pairs within 2 m plus consecutive), mean. Crispness / coverage: `plugslam",
