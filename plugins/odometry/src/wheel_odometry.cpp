@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "odometry_frame.h"
 #include "plugslam/errors.h"
@@ -14,12 +15,14 @@ namespace odometry {
 template <class S>
 void WheelOdometryModel<S>::configure() {
   if (input.name().empty()) throw ParamError("input", "must name the raw odometry entry");
+  calibration_.setMemory(calibration_distance());
 }
 
 template <class S>
 std::optional<typename S::Pose> WheelOdometryModel<S>::predict(const Frame& frame) {
   const Odometry2D* odom = input.find(frame);
   extrapolated_.reset();
+  raw_delta_.reset();
   if (!odom) {
     // A log or bag without odometry runs on the other cues alone (the tracker predicts constant
     // velocity): said once, when it is clear the readings are not just late.
@@ -54,7 +57,8 @@ std::optional<typename S::Pose> WheelOdometryModel<S>::predict(const Frame& fram
   const Eigen::Isometry2d at = carried ? odom->pose * *carried : odom->pose;
   std::optional<Pose> delta;
   if (last_) {
-    delta = lift(last_->inverse() * at);
+    const Eigen::Isometry2d raw = last_->inverse() * at;
+    delta = lift(calibration_.apply(raw));
     // Not measured in this delta: the guess it ends with, and the one the last delta ended with
     // (this delta starts from it, so that guess's error comes back here, the other way).
     double distance = 0, angle = 0;
@@ -80,6 +84,8 @@ std::optional<typename S::Pose> WheelOdometryModel<S>::predict(const Frame& fram
     add(unseen);
     if (last_carried_ || carried || unseen || last_unseen_)
       extrapolated_ = lift(se2(distance, 0, angle));
+    else
+      raw_delta_ = raw;
     last_unseen_ = unseen;
   } else {
     last_unseen_.reset();
@@ -112,10 +118,25 @@ std::optional<Eigen::Isometry2d> WheelOdometryModel<S>::extrapolation(const Odom
 }
 
 template <class S>
+void WheelOdometryModel<S>::solved(const Pose& motion) {
+  if (!raw_delta_) return;
+  const double before = calibration_.distance();
+  if (calibration_.observe(*raw_delta_, planar(motion)) &&
+      std::floor(calibration_.distance() / kSayCalibrationEvery) >
+          std::floor(before / kSayCalibrationEvery))
+    spdlog::debug("{}: odometry calibration after {:.0f} m: scale {:.4f}, rotation scale {:.4f}, "
+                  "heading drift {:.4f} rad/m",
+                  this->name(), calibration_.distance(), calibration_.scale(),
+                  calibration_.rotationScale(), calibration_.headingPerMetre());
+  raw_delta_.reset();
+}
+
+template <class S>
 void WheelOdometryModel<S>::reset() {
   last_.reset();
   history_.clear();
   extrapolated_.reset();
+  raw_delta_.reset();  // the calibration stays: it is the wheels', not the run's
   last_carried_.reset();
   last_unseen_.reset();
   previous_reading_.reset();
@@ -133,6 +154,10 @@ void WheelOdometry3D::configure() {
 
 Eigen::Isometry3d WheelOdometry3D::lift(const Eigen::Isometry2d& delta) const {
   return liftToRobot(delta, mount_);
+}
+
+Eigen::Isometry2d WheelOdometry3D::planar(const Eigen::Isometry3d& motion) const {
+  return planarInBase(motion, mount_);
 }
 
 }  // namespace odometry

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "odometry_calibration.h"
 #include "plugslam/motion_model.h"
 #include "plugslam/sensor_data.h"
 
@@ -24,8 +25,14 @@ namespace odometry {
 /// extrapolated (ExtrapolatingMotionModel), so the tracker's gate and the prior widen by it.
 /// The next reading's delta starts from the extrapolated pose, so the deltas still compose to
 /// the readings.
+///
+/// With `calibration_distance`, each delta is corrected by the wheels' scale, wheel base and
+/// heading drift learnt from the motions the tracker solved (OdometryCalibration,
+/// CalibratingMotionModel), from the steps the readings measured whole.
 template <class S>
-class WheelOdometryModel : public MotionModel<S>, public ExtrapolatingMotionModel<S> {
+class WheelOdometryModel : public MotionModel<S>,
+                           public ExtrapolatingMotionModel<S>,
+                           public CalibratingMotionModel<S> {
  public:
   using Pose = typename S::Pose;
   Input<Odometry2D> input{this, Container::raw, "input", "odom", "wheel odometry to read"};
@@ -37,19 +44,31 @@ class WheelOdometryModel : public MotionModel<S>, public ExtrapolatingMotionMode
       "reading on with the odometry's recent velocity, up to this long after it (0: never; the "
       "reading is then taken as the pose at the frame)",
       Range{0, 3600}};
+  Param<double> calibration_distance{
+      this, "calibration_distance", 0.0, "m",
+      "learn the wheels' scale, wheel base and heading drift per metre from the motions the "
+      "tracker solves, over about this distance driven, and correct every delta by them (0: "
+      "the odometry as it reads)",
+      Range{0, 1e6}};
 
   void configure() override;
   std::optional<Pose> predict(const Frame& frame) override;
   void reset() override;
   std::optional<Pose> extrapolated() const override { return extrapolated_; }
+  void solved(const Pose& motion) override;
+  /// The calibration learnt so far.
+  const OdometryCalibration& calibration() const { return calibration_; }
 
  protected:
   /// The planar delta (in the previous base frame) as a motion of the robot frame.
   virtual Pose lift(const Eigen::Isometry2d& delta) const = 0;
+  /// A motion of the robot frame as the base's planar motion (lift's inverse on the plane).
+  virtual Eigen::Isometry2d planar(const Pose& motion) const = 0;
 
  private:
   static constexpr int kSayLaserOnlyAfter = 10;  // frames without a reading
   static constexpr size_t kHistory = 8;          // readings kept for the velocity
+  static constexpr double kSayCalibrationEvery = 50.0;  // metres learnt from, in the debug log
   // The motion that carries the reading `odom` on by `time` seconds at the recent velocity
   // (empty: no velocity known).
   std::optional<Eigen::Isometry2d> extrapolation(const Odometry2D& odom, double time) const;
@@ -62,6 +81,10 @@ class WheelOdometryModel : public MotionModel<S>, public ExtrapolatingMotionMode
   // The odometry pose the last prediction ended at (the reading, extrapolated when stale).
   std::optional<Eigen::Isometry2d> last_;
   std::deque<Odometry2D> history_;  // the last distinct readings, oldest first
+  OdometryCalibration calibration_;
+  // The last prediction's delta as the readings measured it, before calibration; empty when part
+  // of it was extrapolated (its error is not the wheels').
+  std::optional<Eigen::Isometry2d> raw_delta_;
   bool seen_ = false;       // a reading arrived once
   int frames_without_ = 0;  // before the first reading
 };
@@ -73,6 +96,7 @@ extern template class WheelOdometryModel<Space3D>;
 class WheelOdometry : public WheelOdometryModel<Space2D> {
  protected:
   Eigen::Isometry2d lift(const Eigen::Isometry2d& delta) const override { return delta; }
+  Eigen::Isometry2d planar(const Eigen::Isometry2d& motion) const override { return motion; }
 };
 
 /// The 3D model: the planar delta lifted into SE3 (no height, roll or pitch change, which a
@@ -92,6 +116,7 @@ class WheelOdometry3D : public WheelOdometryModel<Space3D> {
 
  protected:
   Eigen::Isometry3d lift(const Eigen::Isometry2d& delta) const override;
+  Eigen::Isometry2d planar(const Eigen::Isometry3d& motion) const override;
 
  private:
   Eigen::Isometry3d mount_ = Eigen::Isometry3d::Identity();

@@ -40,6 +40,19 @@ class ExtrapolatingMotionModel {
   virtual std::optional<typename S::Pose> extrapolated() const = 0;
 };
 
+/// A second base a motion model may add to learn from the tracker: after each frame it aligned,
+/// the tracker reports the motion it solved for the frame the model last predicted, so the model
+/// can calibrate itself against the other cues (wheel odometry: wheel radii and the wheel base
+/// differ from their nominal values).
+template <class S>
+class CalibratingMotionModel {
+ public:
+  virtual ~CalibratingMotionModel();
+  /// The motion the tracker solved for the frame last predicted (in the previous robot frame);
+  /// called only when the model predicted that frame and the frame was aligned, not lost.
+  virtual void solved(const typename S::Pose& motion) = 0;
+};
+
 /// The pose a tracker predicts before aligning: the motion model's delta when it has one for the
 /// frame, else the last motion again (constant velocity) or none.
 template <class S>
@@ -99,6 +112,8 @@ extern template class MotionModel<Space2D>;
 extern template class MotionModel<Space3D>;
 extern template class ExtrapolatingMotionModel<Space2D>;
 extern template class ExtrapolatingMotionModel<Space3D>;
+extern template class CalibratingMotionModel<Space2D>;
+extern template class CalibratingMotionModel<Space3D>;
 
 }  // namespace abi_v1
 }  // namespace plugslam

@@ -122,8 +122,11 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
   pose_ = lost ? guess : aligned.pose;
   prediction_.last_motion = S::normalized(previous.inverse() * pose_);
   motion_residual_.reset();
-  if (!lost && prediction_.model_motion)
+  if (!lost && prediction_.model_motion) {
     motion_residual_ = S::normalized(prediction_.model_motion->inverse() * prediction_.last_motion);
+    if (auto* model = dynamic_cast<CalibratingMotionModel<S>*>(motion.get()))
+      model->solved(prediction_.last_motion);
+  }
   count(frame, aligned);
   if (lost) {
     startLocalMap(frame, fallbackInformation(), events);

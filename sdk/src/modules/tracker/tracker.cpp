@@ -43,6 +43,8 @@ template <class S>
 MotionModel<S>::~MotionModel() = default;
 template <class S>
 ExtrapolatingMotionModel<S>::~ExtrapolatingMotionModel() = default;
+template <class S>
+CalibratingMotionModel<S>::~CalibratingMotionModel() = default;
 
 template <class S>
 HandoverSlice<S>::~HandoverSlice() = default;
@@ -55,6 +57,8 @@ template class MotionModel<Space2D>;
 template class MotionModel<Space3D>;
 template class ExtrapolatingMotionModel<Space2D>;
 template class ExtrapolatingMotionModel<Space3D>;
+template class CalibratingMotionModel<Space2D>;
+template class CalibratingMotionModel<Space3D>;
 
 }  // namespace abi_v1
 }  // namespace plugslam
