@@ -32,7 +32,7 @@ bool OdometryCalibration::observe(const Eigen::Isometry2d& raw, const Eigen::Iso
   if (d + a < 1e-6) return false;  // standing still says nothing of the wheels
   const bool translation_ok =
       (s.head<2>() - c.head<2>()).norm() <= kMaxScaleError * d + kTranslationNoise;
-  const bool rotation_ok = std::abs(angleOf(se2(0, 0, s.z() - c.z()).linear())) <=
+  const bool rotation_ok = std::abs(normalizeAngle(s.z() - c.z())) <=
                            kMaxScaleError * a + kMaxHeadingPerMetre * d + kRotationNoise;
   if (!translation_ok || !rotation_ok) return false;
   // Older steps fade with the distance driven since (a robot's load and tyres change over a
@@ -47,7 +47,7 @@ bool OdometryCalibration::observe(const Eigen::Isometry2d& raw, const Eigen::Iso
   }
   // The same for rotation: a radian turned or a metre driven counts once.
   const double w = 1.0 / (a + d);
-  const double dtheta = r.z() + angleOf(se2(0, 0, s.z() - r.z()).linear());  // unwrapped
+  const double dtheta = r.z() + normalizeAngle(s.z() - r.z());  // unwrapped
   r_aa_ += w * r.z() * r.z();
   r_ab_ += w * r.z() * r.x();
   r_bb_ += w * r.x() * r.x();
