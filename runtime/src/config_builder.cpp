@@ -8,6 +8,7 @@
 
 #include "build_paths.h"
 #include "plugslam/errors.h"
+#include "plugslam/yaml_load.h"
 
 namespace plugslam::runtime {
 
@@ -111,7 +112,7 @@ ConfigDocument loadConfigText(const std::string& text, const std::string& name) 
   ConfigDocument doc;
   doc.file = name;
   try {
-    doc.root = YAML::Load(text);
+    doc.root = loadYaml(text);
   } catch (const YAML::Exception& e) {
     throw ConfigError(name, e.mark.line + 1, e.mark.column + 1, "", "invalid YAML: " + e.msg);
   }
@@ -142,7 +143,7 @@ void applyOverride(ConfigDocument& doc, const std::string& assignment,
   std::string text = assignment.substr(eq + 1);
   YAML::Node value;
   try {
-    value = YAML::Load(text);
+    value = loadYaml(text);
   } catch (const YAML::Exception& e) {
     throw ConfigError(origin, 0, 0, path, "invalid YAML value: " + e.msg);
   }

@@ -428,6 +428,20 @@ case("yaml_alias_bomb", "a: &a [x, x, x, x, x, x, x, x]\nb: &b [*a, *a, *a, *a, 
      "c: &c [*b, *b, *b, *b, *b, *b, *b, *b]\nd: &d [*c, *c, *c, *c, *c, *c, *c, *c]\n"
      "e: [*d, *d, *d, *d, *d, *d, *d, *d]\n", VALIDATE, 2, r"unknown|expected|did you mean|'a'",
      "aliases expanding to 8^5 nodes at unknown root keys", ext=".yaml")
+case("yaml_alias_cycle", "plugins: &p [io, *p]\n", VALIDATE, 2,
+     r"yaml_alias_cycle\.yaml:1:\d+: invalid YAML: alias \*p is inside its own anchor &p",
+     "an alias inside its own anchor (found by fuzz_config: a stack overflow, exit 139)", ext=".yaml")
+case("yaml_alias_cycle_run", "plugins: &p [io, *p]\n", "run {file} -o {tmp}/out", 2,
+     r"yaml_alias_cycle_run\.yaml:1:\d+: invalid YAML: alias \*p is inside its own anchor &p",
+     "the same cycle given to run", ext=".yaml")
+case("yaml_alias_deep", "a: &a [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[x]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]\n"
+     + "".join(f"{chr(98 + i)}: &{chr(98 + i)} [[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[*{chr(97 + i)}]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]\n"
+               for i in range(9)), VALIDATE, 2, r"yaml_alias_deep\.yaml:\d+:\d+: invalid YAML: alias \*\w nests the document deeper than 256",
+     "aliases of aliases nesting 320 deep, each line 32 deep", ext=".yaml")
+case("yaml_alias_billion", "".join(f"{chr(97 + i)}: &{chr(97 + i)} [" + ", ".join([f"*{chr(96 + i)}" if i else "x"] * 10) + "]\n"
+                                   for i in range(9)), VALIDATE, 2,
+     r"yaml_alias_billion\.yaml:\d+:\d+: invalid YAML: aliases expand the document by more than 1000000 nodes",
+     "aliases expanding to 10^9 nodes (the walks over the tree would run for hours)", ext=".yaml")
 case("yaml_missing_file", None, VALIDATE, 2, r"(cannot|could not) (open|read)|not found|does not exist",
      "config file missing", ext=".yaml")
 case("yaml_bad_set_path", GOOD_CONFIG, "validate {file} --set pipeline..splitter.distance=1", 2,

@@ -157,6 +157,25 @@ TEST(Builder, YamlSyntaxErrorIsLocated) {
   expectContains(e, "invalid YAML");
 }
 
+TEST(Builder, AnAliasCycleIsLocatedInTheFileAndInTheSet) {
+  std::string e;
+  try {
+    loadConfigText("aligner:\n  slices: &s [a, *s]\n", "cfg.yaml");
+  } catch (const ConfigError& err) {
+    e = err.what();
+  }
+  expectContains(e, "cfg.yaml:2:");
+  expectContains(e, "invalid YAML: alias *s is inside its own anchor &s");
+  e.clear();
+  try {
+    auto doc = loadConfigText(kGood, "cfg.yaml");
+    applyOverride(doc, "aligner.slices=&s [a, *s]");
+  } catch (const ConfigError& err) {
+    e = err.what();
+  }
+  expectContains(e, "--set aligner.slices=&s [a, *s]: aligner.slices: invalid YAML value: alias *s");
+}
+
 TEST(Builder, SetOverridesAndIsCheckedLikeYaml) {
   EXPECT_EQ(buildError(kGood, {"aligner.slices[1].max_distance=0.9"}), "");
   std::string e = buildError(kGood, {"aligner.slices[1].max_distance=99"});

@@ -6,6 +6,7 @@
 
 #include "fuzz_common.h"
 #include "plugslam/errors.h"
+#include "plugslam/yaml_load.h"
 #include "view/foxglove_protocol.h"
 #include "view/parameters.h"
 
@@ -21,7 +22,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (const auto* set = std::get_if<fg::SetParameters>(&m))
       for (const auto& p : set->parameters) {
         try {
-          YAML::Load(p.value);
+          plugslam::loadYaml(p.value);
         } catch (const YAML::Exception&) {
           // The --set path reports these as a ConfigError; what matters here is no crash.
         }

@@ -16,6 +16,7 @@
 #include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
 #include "plugslam/registry.h"
+#include "plugslam/yaml_load.h"
 #include "run_config.h"
 
 namespace plugslam::runtime::editor {
@@ -123,7 +124,7 @@ YAML::Node moduleToYaml(const json& m, const std::string& where, bool root) {
     if (key.empty() || key == "type" || key == "name")
       throw InputError("editor tree: " + where + " has a parameter named '" + key + "'");
     try {
-      n[key] = YAML::Load(value);
+      n[key] = loadYaml(value);
     } catch (const YAML::Exception& e) {
       throw InputError(
           fmt::format("{}.{}: '{}' is not a YAML value: {}", where, key, value, e.msg));

@@ -15,6 +15,7 @@
 #include "plugslam/solver/factor_graph.h"
 #include "plugslam/solver/graph_io.h"
 #include "plugslam/solver/variable.h"
+#include "plugslam/yaml_load.h"
 
 namespace plugslam::runtime::render {
 
@@ -87,7 +88,7 @@ std::optional<GreyRaster> readMap(const fs::path& yaml_path) {
   if (!fs::exists(yaml_path)) return std::nullopt;
   YAML::Node y;
   try {
-    y = YAML::LoadFile(yaml_path.string());
+    y = loadYamlFile(yaml_path.string());
   } catch (const YAML::Exception& e) {
     throw InputError(fmt::format("{}:{}: {}", yaml_path.string(), e.mark.line + 1, e.msg));
   }

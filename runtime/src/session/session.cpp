@@ -11,6 +11,7 @@
 #include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
 #include "plugslam/version.h"
+#include "plugslam/yaml_load.h"
 
 namespace plugslam::runtime {
 
@@ -155,7 +156,7 @@ SessionManifest readSessionManifest(const std::string& dir) {
     throw InputError("'" + dir + "' is not a plugslam session: it has no session.yaml");
   YAML::Node root;
   try {
-    root = YAML::LoadFile(manifest_path);
+    root = loadYamlFile(manifest_path);
   } catch (const YAML::Exception& e) {
     throw ParseError(manifest_path, e.mark.line + 1, "invalid YAML: " + e.msg);
   }

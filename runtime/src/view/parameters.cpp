@@ -6,6 +6,7 @@
 
 #include "editor/config_editor.h"
 #include "plugslam/errors.h"
+#include "plugslam/yaml_load.h"
 #include "shell/module_paths.h"
 
 namespace plugslam::runtime {
@@ -100,7 +101,7 @@ void applyLive(Configurable& root, const std::string& path, const std::string& v
   const YAML::Node old = YAML::Clone(t.param->toYaml());
   const bool was_set = t.param->isSet();
   try {
-    t.param->fromYaml(YAML::Load(value));
+    t.param->fromYaml(loadYaml(value));
     t.module->configure();
   } catch (...) {
     if (was_set) t.param->fromYaml(old);

@@ -16,6 +16,7 @@
 #include <unordered_set>
 
 #include "plugslam/errors.h"
+#include "plugslam/yaml_load.h"
 #include "serialization/backends.h"
 
 namespace plugslam {
@@ -237,7 +238,7 @@ class TextIn final : public InArchive {
   TextIn(std::istream& in, std::string source) : source_(std::move(source)) {
     YAML::Node loaded;
     try {
-      loaded.reset(YAML::Load(in));
+      loaded.reset(loadYaml(in));
     } catch (const YAML::Exception& e) {
       throw ParseError(source_, e.mark.is_null() ? 0 : e.mark.line + 1,
                        "text archive: invalid YAML: " + e.msg);
