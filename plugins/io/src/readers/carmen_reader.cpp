@@ -1,5 +1,6 @@
 #include "readers/carmen_reader.h"
 
+#include <bzlib.h>
 #include <sys/stat.h>
 #include <zlib.h>
 
@@ -59,24 +60,32 @@ bool isRangeReturn(double range, double max_range) {
   return std::isfinite(range) && range > 0.0 && range < max_range;
 }
 
-// Plain or gzip bytes; zlib reads plain files transparently, the magic only decides the report.
+// Plain, gzip or bzip2 bytes. zlib reads plain files transparently, so the magic only has to
+// tell bzip2 apart (users keep logs as published, e.g. .clf.bz2).
 class CarmenReader::Source {
  public:
-  Source(const std::string& path, bool& compressed) : path_(path) {
+  Source(const std::string& path, std::string& compression) : path_(path) {
     struct stat st;
     if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) {
       throw InputError("'" + path + "' is a directory; expected a CARMEN log file");
     }
     std::FILE* f = std::fopen(path.c_str(), "rb");
     if (!f) throw InputError("cannot open CARMEN log '" + path + "': " + std::strerror(errno));
-    unsigned char magic[2] = {0, 0};
-    std::size_t got = std::fread(magic, 1, 2, f);
+    unsigned char magic[3] = {0, 0, 0};
+    std::size_t got = std::fread(magic, 1, 3, f);
+    buffer_.resize(1 << 17);
+    if (got == 3 && magic[0] == 'B' && magic[1] == 'Z' && magic[2] == 'h') {
+      compression = "bzip2";
+      std::rewind(f);
+      file_ = f;
+      openBz2(nullptr, 0);
+      return;
+    }
     std::fclose(f);
-    compressed = got == 2 && magic[0] == 0x1f && magic[1] == 0x8b;
+    compression = got >= 2 && magic[0] == 0x1f && magic[1] == 0x8b ? "gzip" : "";
     gz_ = gzopen(path.c_str(), "rb");
     if (!gz_) throw InputError("cannot open CARMEN log '" + path + "'");
     gzbuffer(gz_, 1 << 17);
-    buffer_.resize(1 << 17);
   }
   // In-memory plain text: the whole buffer is one block, never refilled.
   explicit Source(std::string text) : buffer_(text.begin(), text.end()) {
@@ -85,6 +94,8 @@ class CarmenReader::Source {
   }
   ~Source() {
     if (gz_) gzclose(gz_);
+    closeBz2();
+    if (file_) std::fclose(file_);
   }
 
   // Appends the next line (without '\n') to line; false at end of data. Sets error on a
@@ -133,6 +144,10 @@ class CarmenReader::Source {
  private:
   void fill() {
     pos_ = end_ = 0;
+    if (file_) {
+      fillBz2();
+      return;
+    }
     int n = gzread(gz_, buffer_.data(), static_cast<unsigned>(buffer_.size()));
     if (n > 0) {
       end_ = static_cast<std::size_t>(n);
@@ -146,7 +161,54 @@ class CarmenReader::Source {
     }
   }
 
+  void openBz2(void* unused, int unused_bytes) {
+    int err = BZ_OK;
+    bz_ = BZ2_bzReadOpen(&err, file_, 0, 0, unused, unused_bytes);
+    if (err != BZ_OK) {
+      closeBz2();
+      throw InputError("cannot open CARMEN log '" + path_ + "' as bzip2 (libbz2 error " +
+                       std::to_string(err) + ")");
+    }
+  }
+  void closeBz2() {
+    if (!bz_) return;
+    int err = BZ_OK;
+    BZ2_bzReadClose(&err, bz_);
+    bz_ = nullptr;
+  }
+  void fillBz2() {
+    while (bz_) {
+      int err = BZ_OK;
+      const int n = BZ2_bzRead(&err, bz_, buffer_.data(), static_cast<int>(buffer_.size()));
+      if (err == BZ_OK) {
+        end_ = static_cast<std::size_t>(n);
+        return;
+      }
+      if (err != BZ_STREAM_END) {
+        error_ = "bzip2 stream is corrupt or truncated (libbz2 error " + std::to_string(err) + ")";
+        break;
+      }
+      // pbzip2 and `cat a.bz2 b.bz2` write several streams back to back: go on with the next.
+      void* unused = nullptr;
+      int unused_bytes = 0;
+      BZ2_bzReadGetUnused(&err, bz_, &unused, &unused_bytes);
+      std::vector<char> rest(static_cast<const char*>(unused),
+                             static_cast<const char*>(unused) + unused_bytes);
+      closeBz2();
+      const int next = rest.empty() ? std::fgetc(file_) : EOF;
+      if (next != EOF) rest.push_back(static_cast<char>(next));
+      if (!rest.empty()) openBz2(rest.data(), static_cast<int>(rest.size()));
+      if (n > 0) {
+        end_ = static_cast<std::size_t>(n);
+        return;
+      }
+    }
+    eof_ = true;
+  }
+
   std::string path_;
+  std::FILE* file_{nullptr};
+  BZFILE* bz_{nullptr};
   gzFile gz_{nullptr};
   std::vector<char> buffer_;
   std::size_t pos_{0}, end_{0};
@@ -157,7 +219,8 @@ class CarmenReader::Source {
 
 CarmenReader::CarmenReader(const std::string& path, CarmenReaderOptions options)
     : path_(path), options_(std::move(options)) {
-  source_ = std::make_unique<Source>(path_, stats_.compressed);
+  source_ = std::make_unique<Source>(path_, stats_.compression);
+  stats_.compressed = !stats_.compression.empty();
   tokens_.reserve(512);
 }
 
@@ -190,6 +253,8 @@ bool CarmenReader::readLine() {
   for (;;) {
     bool terminated = false;
     bool got = source_->getLine(line_, terminated, options_.max_line_bytes);
+    // A line cut off by a broken compressed stream is the stream's fault, not the log's.
+    if (got && !terminated && !source_->error().empty()) got = false;
     if (!got) {
       if (!source_->error().empty()) {
         stats_.truncated = true;

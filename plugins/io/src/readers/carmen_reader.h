@@ -1,6 +1,7 @@
 #pragma once
-// Streaming reader for CARMEN logs (plain text or gzip): FLASER/RLASER (old format), ROBOTLASER1/2,
-// RAWLASER1-4, ODOM and PARAM lines. Plain format code: no dependence on the plugin interfaces.
+// Streaming reader for CARMEN logs (plain text, gzip or bzip2): FLASER/RLASER (old format),
+// ROBOTLASER1/2, RAWLASER1-4, ODOM and PARAM lines. Plain format code: no dependence on the plugin
+// interfaces.
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -97,7 +98,7 @@ struct CarmenReaderOptions {
   /// Timestamps going backwards within a stream; unset = same as policy. kSkip warns and flags
   /// the record (it is still returned). The GMapping-corrected logs need kSkip here.
   std::optional<ErrorPolicy> time_policy;
-  /// Receives every warning (skipped lines, backwards time, empty scans, truncated gzip).
+  /// Receives every warning (skipped lines, backwards time, empty scans, truncated gzip or bzip2).
   WarningCallback on_warning;
   /// Emit PARAM lines as records (they are always applied to the reader's state).
   bool emit_params{false};
@@ -123,16 +124,18 @@ struct CarmenReaderStats {
   std::size_t time_backwards{0};             ///< records flagged for backwards timestamps
   std::size_t warnings{0};                   ///< warnings issued
   std::map<std::string, std::size_t> kinds;  ///< lines per message kind, known or not
-  bool compressed{false};                    ///< the file is gzip
-  bool truncated{false};                     ///< gzip stream ended early (skip policy)
+  bool compressed{false};                    ///< the file is gzip or bzip2
+  std::string compression;                   ///< "gzip", "bzip2" or empty (plain text)
+  bool truncated{false};                     ///< compressed stream ended early (skip policy)
 };
 
 /// Streaming CARMEN log reader: one record per next() call, in file order.
 class CarmenReader {
  public:
-  /// Opens path (plain text or gzip by magic bytes); throws InputError naming a missing file.
+  /// Opens path (plain text, gzip or bzip2, by magic bytes, whatever the extension); throws
+  /// InputError naming a missing file.
   explicit CarmenReader(const std::string& path, CarmenReaderOptions options = {});
-  /// Reads plain text held in memory (no gzip); name stands for the path in messages. For
+  /// Reads plain text held in memory (no decompression); name stands for the path in messages. For
   /// fuzzers and tests.
   static std::unique_ptr<CarmenReader> fromText(std::string name, std::string text,
                                                 CarmenReaderOptions options = {});
