@@ -18,8 +18,8 @@
 #include "plugslam/trajectory.h"
 #include "run_config.h"
 #include "runner.h"
-#include "test_paths.h"
 #include "temp_dir.h"
+#include "test_paths.h"
 
 namespace fs = std::filesystem;
 using namespace plugslam;
@@ -103,6 +103,52 @@ TEST(IoOdometryPlugins, OdometryOnlyRunFollowsGroundTruth) {
   EXPECT_LT(worst, 1e-6) << "perfect odometry must give the true path";
   EXPECT_TRUE(fs::exists(out / "run.json"));
   fs::remove_all(out);
+}
+
+// A raw CARMEN log whose stamps go backwards once and which has no ODOM lines: the run tracks on
+// the laser lines' odometry, and the written trajectory holds every scan at the log's own stamp
+// (printed to the nanosecond, so a relation names it exactly), in time order.
+TEST(IoOdometryPlugins, CarmenRunKeepsTheLogsStamps) {
+  const plugslam::testing::TempDir tmp("plugslam_ioodom_stamps");
+  const std::string log = tmp.write("raw.clf",
+                                    "FLASER 3 1 2 3 0 0 0 0 0 0 976052857.337284 h 0.1\n"
+                                    "FLASER 3 1 2 3 1 0 0 1 0 0 976052857.537911 h 0.3\n"
+                                    "FLASER 3 1 2 3 2 0 0 2 0 0 976052857.437000 h 0.4\n"
+                                    "FLASER 3 1 2 3 3 0 0 3 0 0 976052857.737502 h 0.5\n"
+                                    "FLASER 3 1 2 3 4 0 0 4 0 0 976052857.837503 h 0.6\n");
+  std::string text = R"(plugins: [io, odometry]
+source: {type: io.CarmenSource, path: LOG}
+pipeline:
+  tracker:
+    type: sdk.MultiTracker2D
+    motion: {type: odometry.WheelOdometry}
+    aligner:
+      min_inliers: 1
+      slices:
+        - {type: odometry.PriorSlice}
+    splitter: {type: sdk.DistanceSplitter, distance: 1.5, angle: 0.5}
+outputs:
+  - {type: io.TrajectoryWriter, file: traj.tum, format: tum}
+)";
+  text.replace(text.find("LOG"), 3, log);
+  const fs::path out = tmp.path() / "out";
+  runtime::PluginManager plugins;
+  auto run = runtime::buildRun(runtime::loadConfigText(text, "run.yaml"), plugins);
+  runtime::RunOptions options;
+  options.out_dir = out.string();
+  const auto report = runtime::runPipeline(*run, options);
+  ASSERT_EQ(report.frames, 5u);
+  EXPECT_FALSE(fs::exists(out / "reference.tum")) << "a raw log's poses are no reference";
+  const Trajectory traj = readTumTrajectory((out / "traj.tum").string());
+  ASSERT_EQ(traj.size(), 5u);
+  // Time order; the scan logged third (x = 2) was stamped before the second (x = 1).
+  const double stamps[5] = {976052857.337284, 976052857.437000, 976052857.537911, 976052857.737502,
+                            976052857.837503};
+  const double xs[5] = {0, 2, 1, 3, 4};
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_EQ(traj[i].t, stamps[i]) << i;  // bit for bit, through the TUM file
+    EXPECT_NEAR(traj[i].pose.translation().x(), xs[i], 1e-6) << i;
+  }
 }
 
 }  // namespace

@@ -4,15 +4,17 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "plugslam/errors.h"
 #include "plugslam/geometry.h"
-#include "test_paths.h"
 #include "temp_dir.h"
+#include "test_paths.h"
 
 namespace fs = std::filesystem;
 using plugslam::Frame;
@@ -346,6 +348,138 @@ TEST(CarmenSource, AReadingWithoutTimeIsTakenAtTheLastLineWithOne) {
   EXPECT_DOUBLE_EQ(odom.stamp, 1.0);
 }
 
+// A raw log: the laser lines' poses are odometry. Without ODOM lines the source takes the
+// odometry from them, and writes no reference (they are not ground truth).
+const char* kRawLaserOnlyLog =
+    "PARAM robot_frontlaser_offset 0.1 nohost 0\n"
+    "FLASER 3 1 2 3 0.1 0 0 0 0 0 10.000001 h 0.1\n"
+    "FLASER 3 1 2 3 1.1 0 0 1 0 0 10.200002 h 0.3\n"
+    "FLASER 3 1 2 3 2.1 0 0 2 0 0.5 10.100003 h 0.4\n"
+    "FLASER 3 1 2 3 3.1 0 0 3 0 0.5 10.300004 h 0.5\n";
+
+TEST(CarmenSource, LogWithoutOdomLinesUsesItsLaserLinesOdometry) {
+  CarmenSource source;
+  source.path = writeLog("raw_no_odom.log", kRawLaserOnlyLog);
+  source.configure();
+  EXPECT_TRUE(source.odometryFromLaserLines());
+  EXPECT_FALSE(source.posesAreCorrected());
+  std::vector<Frame> frames;
+  Frame f;
+  while (source.next(f)) {
+    frames.push_back(f);
+    f = Frame();
+  }
+  ASSERT_EQ(frames.size(), 4u);
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    ASSERT_TRUE(frames[i].raw.has("odom")) << i;
+    const Odometry2D& odom = frames[i].raw.get<Odometry2D>("odom");
+    // odom_x odom_y odom_theta, the robot's: the laser's own pose is 0.1 m ahead of it.
+    expectPose(se2(static_cast<double>(i), 0, i >= 2 ? 0.5 : 0.0), odom.pose);
+    EXPECT_EQ(odom.stamp, frames[i].stamp);
+    EXPECT_FALSE(frames[i].raw.has("reference")) << "a raw log's poses are not a reference";
+  }
+  // Told to, the same poses are a reference (a corrected log whose trace was stripped).
+  CarmenSource told;
+  told.path = writeLog("raw_no_odom_corrected.log", kRawLaserOnlyLog);
+  told.laser_poses = std::string("corrected");
+  told.configure();
+  EXPECT_FALSE(told.odometryFromLaserLines());  // a corrector's poses are no odometry
+  ASSERT_TRUE(told.next(f));
+  EXPECT_FALSE(f.raw.has("odom"));
+  expectPose(se2(0, 0, 0), f.raw.get<Eigen::Isometry2d>("reference"));
+}
+
+// Stamps are the log's, in file order, even where they go backwards: evaluation finds each
+// scan by its stamp. Nothing is synthesised; the count and the first line are reported.
+TEST(CarmenSource, OutOfOrderStampsAreKeptAsLogged) {
+  CarmenSource source;
+  source.path = writeLog("out_of_order.log", kRawLaserOnlyLog);
+  source.configure();
+  EXPECT_EQ(source.backwardStamps(), 1u);
+  EXPECT_EQ(source.repeatedStamps(), 0u);
+  std::vector<double> stamps;
+  Frame f;
+  while (source.next(f)) stamps.push_back(f.stamp);
+  EXPECT_EQ(stamps, (std::vector<double>{10.000001, 10.200002, 10.100003, 10.300004}));
+  EXPECT_EQ(source.synthesizedStamps(), 0u);
+}
+
+// ROBOTLASER1 lines carry the laser's pose and the robot's: the mount is what they imply, and
+// without ODOM lines the robot's pose is the odometry.
+TEST(CarmenSource, RobotLaserMountAndOdometryFromItsTwoPoses) {
+  std::string text;
+  for (int i = 0; i < 3; ++i) {
+    const double x = 0.5 * i, theta = 0.3 * i;
+    const Eigen::Isometry2d robot = se2(x, 1.0, theta);
+    const Eigen::Isometry2d laser = robot * se2(0.22, 0.0, 0.0);
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "ROBOTLASER1 0 -1.5707963 3.1415927 0.0174533 81.9 0.01 0 3 1.5 2.5 3.5 0 "
+                  "%.6f %.6f %.6f %.6f %.6f %.6f 0.2 0 0.5 0.5 0.3 %.6f h %.6f\n",
+                  laser.translation().x(), laser.translation().y(), theta, x, 1.0, theta,
+                  20.0 + 0.1 * i, 0.1 * i);
+    text += line;
+  }
+  CarmenSource source;
+  source.path = writeLog("robotlaser.log", text);
+  source.configure();
+  EXPECT_TRUE(source.odometryFromLaserLines());
+  for (int i = 0; i < 3; ++i) {
+    Frame f;
+    ASSERT_TRUE(source.next(f)) << i;
+    expectPose(se2(0.22, 0, 0), f.raw.get<LaserScan>("front_laser").mount, 2e-6);
+    expectPose(se2(0.5 * i, 1.0, 0.3 * i), f.raw.get<Odometry2D>("odom").pose, 1e-9);
+    EXPECT_FALSE(f.raw.has("reference"));
+  }
+}
+
+// Which logs carry corrected poses: a corrector's trace decides (NEFF lines, or a reading that
+// jumps to the laser line's pose, restarting dead reckoning there); standing still is no trace.
+TEST(CarmenSource, CorrectedPosesAreToldByTheLogsTrace) {
+  const auto corrected = [](const std::string& name, const std::string& text) {
+    CarmenSource source;
+    source.path = writeLog(name, text);
+    source.configure();
+    return source.posesAreCorrected();
+  };
+  EXPECT_TRUE(corrected("neff.log", kCorrectedLog));
+  std::string without_neff = kCorrectedLog;
+  without_neff.erase(without_neff.find("NEFF 10\n"), 8);
+  EXPECT_TRUE(corrected("restart.log", without_neff));
+  // A raw log standing still: the reading after each laser repeats its pose, but does not jump.
+  EXPECT_FALSE(corrected("still.log",
+                         "ODOM 1 0 0 0 0 0 1.0 h 1.0\n"
+                         "FLASER 3 1 2 3 1 0 0 1 0 0 1.1 h 1.1\n"
+                         "ODOM 1 0 0 0 0 0 1.2 h 1.2\n"
+                         "FLASER 3 1 2 3 1 0 0 1 0 0 1.3 h 1.3\n"
+                         "ODOM 1 0 0 0 0 0 1.4 h 1.4\n"));
+  EXPECT_FALSE(corrected("raw_no_odom.log", kRawLaserOnlyLog));
+}
+
+// The real benchmark log, as published (.clf.bz2): every scan keeps its stamp, the odometry is
+// the ODOM stream, and its poses are no reference.
+TEST(CarmenSourceData, RawBenchmarkLogKeepsEveryStamp) {
+  const std::string path = dataFile("intel-kuemmerle-benchmark", "intel.clf.bz2");
+  if (!fs::exists(path)) GTEST_SKIP() << "no data at " << path << " (set PLUGSLAM_DATA)";
+  CarmenSource source;
+  source.path = path;
+  source.configure();
+  EXPECT_FALSE(source.posesAreCorrected());
+  EXPECT_FALSE(source.odometryFromLaserLines());
+  EXPECT_EQ(source.sizeHint(), 13631);
+  EXPECT_EQ(source.backwardStamps(), 631u);
+  std::set<double> stamps;
+  Frame f;
+  while (source.next(f)) {
+    stamps.insert(f.stamp);
+    EXPECT_FALSE(f.raw.has("reference"));
+    f = Frame();
+  }
+  EXPECT_EQ(stamps.size(), 13631u);
+  EXPECT_EQ(source.synthesizedStamps(), 0u);
+  EXPECT_EQ(source.readerStats().compression, "bzip2");
+}
+
 // The GMapping-corrected intel log: 910 scans of 180 beams; the odometry increments between
 // consecutive scans agree with GMapping's increments to within wheel-odometry error.
 TEST(CarmenSourceData, IntelOdometryFollowsTheReference) {
@@ -360,10 +494,12 @@ TEST(CarmenSourceData, IntelOdometryFollowsTheReference) {
   double last_stamp = -1;
   Eigen::Isometry2d last_odom, last_ref;
   double sum_dt = 0, sum_dr = 0, travelled = 0;
+  EXPECT_TRUE(source.posesAreCorrected());  // the log's NEFF lines
+  std::size_t backwards = 0;
   while (source.next(f)) {
     const auto& scan = f.raw.get<LaserScan>("front_laser");
     EXPECT_EQ(scan.ranges.size(), 180u);
-    EXPECT_GT(f.stamp, last_stamp);
+    if (frames > 0 && f.stamp <= last_stamp) ++backwards;  // kept as logged, counted
     last_stamp = f.stamp;
     const auto& odom = f.raw.get<Odometry2D>("odom").pose;
     const auto& ref = f.raw.get<Eigen::Isometry2d>("reference");
@@ -380,6 +516,9 @@ TEST(CarmenSourceData, IntelOdometryFollowsTheReference) {
     ++frames;
   }
   EXPECT_EQ(frames, 910);
+  EXPECT_EQ(backwards, 4u);
+  EXPECT_EQ(source.backwardStamps() + source.repeatedStamps(), 4u);
+  EXPECT_EQ(source.synthesizedStamps(), 0u);
   EXPECT_GT(source.odometryRestarts(), 900u);
   EXPECT_GT(travelled, 100.0);
   // Per-scan increments, odometry vs GMapping. Measured: 0.107 m/m and 0.048 rad per scan (the

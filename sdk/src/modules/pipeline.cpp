@@ -1,5 +1,8 @@
 #include "plugslam/pipeline.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "plugslam/errors.h"
 #include "plugslam/pose_space.h"
 #include "pose_log.h"
@@ -88,21 +91,30 @@ RunResult Pipeline::result() const {
   RunResult r;
   if (graph) r.edges = graph->edges();
   for (const auto& [id, map] : local_maps_) r.local_maps.push_back(map);
-  double last = -std::numeric_limits<double>::infinity();
+  // A source gives frames in its log's order with the log's stamps, which may go backwards: a
+  // trajectory is written in time order with every stamp as it came, so that evaluation matches
+  // each pose to its scan. A repeated stamp keeps its first frame's pose (one pose per time).
+  const auto ordered = [](std::vector<StampedPose>& poses) {
+    std::stable_sort(poses.begin(), poses.end(),
+                     [](const StampedPose& a, const StampedPose& b) { return a.t < b.t; });
+    poses.erase(std::unique(poses.begin(), poses.end(),
+                            [](const StampedPose& a, const StampedPose& b) { return a.t == b.t; }),
+                poses.end());
+    return Trajectory(std::move(poses));
+  };
+  std::vector<StampedPose> poses;
+  poses.reserve(tracked_->size());
   tracked_->forEach([&](const detail::PoseLog::Entry& f) {
-    // Frames with repeated or backward stamps are skipped: trajectories are strictly ordered.
-    if (!(f.stamp > last)) return;
-    last = f.stamp;
     auto it = local_maps_.find(f.key);
-    if (it == local_maps_.end()) return;
-    r.trajectory.push_back(f.stamp, it->second->origin * f.pose);
+    if (it == local_maps_.end() || !std::isfinite(f.stamp)) return;
+    poses.push_back({f.stamp, it->second->origin * f.pose});
   });
-  last = -std::numeric_limits<double>::infinity();
+  r.trajectory = ordered(poses);
+  poses.clear();
   reference_->forEach([&](const detail::PoseLog::Entry& g) {
-    if (!(g.stamp > last)) return;
-    last = g.stamp;
-    r.reference.push_back(g.stamp, g.pose);
+    if (std::isfinite(g.stamp)) poses.push_back({g.stamp, g.pose});
   });
+  r.reference = ordered(poses);
   return r;
 }
 

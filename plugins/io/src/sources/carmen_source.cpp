@@ -31,9 +31,9 @@ CarmenSource::~CarmenSource() = default;
 
 void CarmenSource::configure() {
   if (path().empty()) throw ParamError("path", "required: the CARMEN log to read");
-  for (const EntryBase* e : {static_cast<const EntryBase*>(&front),
-                             static_cast<const EntryBase*>(&odometry),
-                             static_cast<const EntryBase*>(&reference)}) {
+  for (const EntryBase* e :
+       {static_cast<const EntryBase*>(&front), static_cast<const EntryBase*>(&odometry),
+        static_cast<const EntryBase*>(&reference)}) {
     if (e->name().empty()) throw ParamError(e->key(), "must name a raw entry (not empty)");
   }
   const std::string &f = front.name(), &r = rear.name(), &o = odometry.name(),
@@ -47,6 +47,7 @@ void CarmenSource::configure() {
 void CarmenSource::open() {
   openReader();
   size_hint_.reset();
+  survey();
   pending_rear_.reset();
   have_odom_ = false;
   laser_before_odom_.reset();
@@ -63,6 +64,89 @@ void CarmenSource::open() {
   skipped_warned_ = 0;
   summarized_ = false;
   replay_.restart("CARMEN log '" + path() + "'");
+}
+
+void CarmenSource::survey() {
+  survey_ = Survey{};
+  CarmenReaderOptions options;
+  options.policy = ErrorPolicy::kSkip;  // the real read reports malformed lines with their line
+  options.time_policy = ErrorPolicy::kSkip;
+  CarmenReader reader(path(), options);
+  CarmenRecord record;
+  // Plain flags rather than std::optional: GCC's -Wmaybe-uninitialized misreads the latter here.
+  CarmenPose laser_pose, odom_pose;
+  bool have_laser_pose = false, have_odom_pose = false;
+  bool have_stamp = false;
+  double previous = 0;
+  while (reader.next(record)) {
+    if (record.kind == CarmenRecord::Kind::kOdometry) {
+      ++survey_.odometry_lines;
+      const CarmenPose& pose = record.odometry.pose;
+      // A corrector restarts dead reckoning at its corrected pose: the reading jumps to the
+      // laser line's pose. A raw log's reading only equals it while the robot stands still.
+      if (!survey_.restart_line && have_laser_pose && have_odom_pose &&
+          samePose(laser_pose, pose) && !samePose(odom_pose, pose))
+        survey_.restart_line = record.line;
+      odom_pose = pose;
+      have_odom_pose = true;
+      have_laser_pose = false;
+      continue;
+    }
+    if (record.kind != CarmenRecord::Kind::kLaser) continue;
+    const CarmenLaser& laser = record.laser;
+    if (laser.has_pose) {
+      laser_pose = laser.robot_pose;
+      have_laser_pose = true;
+    }
+    if (!isFront(laser)) continue;
+    ++survey_.front_lasers;
+    if (!laser.has_timestamp) continue;
+    if (have_stamp && laser.timestamp <= previous) {
+      ++(laser.timestamp < previous ? survey_.backward_stamps : survey_.repeated_stamps);
+      if (!survey_.first_backward_line) survey_.first_backward_line = record.line;
+    }
+    previous = laser.timestamp;
+    have_stamp = true;
+  }
+  const auto kinds = reader.stats().kinds;
+  const auto neff = kinds.find("NEFF");
+  survey_.neff_lines = neff == kinds.end() ? 0 : neff->second;
+  size_hint_ = Replay::total(survey_.front_lasers, repeat());
+
+  if (laser_poses() == "auto") {
+    corrected_ = survey_.neff_lines > 0 || survey_.restart_line > 0;
+    if (corrected_)
+      spdlog::info(
+          "CARMEN log '{}': its laser poses are taken as corrected ones and written as the "
+          "reference ({}; source.laser_poses=odometry says otherwise)",
+          path(),
+          survey_.neff_lines > 0
+              ? std::to_string(survey_.neff_lines) +
+                    " NEFF lines, which a particle-filter mapper writes"
+              : "line " + std::to_string(survey_.restart_line) +
+                    " restarts dead reckoning at a laser line's pose, as a corrector writes it");
+    else
+      spdlog::info(
+          "CARMEN log '{}': its laser poses are odometry (no corrector's trace in the log), so "
+          "the run has no reference to score against; score the trajectory with `plugslam eval "
+          "relations`, or set source.laser_poses=corrected if the poses are corrected ones",
+          path());
+  } else {
+    corrected_ = laser_poses() == "corrected";
+  }
+  laser_odometry_ = use_laser_odometry() || (survey_.odometry_lines == 0 && !corrected_);
+  if (laser_odometry_ && !use_laser_odometry())
+    spdlog::info(
+        "CARMEN log '{}' has no ODOM lines: odometry from its laser lines' odometry poses "
+        "(FLASER/RLASER odom_x odom_y odom_theta, ROBOTLASER robot_pose)",
+        path());
+  if (survey_.backward_stamps + survey_.repeated_stamps > 0)
+    spdlog::warn(
+        "CARMEN log '{}': {} front-laser timestamp(s) earlier than the scan before them and {} "
+        "equal to it, the first on line {}; kept as logged (frames come in file order, "
+        "trajectories are written in time order{})",
+        path(), survey_.backward_stamps, survey_.repeated_stamps, survey_.first_backward_line,
+        survey_.repeated_stamps > 0 ? ", one pose per stamp" : "");
 }
 
 void CarmenSource::openReader() {
@@ -119,11 +203,13 @@ void CarmenSource::summarize() {
     spdlog::warn(
         "CARMEN log '{}': skipped {} malformed line(s) and {} empty scan(s){}; {} "
         "timestamp(s) went backwards",
-        path(), s.malformed, s.empty_scans, s.truncated ? ", the gzip stream is truncated" : "",
-        s.time_backwards);
+        path(), s.malformed, s.empty_scans,
+        s.truncated ? ", the compressed stream is truncated" : "", s.time_backwards);
   } else if (s.time_backwards) {
-    spdlog::info("CARMEN log '{}': {} timestamp(s) went backwards (flagged, kept in file order)",
-                 path(), s.time_backwards);
+    // The front laser's were reported before the first frame (survey()); these count every
+    // stream's, ODOM lines' too.
+    spdlog::debug("CARMEN log '{}': {} timestamp(s) went backwards (flagged, kept in file order)",
+                  path(), s.time_backwards);
   }
 }
 
@@ -188,7 +274,9 @@ LaserScan CarmenSource::toScan(const CarmenLaser& laser) const {
 
 void CarmenSource::onOdometry(const CarmenOdometry& odom) {
   const Eigen::Isometry2d raw = toIso(odom.pose);
-  if (laser_before_odom_ && samePose(*laser_before_odom_, odom.pose)) {
+  // Only a corrector restarts dead reckoning; in a raw log a reading equal to the laser line's
+  // pose is a robot standing still, whose (zero) motion is known.
+  if (corrected_ && laser_before_odom_ && samePose(*laser_before_odom_, odom.pose)) {
     // Dead reckoning restarted from the corrected pose: no motion happened here.
     last_raw_ = raw;
     ++restarts_;
@@ -233,7 +321,7 @@ void CarmenSource::fill(Frame& frame, Held& held, const std::optional<Eigen::Iso
   scan.stamp = held.stamp;
   front.set(frame, std::move(scan));
   if (held.rear && !rear.name().empty()) rear.set(frame, std::move(*held.rear));
-  if (use_laser_odometry()) {
+  if (laser_odometry_) {
     if (laser.has_pose) {
       odometry.set(frame, {held.stamp, toIso(laser.robot_pose)});
     }
@@ -241,9 +329,10 @@ void CarmenSource::fill(Frame& frame, Held& held, const std::optional<Eigen::Iso
     // Leaving the entry out lets the motion model and the prior span the gap from the last
     // reading (the track did not move during it) instead of asserting zero motion.
     ++unknown_odometry_frames_;
-    spdlog::debug("CARMEN log '{}': no ODOM reading between the laser lines at t = {} and the one "
-                  "before; frame without odometry",
-                  path(), held.stamp);
+    spdlog::debug(
+        "CARMEN log '{}': no ODOM reading between the laser lines at t = {} and the one "
+        "before; frame without odometry",
+        path(), held.stamp);
   } else if (odom) {
     // The reading's own time, on the frame's clock: a laser logged after the last ODOM line
     // gets that reading, which says nothing about the motion since (the motion model
@@ -265,7 +354,7 @@ void CarmenSource::fill(Frame& frame, Held& held, const std::optional<Eigen::Iso
   // laser pose into both fields (scans placed at it as the laser pose make a crisper map than at
   // it as the robot pose on every log with a laser offset), so the robot field would be off by
   // the offset, turned with the robot.
-  if (laser.has_pose) {
+  if (corrected_ && laser.has_pose) {
     const LaserScan& placed = frame.raw.get<LaserScan>(front.name());
     reference.set(frame, toIso(laser.laser_pose) * placed.mount.inverse());
   }
@@ -348,24 +437,25 @@ bool CarmenSource::next(Frame& frame) {
       replay_.anchor(laser.timestamp);
       held.stamp = replay_.shift(laser.timestamp);
     }
-    if (!laser.has_timestamp || !std::isfinite(held.stamp) ||
-        (any_frame_ && held.stamp <= last_stamp_)) {
-      // No usable time (zero in e.g. freiburg-campus, or going backwards): keep the order.
+    if (!laser.has_timestamp || !std::isfinite(held.stamp)) {
+      // No time at all (some logs write 0): keep the file's order. A stamp that goes backwards
+      // is kept as logged (survey() reports them): evaluation matches scans by their stamps.
       held.stamp = any_frame_ ? last_stamp_ + fallback_period() : 0.0;
       ++synthesized_stamps_;
     }
-    last_stamp_ = held.stamp;
+    last_stamp_ = any_frame_ ? std::max(last_stamp_, held.stamp) : held.stamp;
     any_frame_ = true;
-    replay_.frame(held.stamp);
+    // A later pass starts after the latest stamp, not after the last line's.
+    replay_.frame(last_stamp_);
     held.rear = std::move(pending_rear_);
     pending_rear_.reset();
     held.laser = laser;
-    held.odometry_unknown = !use_laser_odometry() && odometry_unknown_;
+    held.odometry_unknown = !laser_odometry_ && odometry_unknown_;
 
     // The preceding ODOM line is the reading at the laser when it carries the laser's time (the
     // GMapping-corrected logs) or when the log has no times; a laser logged after the last
     // reading waits for the next one to interpolate.
-    const bool wait = !use_laser_odometry() && have_odom_ && laser.has_timestamp &&
+    const bool wait = !laser_odometry_ && have_odom_ && laser.has_timestamp &&
                       last_odom_has_stamp_ && laser.timestamp > last_odom_stamp_ + 1e-9 &&
                       laser.timestamp - last_odom_stamp_ <= max_odometry_gap();
     if (wait) {

@@ -1,6 +1,6 @@
 #pragma once
-// io.CarmenSource: CARMEN logs (plain or gzip) as a frame source, one frame per front-laser
-// reading, with the wheel odometry and the log's own pose estimate attached.
+// io.CarmenSource: CARMEN logs (plain, gzip or bzip2) as a frame source, one frame per front-laser
+// reading, with the wheel odometry and, for a corrected log, its corrected poses attached.
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <memory>
@@ -17,7 +17,11 @@ namespace io {
 
 /// Reads a CARMEN log into frames: raw[front] = LaserScan, raw[rear] = the latest rear scan
 /// since the previous frame (if any), raw[odometry] = Odometry2D, raw[reference] = the robot
-/// pose logged on the laser line (GMapping's estimate in the "corrected" logs).
+/// pose logged on the laser line when those poses are corrected ones (`laser_poses`).
+///
+/// Each frame keeps its laser line's ipc timestamp exactly, in file order; stamps earlier than
+/// the previous scan's are reported (count and first line), never rewritten. Only a log without
+/// times (0) gets synthesised stamps.
 ///
 /// Odometry (use_laser_odometry = false) is the ODOM stream at the laser's time: the preceding
 /// ODOM line when it carries the laser's timestamp (the GMapping-corrected logs) or the log has
@@ -28,7 +32,8 @@ namespace io {
 /// made of the logged increments.
 class CarmenSource : public Source {
  public:
-  Param<std::string> path{this, "path", "", "", "CARMEN log to read (plain text or gzip)"};
+  Param<std::string> path{this, "path", "", "",
+                          "CARMEN log to read (.clf/.log: plain text, gzip or bzip2)"};
   Output<LaserScan> front{this, Container::raw, "front", "front_laser",
                           "FLASER / ROBOTLASER1 scans (one frame each)"};
   Output<LaserScan> rear{this, Container::raw, "rear", "rear_laser",
@@ -48,9 +53,20 @@ class CarmenSource : public Source {
                           "m",
                           "maximum range of old-format scans; 0 = the log's PARAM or 80 m",
                           Range{0.0, 1000.0}};
+  Param<std::string> laser_poses{
+      this,
+      "laser_poses",
+      "auto",
+      "",
+      "what the laser lines' poses are: 'odometry' (a raw log: they are not a reference, none is "
+      "written), 'corrected' (a mapper's output: written as the reference), 'auto': corrected "
+      "when the log carries a corrector's trace (NEFF lines, or ODOM lines that restart dead "
+      "reckoning at the laser lines' poses), odometry otherwise",
+      Choices{{"auto", "odometry", "corrected"}}};
   Param<bool> use_laser_odometry{this, "use_laser_odometry", false, "",
                                  "take odometry from the laser line's robot pose instead of ODOM "
-                                 "lines (wrong for GMapping-corrected logs)"};
+                                 "lines; a log without ODOM lines whose laser poses are odometry "
+                                 "does so anyway (wrong for corrected logs)"};
   Param<double> max_odometry_gap{this,
                                  "max_odometry_gap",
                                  0.5,
@@ -82,8 +98,16 @@ class CarmenSource : public Source {
   /// Replays started so far (1 during the first pass over the log).
   int64_t replay() const { return replay_.pass(); }
 
-  /// Frames whose timestamp was missing (0) or not after the previous one and was synthesised.
+  /// Frames whose timestamp was missing (0) and was synthesised (in file order).
   std::size_t synthesizedStamps() const { return synthesized_stamps_; }
+  /// Front-laser stamps (pass 1) earlier than the previous front laser's, kept as logged.
+  std::size_t backwardStamps() const { return survey_.backward_stamps; }
+  /// Front-laser stamps (pass 1) equal to the previous front laser's.
+  std::size_t repeatedStamps() const { return survey_.repeated_stamps; }
+  /// The laser poses are written as the reference (`laser_poses`, resolved on configure()).
+  bool posesAreCorrected() const { return corrected_; }
+  /// Odometry comes from the laser lines (`use_laser_odometry`, or a log without ODOM lines).
+  bool odometryFromLaserLines() const { return laser_odometry_; }
   /// Odometry restarts detected and skipped (GMapping-corrected logs).
   std::size_t odometryRestarts() const { return restarts_; }
   /// Frames without an odometry entry because dead reckoning restarted at the previous laser and
@@ -100,7 +124,19 @@ class CarmenSource : public Source {
     std::optional<LaserScan> rear;
     bool odometry_unknown = false;  // see odometry_unknown_
   };
+  // What one light pass over the whole log tells before the first frame.
+  struct Survey {
+    int64_t front_lasers = 0;
+    std::size_t odometry_lines = 0;
+    std::size_t neff_lines = 0;    // a particle-filter mapper writes one per scan
+    std::size_t restart_line = 0;  // first ODOM line jumping to a laser line's pose
+    std::size_t backward_stamps = 0;
+    std::size_t repeated_stamps = 0;
+    std::size_t first_backward_line = 0;  // of backward or repeated ones
+  };
   void open();
+  // Reads the log once (size hint, which kind of log it is, stamp order) and says what it found.
+  void survey();
   // A reader on path() whose warnings go through the skipped-line accounting below.
   void openReader();
   // Reopens the log for the next replay, keeping the odometry track and the clock going.
@@ -144,8 +180,13 @@ class CarmenSource : public Source {
   bool odometry_unknown_ = false;
   /// Frames given no odometry because the log has no ODOM reading since the previous laser.
   std::size_t unknown_odometry_frames_ = 0;
+  // The latest front-laser stamp so far (a synthesised one continues from it) and the previous
+  // front laser's log stamp.
   double last_stamp_ = 0;
   bool any_frame_ = false;
+  Survey survey_;
+  bool corrected_ = false;
+  bool laser_odometry_ = false;
   std::size_t synthesized_stamps_ = 0;
   std::size_t restarts_ = 0;
   std::size_t skipped_seen_ = 0;  // malformed lines + empty scans + truncation already reported
