@@ -301,6 +301,36 @@ TEST_F(Cli, EvalAteRpeRelations) {
   expectHas(r.out, "bad.tum:1");
 }
 
+// The relations file and estimate of tests/eval/relations_test.cpp's HandComputedRelationsFile,
+// through the command: 3 of 6 relations used (one misses t1, one t2, one both), translation
+// 0.1, 0, 0.05 m (mean 0.05, std 0.05), rotation 0, 2, 3 deg (mean 5/3, std sqrt(7/3)).
+TEST_F(Cli, EvalRelationsAgainstAHandComputedFile) {
+  auto est = write("est.tum",
+                   "1000.000001 0 0 0 0 0 0 1\n"
+                   "1000.100002 1 0 0 0 0 0.70710678118654757 0.70710678118654757\n"
+                   "1000.200003 1 1 0 0 0 0.70710678118654757 0.70710678118654757\n"
+                   "1000.300004 0 1 0 0 0 1 0\n");
+  auto rel = write("hand.relations",
+                   "1000.000001 1000.100002 1.1 0 0 0 0 1.5707963267948966\n"
+                   "1000.100002 1000.200003 1 0 0 0 0 0.034906585039886591\n"
+                   "1000.000001 1000.300004 0.03 0.96 0 0 0 3.0892327760299634\n"
+                   "1000.000001 1000.400005 1 0 0 0 0 0\n"
+                   "1000.101002 1000.200003 1 0 0 0 0 0\n"
+                   "2000 2001 1 0 0 0 0 0\n");
+  auto r = run("eval relations " + est + " --relations " + rel);
+  EXPECT_EQ(r.code, 0) << r.out;
+  expectHas(r.out, "3 of 6 relations used");
+  expectHas(r.out, "E = relation^-1 * (estimate(t1)^-1 * estimate(t2))");
+  expectHas(r.out, "Not used: 1 with no estimate pose at t1, 1 none at t2, 1 none at either");
+  expectHas(r.out, "| translation (m) | 0.050000 | 0.050000 |");
+  expectHas(r.out, "| rotation (deg) | 1.666667 | 1.527525 |");
+  expectHas(r.out, "| rotation² (deg²) | 4.333333 |");
+  r = run("eval relations " + est + " --relations " + rel + " --format json");
+  EXPECT_EQ(r.code, 0) << r.out;
+  expectHas(r.out, "\"used\": 3");
+  expectHas(r.out, "\"missing_t1\": 1");
+}
+
 TEST_F(Cli, EveryShippedConfigValidates) {
   const fs::path configs = fs::path(plugslam::testing::sourceDir()) / "configs";
   int seen = 0;

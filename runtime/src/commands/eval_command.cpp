@@ -3,7 +3,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <iostream>
+#include <set>
 
 #include "cli.h"
 #include "commands/commands.h"
@@ -27,8 +29,10 @@ namespace {
 struct EvalArgs {
   std::string reference, estimate, output, format = "md", align = "se3", unit = "frames";
   std::string relations_file, log, source_type, laser = "front_laser", ref_format = "auto",
-                                              est_format = "auto";
+                                                est_format = "auto";
   double delta = 1, max_dt = 0.01, max_distance = 1.0, radius = 0.3, max_range = 0;
+  // Relations name scans by their exact stamps (RelationOptions).
+  double relation_max_dt = RelationOptions{}.max_time_diff;
   int min_gap = 50;
   int max_gap = 0;
 };
@@ -45,13 +49,13 @@ Trajectory read(const std::string& path, const std::string& format) {
   return readTrajectory(path, parseTrajectoryFormat(format));
 }
 
-void addCommon(CLI::App* cmd, EvalArgs& a) {
+void addCommon(CLI::App* cmd, EvalArgs& a, double& max_dt,
+               const std::string& max_dt_help = "max time difference when associating poses [s]") {
   cmd->add_option("--format", a.format, "output: md (markdown) or json")
       ->check(CLI::IsMember({"md", "json"}))
       ->capture_default_str();
   cmd->add_option("-o,--output", a.output, "write the result to this file (default: stdout)");
-  cmd->add_option("--max-dt", a.max_dt, "max time difference when associating poses [s]")
-      ->capture_default_str();
+  cmd->add_option("--max-dt", max_dt, max_dt_help)->capture_default_str();
 }
 
 // Reads every scan of one laser from a log through the io plugin's sources.
@@ -72,11 +76,12 @@ std::vector<PosedScan> scansFromLog(const EvalArgs& a, const Trajectory& traject
   std::vector<std::vector<Eigen::Vector2d>> points;
   std::vector<double> stamps;
   Frame frame;
-  double last = -1e300;
+  // Scans in the log's order; a stamp earlier than the previous one is the scan's own (sources
+  // keep the log's stamps), only a repeated one could not be told apart in the trajectory.
+  std::set<double> seen;
   while (source->next(frame)) {
     const LaserScan* scan = frame.raw.find<LaserScan>(a.laser);
-    if (scan && frame.stamp > last) {
-      last = frame.stamp;
+    if (scan && std::isfinite(frame.stamp) && seen.insert(frame.stamp).second) {
       std::vector<Eigen::Vector2d> pts;
       for (size_t i = 0; i < scan->ranges.size(); ++i) {
         if (!scan->isReturn(i)) continue;
@@ -96,7 +101,8 @@ std::vector<PosedScan> scansFromLog(const EvalArgs& a, const Trajectory& traject
 }  // namespace
 
 void addEvalCommand(CLI::App& root, int& exit_code) {
-  auto* eval = root.add_subcommand("eval", "Score trajectories and maps: ate, rpe, relations, crispness");
+  auto* eval =
+      root.add_subcommand("eval", "Score trajectories and maps: ate, rpe, relations, crispness");
   eval->require_subcommand(1);
   static EvalArgs a;
 
@@ -106,7 +112,7 @@ void addEvalCommand(CLI::App& root, int& exit_code) {
   ate->add_option("--align", a.align, "alignment: none, se2, se3, sim3")
       ->check(CLI::IsMember({"none", "se2", "se3", "sim3"}))
       ->capture_default_str();
-  addCommon(ate, a);
+  addCommon(ate, a, a.max_dt);
   ate->callback([&exit_code] {
     AteOptions o;
     o.alignment = parseAlignment(a.align);
@@ -116,17 +122,20 @@ void addEvalCommand(CLI::App& root, int& exit_code) {
     exit_code = kOk;
   });
 
-  auto* rpe = eval->add_subcommand("rpe", "Relative pose error over a step in frames, metres or seconds");
+  auto* rpe =
+      eval->add_subcommand("rpe", "Relative pose error over a step in frames, metres or seconds");
   rpe->add_option("REFERENCE", a.reference, "reference trajectory")->required();
   rpe->add_option("ESTIMATE", a.estimate, "estimated trajectory")->required();
   rpe->add_option("--unit", a.unit, "step unit: frames, m, s")
       ->check(CLI::IsMember({"frames", "m", "s"}))
       ->capture_default_str();
   rpe->add_option("--delta", a.delta, "step in that unit")->capture_default_str();
-  addCommon(rpe, a);
+  addCommon(rpe, a, a.max_dt);
   rpe->callback([&exit_code] {
     RpeOptions o;
-    o.unit = a.unit == "frames" ? RpeUnit::Frames : a.unit == "m" ? RpeUnit::Meters : RpeUnit::Seconds;
+    o.unit = a.unit == "frames" ? RpeUnit::Frames
+             : a.unit == "m"    ? RpeUnit::Meters
+                                : RpeUnit::Seconds;
     o.delta = a.delta;
     o.association.max_time_diff = a.max_dt;
     auto r = computeRpe(read(a.reference, a.ref_format), read(a.estimate, a.est_format), o);
@@ -135,15 +144,22 @@ void addEvalCommand(CLI::App& root, int& exit_code) {
   });
 
   auto* rel = eval->add_subcommand(
-      "relations", "Kuemmerle et al. relation metric, from a .relations file or a reference trajectory");
+      "relations",
+      "Kuemmerle et al. relation metric, from a .relations file or a reference trajectory: for "
+      "each relation E = relation^-1 * (estimate(t1)^-1 * estimate(t2)); mean and std of |t(E)| "
+      "[m], |angle(E)| [deg] and of their squares");
   rel->add_option("ESTIMATE", a.estimate, "estimated trajectory")->required();
-  auto* rf = rel->add_option("--relations", a.relations_file, "relations file: t1 t2 x y z roll pitch yaw");
+  auto* rf = rel->add_option("--relations", a.relations_file,
+                             "relations file: t1 t2 x y z roll pitch yaw");
   auto* rr = rel->add_option("--reference", a.reference,
                              "reference trajectory to build relations from (all pairs within "
                              "--max-distance, plus consecutive pairs)");
   rf->excludes(rr);
-  rel->add_option("--max-distance", a.max_distance, "pairs closer than this [m]")->capture_default_str();
-  addCommon(rel, a);
+  rel->add_option("--max-distance", a.max_distance, "pairs closer than this [m]")
+      ->capture_default_str();
+  addCommon(rel, a, a.relation_max_dt,
+            "max time difference between a relation's stamp and its estimate pose [s] (the "
+            "stamps are the scans' own: keep it below the scan period)");
   rel->callback([&exit_code] {
     std::vector<Relation> relations;
     if (!a.relations_file.empty())
@@ -153,17 +169,19 @@ void addEvalCommand(CLI::App& root, int& exit_code) {
     else
       throw InputError("eval relations needs --relations FILE or --reference TRAJECTORY");
     RelationOptions o;
-    o.max_time_diff = a.max_dt;
+    o.max_time_diff = a.relation_max_dt;
     auto r = evaluateRelations(read(a.estimate, a.est_format), relations, o);
     emit(a, toMarkdown(r), toJson(r));
     exit_code = kOk;
   });
 
   auto* cr = eval->add_subcommand(
-      "crispness", "Map crispness: mean distance of each scan point to points of scans taken "
-                   "at least --min-gap scans apart, within --radius, and coverage: the share of points "
-                   "that have such a neighbour (no ground truth needed)");
-  cr->add_option("LOG", a.log, "the log the trajectory was estimated from (CARMEN or ROS bag)")->required();
+      "crispness",
+      "Map crispness: mean distance of each scan point to points of scans taken "
+      "at least --min-gap scans apart, within --radius, and coverage: the share of points "
+      "that have such a neighbour (no ground truth needed)");
+  cr->add_option("LOG", a.log, "the log the trajectory was estimated from (CARMEN or ROS bag)")
+      ->required();
   cr->add_option("TRAJECTORY", a.estimate, "trajectory to place the scans with")->required();
   cr->add_option("--laser", a.laser, "raw laser entry of the source")->capture_default_str();
   cr->add_option("--source", a.source_type, "source type reading LOG (default: by extension)");
@@ -174,7 +192,7 @@ void addEvalCommand(CLI::App& root, int& exit_code) {
   cr->add_option("--radius", a.radius, "neighbour radius [m]")->capture_default_str();
   cr->add_option("--max-range", a.max_range, "ignore beams longer than this [m] (0: all)")
       ->capture_default_str();
-  addCommon(cr, a);
+  addCommon(cr, a, a.max_dt);
   cr->callback([&exit_code] {
     Trajectory traj = read(a.estimate, a.est_format);
     auto scans = scansFromLog(a, traj);

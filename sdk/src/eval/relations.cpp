@@ -85,10 +85,22 @@ std::vector<Relation> relationsFromTrajectory(const Trajectory& reference, doubl
   return relations;
 }
 
+Eigen::Isometry3d relationError(const Relation& relation, const Eigen::Isometry3d& p1,
+                                const Eigen::Isometry3d& p2) {
+  // The benchmark's delta_ij (-) delta*_ij, with a (-) b = b^-1 a: the estimate's motion seen
+  // from the relation's end. Its translation is the difference of the two motions' translations
+  // in the frame of t1, not lever-armed by the rotation error as (p1^-1 p2) delta^-1 would be.
+  return relation.delta.inverse() * (p1.inverse() * p2);
+}
+
 RelationResult evaluateRelations(const Trajectory& estimate, const std::vector<Relation>& relations,
                                  const RelationOptions& options) {
   if (relations.empty()) throw InputError("no relations to evaluate");
   if (estimate.empty()) throw InputError("cannot evaluate relations: the estimate is empty");
+  if (!(options.max_time_diff >= 0.0)) throw InputError("relations need a time tolerance >= 0 s");
+  RelationResult result;
+  result.relations = relations.size();
+  result.max_time_diff = options.max_time_diff;
   std::vector<double> trans, trans_sq, rot, rot_sq;
   double first = relations.front().t1, last = relations.front().t1;
   for (const Relation& r : relations) {
@@ -96,9 +108,13 @@ RelationResult evaluateRelations(const Trajectory& estimate, const std::vector<R
     last = std::max({last, r.t1, r.t2});
     const auto i = estimate.nearest(r.t1, options.max_time_diff);
     const auto j = estimate.nearest(r.t2, options.max_time_diff);
-    if (!i || !j) continue;
-    const Eigen::Isometry3d e =
-        (estimate[*i].pose.inverse() * estimate[*j].pose) * r.delta.inverse();
+    if (!i || !j) {
+      ++(!i && !j ? result.missing_both : !i ? result.missing_t1 : result.missing_t2);
+      continue;
+    }
+    result.largest_dt = std::max(
+        {result.largest_dt, std::abs(estimate[*i].t - r.t1), std::abs(estimate[*j].t - r.t2)});
+    const Eigen::Isometry3d e = relationError(r, estimate[*i].pose, estimate[*j].pose);
     const double t = e.translation().norm();
     const double a = Eigen::AngleAxisd(e.linear()).angle() * kRadToDeg;
     trans.push_back(t);
@@ -109,11 +125,10 @@ RelationResult evaluateRelations(const Trajectory& estimate, const std::vector<R
   if (trans.empty()) {
     throw InputError(format(
         "no overlap: relations span [%.9g, %.9g], estimate spans [%.9g, %.9g]: no relation has "
-        "both timestamps within %.9g s of an estimate pose",
-        first, last, estimate.startTime(), estimate.endTime(), options.max_time_diff));
+        "both timestamps within %.9g s of an estimate pose (%zu miss t1, %zu t2, %zu both)",
+        first, last, estimate.startTime(), estimate.endTime(), options.max_time_diff,
+        result.missing_t1, result.missing_t2, result.missing_both));
   }
-  RelationResult result;
-  result.relations = relations.size();
   result.used = trans.size();
   result.translation = computeMeanStd(trans);
   result.translation_sq = computeMeanStd(trans_sq);

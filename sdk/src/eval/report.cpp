@@ -104,7 +104,17 @@ std::string toMarkdown(const RpeResult& r) {
 std::string toMarkdown(const RelationResult& r) {
   std::string s =
       format("### Relation metric (%zu of %zu relations used)\n\n", r.used, r.relations);
-  s += "| error | mean | std |\n|---|---|---|\n";
+  s += "Error of each relation (Kuemmerle et al. 2009): E = relation^-1 * (estimate(t1)^-1 * "
+       "estimate(t2)); translation |t(E)|, rotation |angle(E)|; mean and sample std.\n";
+  s += format("Stamps matched within %.3g s (largest difference %.3g s).\n", r.max_time_diff,
+              r.largest_dt);
+  if (r.used < r.relations) {
+    s += format(
+        "Not used: %zu with no estimate pose at t1, %zu none at t2, %zu none at either (no "
+        "tracked frame at that stamp, or the estimate is cut short).\n",
+        r.missing_t1, r.missing_t2, r.missing_both);
+  }
+  s += "\n| error | mean | std |\n|---|---|---|\n";
   s += format("| translation (m) | %.6f | %.6f |\n", r.translation.mean, r.translation.std);
   s += format("| translation² (m²) | %.6f | %.6f |\n", r.translation_sq.mean, r.translation_sq.std);
   s += format("| rotation (deg) | %.6f | %.6f |\n", r.rotation_deg.mean, r.rotation_deg.std);
@@ -149,6 +159,10 @@ std::string toJson(const RpeResult& r) {
 std::string toJson(const RelationResult& r) {
   JsonObject o;
   o.add("metric", std::string("relations")).add("relations", r.relations).add("used", r.used);
+  o.add("missing_t1", r.missing_t1).add("missing_t2", r.missing_t2);
+  o.add("missing_both", r.missing_both);
+  o.add("error", std::string("relation^-1 * (estimate(t1)^-1 * estimate(t2))"));
+  o.add("max_time_diff_s", r.max_time_diff).add("largest_dt_s", r.largest_dt);
   o.add("translation_m", meanStdJson(r.translation));
   o.add("translation_sq_m2", meanStdJson(r.translation_sq));
   o.add("rotation_deg", meanStdJson(r.rotation_deg));
@@ -161,7 +175,9 @@ std::string toJson(const CrispnessResult& r) {
   o.add("metric", std::string("crispness")).add("mean_m", r.mean);
   o.add("points", r.points).add("matched_points", r.matched_points).add("coverage", r.coverage());
   o.add("scans", r.scans);
-  o.add("min_index_gap", r.min_index_gap).add("max_index_gap", r.max_index_gap).add("radius_m", r.radius);
+  o.add("min_index_gap", r.min_index_gap)
+      .add("max_index_gap", r.max_index_gap)
+      .add("radius_m", r.radius);
   return o.str();
 }
 

@@ -31,24 +31,39 @@ std::vector<Relation> relationsFromTrajectory(const Trajectory& reference, doubl
 
 /// Options of evaluateRelations.
 struct RelationOptions {
-  /// A relation timestamp matches the estimate pose nearest in time within this (s).
-  double max_time_diff = 0.01;
+  /// A relation's t1 and t2 each match the estimate pose nearest in time, if within this (s).
+  /// The default is 1 us: a relation names its scans by their exact stamps, which a trajectory
+  /// printed to the microsecond still carries, and scans are never that close, so it cannot
+  /// match a neighbouring scan's pose.
+  double max_time_diff = 1e-6;
 };
 
-/// Relation errors. For each relation, E = (P1^-1 P2) delta^-1 (as Cartographer's
-/// compute_relations_metrics); mean ± sample std of |trans(E)|, |trans(E)|^2, angle(E) and
+/// Relation errors as the benchmark of Kümmerle et al. 2009 defines them: for each relation the
+/// error motion E = delta^-1 * (P(t1)^-1 * P(t2)) (the estimate's motion "ominus" the relation,
+/// P the estimate poses); mean and sample std of |trans(E)|, |trans(E)|^2, angle(E) and
 /// angle(E)^2. Rotation is in degrees.
 struct RelationResult {
-  std::size_t relations = 0;  ///< relations given
-  std::size_t used = 0;       ///< relations whose two timestamps matched estimate poses
-  MeanStd translation;        ///< m
-  MeanStd translation_sq;     ///< m^2
-  MeanStd rotation_deg;       ///< deg
-  MeanStd rotation_sq_deg;    ///< deg^2
+  std::size_t relations = 0;     ///< relations given
+  std::size_t used = 0;          ///< relations whose two timestamps matched estimate poses
+  std::size_t missing_t1 = 0;    ///< not used: no estimate pose at t1 (t2 had one)
+  std::size_t missing_t2 = 0;    ///< not used: no estimate pose at t2 (t1 had one)
+  std::size_t missing_both = 0;  ///< not used: no estimate pose at t1 nor at t2
+  double max_time_diff = 0.0;    ///< the matching tolerance used (s)
+  double largest_dt = 0.0;       ///< largest |relation stamp - matched estimate stamp| (s)
+  MeanStd translation;           ///< m
+  MeanStd translation_sq;        ///< m^2
+  MeanStd rotation_deg;          ///< deg
+  MeanStd rotation_sq_deg;       ///< deg^2
 };
 
-/// Scores an estimate against relations; relations whose timestamps have no estimate pose are
-/// skipped (counted in relations - used). Throws InputError when none can be used.
+/// The error motion of one relation (Kümmerle et al. 2009): delta^-1 * (p1^-1 * p2), where p1
+/// and p2 are the estimate's poses at the relation's t1 and t2.
+Eigen::Isometry3d relationError(const Relation& relation, const Eigen::Isometry3d& p1,
+                                const Eigen::Isometry3d& p2);
+
+/// Scores an estimate against relations; relations with a timestamp that has no estimate pose
+/// within options.max_time_diff are skipped and counted by which stamp failed. Throws
+/// InputError when none can be used, saying why.
 RelationResult evaluateRelations(const Trajectory& estimate, const std::vector<Relation>& relations,
                                  const RelationOptions& options = {});
 
