@@ -142,9 +142,9 @@ void CarmenSource::survey() {
         path());
   if (survey_.backward_stamps + survey_.repeated_stamps > 0)
     spdlog::warn(
-        "CARMEN log '{}': {} front-laser timestamp(s) earlier than the scan before them and {} "
-        "equal to it, the first on line {}; kept as logged (frames come in file order, "
-        "trajectories are written in time order{})",
+        "CARMEN log '{}': {} timestamp(s) went backwards (front-laser lines stamped earlier than "
+        "the one before them) and {} repeated one, the first on line {}; kept as logged (frames "
+        "come in file order, trajectories are written in time order{})",
         path(), survey_.backward_stamps, survey_.repeated_stamps, survey_.first_backward_line,
         survey_.repeated_stamps > 0 ? ", one pose per stamp" : "");
 }
