@@ -15,7 +15,8 @@
 PLUGSLAM_PLUGIN("io", "1.0.0", "dataset sources (CARMEN, ROS 1 and ROS 2 bags, KITTI, EuRoC, TUM RGB-D) and writers") {
   using namespace plugslam::io;
   registrar.add<CarmenSource>("CarmenSource",
-                              "CARMEN log: one frame per front laser, ODOM odometry, logged pose");
+                              "CARMEN log (plain, gzip or bzip2): one frame per front laser at "
+                              "its own stamp, odometry, a corrected log's poses as reference");
   registrar.add<RosbagSource>("RosbagSource",
                               "ROS1 bag: LaserScan topics + interpolated nav_msgs/Odometry");
   registrar.add<Ros2BagSource>("Ros2BagSource",

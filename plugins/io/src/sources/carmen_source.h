@@ -39,8 +39,10 @@ class CarmenSource : public Source {
   Output<LaserScan> rear{this, Container::raw, "rear", "rear_laser",
                          "RLASER / ROBOTLASER2 scans (empty: not emitted)"};
   Output<Odometry2D> odometry{this, Container::raw, "odometry", "odom", "the wheel odometry"};
-  Output<Eigen::Isometry2d> reference{this, Container::raw, "reference", "reference",
-                                      "the pose logged on the laser line"};
+  Output<Eigen::Isometry2d> reference{
+      this, Container::raw, "reference", "reference",
+      "the robot pose logged on the laser line, when the poses are corrected ones "
+      "(laser_poses)"};
   Param<std::string> on_error{this,
                               "on_error",
                               "strict",
