@@ -139,7 +139,9 @@ TEST(Sim2dWorld, CrossesAndClearance) {
   EXPECT_NEAR(world.clearance({5, 5}, 2.0), 2.0, 1e-12);  // capped
 }
 
-TEST(Sim2dWorld, OfficeIsLargeAndScansFast) {
+// The scan's cost is printed, not asserted: the machine is shared, and speed is a benchmark's
+// business (scripts/bench/sim2d.sh).
+TEST(Sim2dWorld, OfficeIsLargeAndItsScanCostIsPrinted) {
   const World office = World::office();
   EXPECT_GE(office.boundsMax().x() - office.boundsMin().x(), 60.0);
   EXPECT_GE(office.boundsMax().y() - office.boundsMin().y(), 40.0);
@@ -163,7 +165,7 @@ TEST(Sim2dWorld, OfficeIsLargeAndScansFast) {
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / n;
   std::cout << "1081-beam scan in the office: " << ms << " ms\n";
   RecordProperty("scan_ms", std::to_string(ms));
-  EXPECT_LT(ms, 2.0);  // well under 1 ms on an idle core; margin for a loaded CI machine
+  EXPECT_EQ(scan.ranges.size(), 1081u);
 }
 
 TEST(Sim2dWorld, LoadsSegmentList) {
