@@ -144,10 +144,12 @@ void addEvalCommand(CLI::App& root, int& exit_code) {
   });
 
   auto* rel = eval->add_subcommand(
-      "relations",
-      "Kuemmerle et al. relation metric, from a .relations file or a reference trajectory: for "
-      "each relation E = relation^-1 * (estimate(t1)^-1 * estimate(t2)); mean and std of |t(E)| "
-      "[m], |angle(E)| [deg] and of their squares");
+      "relations", "Kuemmerle et al. relation metric, E = relation^-1 * (est(t1)^-1 * est(t2))");
+  rel->footer(
+      "Relations from a .relations file (t1 t2 x y z roll pitch yaw) or built from a reference "
+      "trajectory. Each relation's stamps must name estimate poses (within --max-dt); the output "
+      "counts the relations used and why the others were not. Reported: mean and std of |t(E)| "
+      "[m], |angle(E)| [deg] and of their squares (docs/evaluation.md).");
   rel->add_option("ESTIMATE", a.estimate, "estimated trajectory")->required();
   auto* rf = rel->add_option("--relations", a.relations_file,
                              "relations file: t1 t2 x y z roll pitch yaw");
@@ -158,8 +160,7 @@ void addEvalCommand(CLI::App& root, int& exit_code) {
   rel->add_option("--max-distance", a.max_distance, "pairs closer than this [m]")
       ->capture_default_str();
   addCommon(rel, a, a.relation_max_dt,
-            "max time difference between a relation's stamp and its estimate pose [s] (the "
-            "stamps are the scans' own: keep it below the scan period)");
+            "max |relation stamp - estimate stamp| [s]; keep it below the scan period");
   rel->callback([&exit_code] {
     std::vector<Relation> relations;
     if (!a.relations_file.empty())
