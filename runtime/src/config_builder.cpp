@@ -3,6 +3,9 @@
 #include <boost/filesystem.hpp>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
+#include <limits>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -108,7 +111,192 @@ void expandVariables(YAML::Node node, const std::string& file) {
   node = out;  // the node keeps its mark: later errors still point at this line
 }
 
-ConfigDocument loadConfigText(const std::string& text, const std::string& name) {
+namespace {
+
+using Fail = std::function<void(const std::string& path, const std::string& message)>;
+
+// The index of a path part "[i]" (splitPath checked its digits).
+size_t indexOf(const std::string& part) {
+  try {
+    return std::stoul(part.substr(1, part.size() - 2));
+  } catch (const std::out_of_range&) {
+    return std::numeric_limits<size_t>::max();  // past the end of any list
+  }
+}
+
+// A slot given as a bare type name ("splitter: sdk.DistanceSplitter") becomes the map
+// {type: name}, so that a parameter can be set in it.
+void typeNameToMap(YAML::Node& node) {
+  if (!node.IsScalar()) return;
+  YAML::Node m(YAML::NodeType::Map);
+  m["type"] = node.Scalar();
+  node = m;
+}
+
+// The node `parts` (but the last) lead to from `cur`, as --set and a base's overrides address
+// it: "[i]" enters a list's entry i, a name a map's key (made when missing). `walked` is `path`
+// and the parts followed, for errors.
+YAML::Node descend(YAML::Node cur, const std::vector<std::string>& parts, std::string& walked,
+                   const Fail& fail) {
+  for (size_t i = 0; i + 1 < parts.size(); ++i) {
+    const std::string& p = parts[i];
+    walked = join(walked, p);
+    if (p[0] == '[') {
+      const size_t idx = indexOf(p);
+      if (!cur.IsSequence() || idx >= cur.size())
+        fail(walked, "no such list element (the list has " +
+                         std::to_string(cur.IsSequence() ? cur.size() : 0) + " entries)");
+      cur.reset(cur[idx]);
+    } else {
+      typeNameToMap(cur);
+      if (!cur.IsMap() && !cur.IsNull()) fail(walked, "is not a map");
+      if (!cur[p]) cur[p] = YAML::Node(YAML::NodeType::Map);
+      cur.reset(cur[p]);
+    }
+  }
+  return cur;
+}
+
+// The entry `last` (a key, or "[i]": i = the list's length appends) of `parent`; `fail`s when
+// the list has no such entry.
+YAML::Node entry(YAML::Node parent, const std::string& last, const std::string& path,
+                 const Fail& fail) {
+  if (last[0] != '[') {
+    typeNameToMap(parent);
+    if (!parent.IsMap() && !parent.IsNull()) fail(path, "is not a map");
+    return parent[last];
+  }
+  const size_t idx = indexOf(last);
+  if (!parent.IsSequence() || idx > parent.size())
+    fail(path, "no such list element (the list has " +
+                   std::to_string(parent.IsSequence() ? parent.size() : 0) +
+                   " entries; [" + std::to_string(parent.IsSequence() ? parent.size() : 0) +
+                   "] appends one)");
+  if (idx == parent.size()) parent.push_back(YAML::Node());
+  return parent[idx];
+}
+
+// True when the pipeline path `p` lies inside `path` (not `path` itself).
+bool isUnder(const std::string& p, const std::string& path) {
+  return p.size() > path.size() && p.compare(0, path.size(), path) == 0 &&
+         (path.empty() || p[path.size()] == '.' || p[path.size()] == '[');
+}
+
+// Forgets which file wrote what at and under `path`.
+void forgetSources(ConfigDocument& doc, const std::string& path) {
+  for (auto it = doc.sources.begin(); it != doc.sources.end();)
+    it = it->first == path || isUnder(it->first, path) ? doc.sources.erase(it) : std::next(it);
+}
+
+void mergeMap(ConfigDocument& doc, YAML::Node into, const YAML::Node& over,
+              const std::string& path, const ConfigDocument& from);
+
+// Writes `value`, `from`'s node at `path`, over `target`, `doc`'s node there: a map without
+// `type:` changes doc's map (or module) key by key; anything else, a module named by its
+// `type:` included, replaces what doc had there.
+void mergeValue(ConfigDocument& doc, YAML::Node target, const YAML::Node& value,
+                const std::string& path, const ConfigDocument& from) {
+  if (value.IsMap() && !value["type"] && (target.IsMap() || target.IsScalar())) {
+    typeNameToMap(target);
+    return mergeMap(doc, target, value, path, from);
+  }
+  target = value;
+  forgetSources(doc, path);
+  doc.sources[path] = sourceOf(from, path);
+  for (const auto& [p, file] : from.sources)
+    if (isUnder(p, path)) doc.sources[p] = file;
+}
+
+void mergeMap(ConfigDocument& doc, YAML::Node into, const YAML::Node& over,
+              const std::string& path, const ConfigDocument& from) {
+  std::map<std::string, int> seen;
+  for (auto it = over.begin(); it != over.end(); ++it) {
+    // Copies: yaml-cpp's iterator proxy dies at the end of the statement.
+    const YAML::Node key = it->first;
+    const YAML::Node value = it->second;
+    const Fail fail = [&](const std::string& at, const std::string& message) {
+      throw ConfigError(sourceOf(from, at), key.Mark().line + 1, key.Mark().column + 1, at,
+                        message);
+    };
+    if (!key.IsScalar()) fail(path, "expected a key or a --set style path as key");
+    const std::string& k = key.Scalar();
+    if (auto prev = seen.find(k); prev != seen.end())
+      fail(join(path, k), "duplicate key '" + k + "' (first given at line " +
+                              std::to_string(prev->second) + ")");
+    seen[k] = key.Mark().line + 1;
+    std::vector<std::string> parts;
+    try {
+      parts = splitPath(k);
+    } catch (const InputError& e) {
+      fail(join(path, k), e.what());
+    }
+    std::string walked = path;
+    YAML::Node parent = descend(into, parts, walked, fail);
+    const std::string at = join(walked, parts.back());
+    mergeValue(doc, entry(parent, parts.back(), at, fail), value, at, from);
+  }
+}
+
+// Loads a config file; `chain` holds the files that start from it, to refuse a cycle of bases.
+ConfigDocument loadDocument(const std::string& text, const std::string& name,
+                            std::vector<std::string>& chain);
+
+// Writes `from`'s document over `doc`'s, each value keeping the file that wrote it.
+void mergeDocument(ConfigDocument& doc, const ConfigDocument& from) {
+  if (!doc.sources.count("")) doc.sources[""] = doc.file;
+  mergeMap(doc, doc.root, from.root, "", from);
+}
+
+// A config with `base: FILE` (or a list of files): the first file's document (its own base
+// resolved first), each next one written over it, then this one's keys.
+ConfigDocument composeOnBase(ConfigDocument doc, std::vector<std::string>& chain) {
+  const YAML::Node ref = doc.root["base"];
+  namespace fs = boost::filesystem;
+  std::vector<YAML::Node> names;
+  if (ref.IsSequence())
+    for (const YAML::Node& n : ref) names.push_back(n);
+  else
+    names.push_back(ref);
+  std::optional<ConfigDocument> out;
+  for (const YAML::Node& name : names) {
+    const auto fail = [&](const std::string& message) {
+      throw ConfigError(doc.file, name.Mark().line + 1, name.Mark().column + 1, "base", message);
+    };
+    if (!name.IsScalar() || name.Scalar().empty())
+      fail("expected the path of a config this one starts from (relative to this file), or a "
+           "list of them");
+    fs::path base_path(name.Scalar());
+    // A name like "<editor>" is no file: its base is relative to the current folder.
+    if (base_path.is_relative() && doc.file.rfind('<', 0) != 0)
+      base_path = fs::path(doc.file).parent_path() / base_path;
+    const std::string base_file = base_path.lexically_normal().string();
+    boost::system::error_code ec;
+    for (const std::string& f : chain)
+      if (fs::equivalent(f, base_file, ec)) {
+        std::string cycle;
+        for (const std::string& c : chain) cycle += c + " -> ";
+        fail("a cycle of bases: " + cycle + base_file);
+      }
+    // A regular file only: a device or a pipe could be endless.
+    std::ifstream in;
+    if (fs::is_regular_file(base_file, ec)) in.open(base_file, std::ios::binary);
+    if (!in.is_open() || !in) fail("the base config '" + base_file + "' is not a readable file");
+    std::stringstream text;
+    text << in.rdbuf();
+    ConfigDocument base = loadDocument(text.str(), base_file, chain);
+    if (out)
+      mergeDocument(*out, base);
+    else
+      out = std::move(base);
+  }
+  doc.root.remove("base");
+  mergeDocument(*out, doc);
+  out->file = doc.file;
+  return std::move(*out);
+}
+
+ConfigDocument loadDocument(const std::string& text, const std::string& name,
+                            std::vector<std::string>& chain) {
   ConfigDocument doc;
   doc.file = name;
   try {
@@ -121,7 +309,18 @@ ConfigDocument loadConfigText(const std::string& text, const std::string& name) 
     throw ConfigError(name, doc.root.Mark().line + 1, doc.root.Mark().column + 1, "",
                       "expected a map of top-level keys (plugins, source, pipeline, outputs)");
   expandVariables(doc.root, name);
+  if (!doc.root["base"]) return doc;
+  chain.push_back(name);
+  doc = composeOnBase(std::move(doc), chain);
+  chain.pop_back();
   return doc;
+}
+
+}  // namespace
+
+ConfigDocument loadConfigText(const std::string& text, const std::string& name) {
+  std::vector<std::string> chain;
+  return loadDocument(text, name, chain);
 }
 
 ConfigDocument loadConfigFile(const std::string& file) {
@@ -132,6 +331,18 @@ ConfigDocument loadConfigFile(const std::string& file) {
   return loadConfigText(ss.str(), file);
 }
 
+std::string sourceOf(const ConfigDocument& doc, const std::string& path) {
+  // The longest listed path that is `path` or holds it.
+  for (std::string p = path;;) {
+    if (auto it = doc.sources.find(p); it != doc.sources.end()) return it->second;
+    if (p.empty()) return doc.file;
+    const size_t cut = p.find_last_of(".[");
+    p = cut == std::string::npos ? std::string() : p.substr(0, cut);
+  }
+}
+
+std::string resolvedYaml(const ConfigDocument& doc) { return YAML::Dump(doc.root) + "\n"; }
+
 void applyOverride(ConfigDocument& doc, const std::string& assignment,
                    const std::string& origin_text) {
   const std::string origin = origin_text.empty() ? "--set " + assignment : origin_text;
@@ -141,57 +352,27 @@ void applyOverride(ConfigDocument& doc, const std::string& assignment,
                      assignment + "'");
   std::string path = assignment.substr(0, eq);
   std::string text = assignment.substr(eq + 1);
+  const Fail fail = [&](const std::string& at, const std::string& message) {
+    throw ConfigError(origin, 0, 0, at, message);
+  };
   YAML::Node value;
   try {
     value = loadYaml(text);
   } catch (const YAML::Exception& e) {
-    throw ConfigError(origin, 0, 0, path, "invalid YAML value: " + e.msg);
+    fail(path, "invalid YAML value: " + e.msg);
   }
   try {
     expandVariables(value, origin);
   } catch (const ConfigError& e) {
-    throw ConfigError(origin, 0, 0, path, e.message());
+    fail(path, e.message());
   }
   auto parts = splitPath(path);
-  YAML::Node cur = doc.root;
+  if (parts[0] == "base")
+    fail(path, "a config's base is read when its file is loaded: write 'base:' in the file");
   std::string walked;
-  for (size_t i = 0; i + 1 < parts.size(); ++i) {
-    const std::string& p = parts[i];
-    walked = join(walked, p);
-    if (p[0] == '[') {
-      size_t idx = std::stoul(p.substr(1, p.size() - 2));
-      if (!cur.IsSequence() || idx >= cur.size())
-        throw ConfigError(origin, 0, 0, walked,
-                          "no such list element (the list has " +
-                              std::to_string(cur.IsSequence() ? cur.size() : 0) + " entries)");
-      cur.reset(cur[idx]);
-    } else {
-      if (cur.IsScalar()) {
-        // A slot given as a bare type name ("splitter: sdk.DistanceSplitter") becomes a map.
-        YAML::Node m(YAML::NodeType::Map);
-        m["type"] = cur.Scalar();
-        cur = m;
-      }
-      if (!cur.IsMap() && !cur.IsNull())
-        throw ConfigError(origin, 0, 0, walked, "is not a map");
-      if (!cur[p]) cur[p] = YAML::Node(YAML::NodeType::Map);
-      cur.reset(cur[p]);
-    }
-  }
-  const std::string& last = parts.back();
-  if (last[0] == '[') {
-    size_t idx = std::stoul(last.substr(1, last.size() - 2));
-    if (!cur.IsSequence() || idx >= cur.size())
-      throw ConfigError(origin, 0, 0, path, "no such list element");
-    cur[idx] = value;
-  } else {
-    if (cur.IsScalar()) {
-      YAML::Node m(YAML::NodeType::Map);
-      m["type"] = cur.Scalar();
-      cur = m;
-    }
-    cur[last] = value;
-  }
+  YAML::Node parent = descend(doc.root, parts, walked, fail);
+  YAML::Node target = entry(parent, parts.back(), path, fail);
+  target = value;
   doc.overrides[path] = origin;
 }
 
@@ -228,7 +409,7 @@ ConfigError ConfigBuilder::locate(const YAML::Node& node, const std::string& pat
       col = m.column + 1;
     }
   }
-  return ConfigError(doc_.file, line, col, path, message);
+  return ConfigError(sourceOf(doc_, path), line, col, path, message);
 }
 
 std::string ConfigBuilder::where(const YAML::Node& node, const std::string& path) const {
@@ -415,11 +596,9 @@ void ConfigBuilder::configureObject(Configurable& obj, const YAML::Node& node,
         if (!value.IsScalar() || value.Scalar().empty())
           fail(value, p, "expected a non-empty module name");
         const std::string& n = value.Scalar();
-        auto where = std::to_string(value.Mark().line + 1) + ":" +
-                     std::to_string(value.Mark().column + 1);
         if (auto dup = names_.find(n); dup != names_.end())
           fail(value, p, "duplicate module name '" + n + "' (first used at " + dup->second + ")");
-        names_[n] = doc_.file + ":" + where;
+        names_[n] = where(value, p);
         obj.setName(n);
         continue;
       }
@@ -448,7 +627,9 @@ void ConfigBuilder::configureObject(Configurable& obj, const YAML::Node& node,
         msg += "; did you mean '" + near + "'?";
       else
         msg += " (valid keys: " + keyList(obj) + ")";
-      fail(key, p, msg);
+      // A key a base's override wrote as a path ("splitter.angel: 1") is no node of the file:
+      // its value is.
+      fail(key.Mark().line >= 0 ? key : value, p, msg);
     } catch (const ConfigError& e) {
       errors_.push_back(e);  // the next key is checked too
     }

@@ -16,11 +16,15 @@
 
 namespace plugslam::runtime {
 
-/// A YAML document with the command line's --set overrides applied.
+/// A YAML document, its bases resolved, with the command line's --set overrides applied.
 struct ConfigDocument {
-  std::string file;  ///< shown in error messages
+  std::string file;  ///< the file given, shown in error messages on what it wrote
   YAML::Node root;
   std::map<std::string, std::string> overrides;  ///< pipeline path -> "--set path=value"
+  /// Which file wrote what, when the config starts from a base: pipeline path -> file. A value
+  /// was written by the file of the longest path listed that is its path or holds it, else by
+  /// `file` (sourceOf). Nodes keep the line and column where that file wrote them.
+  std::map<std::string, std::string> sources;
 };
 
 /// Every error one build found, in file order; what() has one error per line and a count.
@@ -46,11 +50,23 @@ std::string dataFolder();
 void expandVariables(YAML::Node node, const std::string& file);
 
 /// Reads a YAML file (variables expanded); syntax errors become ConfigError with line and column.
+/// A file with `base: OTHER` (a path relative to it; or a list of paths, each written over the
+/// one before) starts from OTHER's document, its own base resolved first, and writes its other
+/// keys over it: a map without `type:` changes the base's map or module key by key, anything
+/// else (a module with its `type:`, a list, a value) replaces what the base had. A key may be a
+/// --set path ("tracker.splitter.distance", "outputs[1]"): "[i]" is a list's entry i, and i =
+/// the list's length appends one.
 ConfigDocument loadConfigFile(const std::string& file);
-/// Parses YAML text (tests, the shell); `name` is used as the file name in errors.
+/// Parses YAML text (tests, the shell) as loadConfigFile does; `name` is used as the file name in
+/// errors, and a `base:` is relative to its folder (to the current folder for "<...>" names).
 ConfigDocument loadConfigText(const std::string& text, const std::string& name);
-/// Applies "path=value" (value parsed as YAML) to the document; the path must be well formed.
-/// Errors in the value name `origin`, what the user typed (default "--set path=value").
+/// The file that wrote the value at `path` (doc.sources, else doc.file).
+std::string sourceOf(const ConfigDocument& doc, const std::string& path);
+/// The document a run uses, as YAML text: what sessions save, `plugslam config --resolved`.
+std::string resolvedYaml(const ConfigDocument& doc);
+/// Applies "path=value" (value parsed as YAML) to the document, replacing what was there; the
+/// path must be well formed, and "[i]" with i = a list's length appends an entry. Errors in the
+/// value name `origin`, what the user typed (default "--set path=value").
 void applyOverride(ConfigDocument& doc, const std::string& assignment,
                    const std::string& origin = "");
 /// Splits "a.b[2].c" into {"a", "b", "[2]", "c"}; throws InputError when malformed.

@@ -390,6 +390,23 @@ TEST_F(Cli, ConfigNeedsNoFlagAndDescribeShowsTheTopLevel) {
     expectHas(r.out, std::string("  ") + key + " ");
 }
 
+// Issue 43: a shipped variant holds only what differs from its base; `config --resolved` prints
+// the whole document its run uses (what its session saves), --set applied.
+TEST_F(Cli, ConfigResolvedPrintsTheDocumentARunUses) {
+  const std::string variant = plugslam::testing::sourceDir() + "/configs/sim3d_stereo_slam.yaml";
+  auto r = run("config --resolved " + variant + " --set pipeline.graph.deterministic=true");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(r.out.find("base:"), std::string::npos) << r.out;
+  expectHas(r.out, "source: {type: sim.Simulator3D, world: street, camera: stereo, seed: 0}");
+  expectHas(r.out, "align_previous_map: true");  // from sim3d_stereo.yaml
+  expectHas(r.out, "{type: sdk.AppearanceDetector, scene: landmarks, min_travel: 50.0}");
+  expectHas(r.out, "deterministic: true");
+  expectHas(r.out, "  - {type: sdk.LandmarkMapWriter}\n");
+  r = run("config");
+  EXPECT_EQ(r.code, 2) << r.out;
+  expectHas(r.out, "give either a TYPE (its defaults) or --resolved FILE");
+}
+
 // Item 17.5: a --do that names no module or no action fails before the first frame (exit 2,
 // nothing written), not after the whole run with a dangling line.
 TEST_F(Cli, BadActionFailsBeforeTheRun) {

@@ -5,6 +5,7 @@
 #include "config_builder.h"
 #include "plugslam/errors.h"
 #include "plugslam/registry.h"
+#include "temp_dir.h"
 
 using namespace plugslam;
 using namespace plugslam::runtime;
@@ -244,4 +245,144 @@ TEST(Builder, OneErrorPerPluginThatDoesNotLoad) {
   expectContains(e, "cfg.yaml:2:12: aligner.slices[0]: type 'nosuchplugin.A' needs plugin 'nosuchplugin'");
   expectContains(e, "cfg.yaml:2:28: aligner.slices[1]: type 'nosuchplugin.B' needs plugin "
                     "'nosuchplugin', which did not load (see the error at cfg.yaml:2:12)");
+}
+
+// ---- configs on a base (`base: FILE`) ----------------------------------------------------------
+
+namespace {
+
+// The errors of building `doc` (empty when it builds), one per line.
+std::string buildErrors(const ConfigDocument& doc, Root& root) {
+  ensureRegistered();
+  PluginManager plugins;
+  ConfigBuilder builder(doc, plugins);
+  try {
+    builder.configureRoot(root);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string loadError(const std::string& file) {
+  try {
+    loadConfigFile(file);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(ConfigBase, ChangesTheBaseByKeyAndByListEntry) {
+  const plugslam::testing::TempDir dir;
+  dir.write("base.yaml", std::string(kGood) + "extra: {type: btest.Dial, measurement: x}\n");
+  const std::string top = dir.write("sub/top.yaml",
+                                    "base: ../base.yaml\n"
+                                    "aligner:\n"
+                                    "  iterations: 7\n"
+                                    "  slices[1].max_distance: 0.9\n"
+                                    "  slices[2]: {type: btest.Dial, measurement: third}\n");
+  const ConfigDocument doc = loadConfigFile(top);
+  Root root;
+  ASSERT_EQ(buildErrors(doc, root), "");
+  EXPECT_EQ(root.aligner->iterations(), 7);
+  ASSERT_EQ(root.aligner->slices.size(), 3u);
+  EXPECT_DOUBLE_EQ(root.aligner->slices[0].max_distance(), 0.3);  // the base's
+  EXPECT_DOUBLE_EQ(root.aligner->slices[1].max_distance(), 0.9);
+  EXPECT_EQ(root.aligner->slices[1].measurement(), "rear");       // kept: merged by key
+  EXPECT_EQ(root.aligner->slices[1].typeName(), "btest.Lever");
+  EXPECT_EQ(root.aligner->slices[2].measurement(), "third");      // [length] appends
+  EXPECT_EQ(root.extra->measurement(), "x");
+  // The document a run uses: the base's keys in their order, this file's written in.
+  EXPECT_EQ(resolvedYaml(doc),
+            "aligner:\n"
+            "  iterations: 7\n"
+            "  slices:\n"
+            "    - {type: btest.Dial, measurement: front, max_distance: 0.3}\n"
+            "    - {type: btest.Lever, measurement: rear, max_distance: 0.9}\n"
+            "    - {type: btest.Dial, measurement: third}\n"
+            "extra: {type: btest.Dial, measurement: x}\n");
+}
+
+TEST(ConfigBase, AModuleWithItsTypeAndAListReplaceTheBases) {
+  const plugslam::testing::TempDir dir;
+  dir.write("base.yaml", std::string(kGood) + "extra: {type: btest.Dial, measurement: x}\n");
+  const std::string top = dir.write(
+      "top.yaml", "base: base.yaml\nextra: {type: btest.Dial}\naligner.slices: [btest.Dial]\n");
+  Root root;
+  ASSERT_EQ(buildErrors(loadConfigFile(top), root), "");
+  EXPECT_EQ(root.extra->measurement(), "front");  // the default, not the base's x
+  ASSERT_EQ(root.aligner->slices.size(), 1u);
+  EXPECT_DOUBLE_EQ(root.aligner->slices[0].max_distance(), 0.5);
+  EXPECT_EQ(root.aligner->iterations(), 5);  // the rest of the aligner is the base's
+}
+
+TEST(ConfigBase, ErrorsNameTheFileLineAndKeyThatWroteTheValue) {
+  const plugslam::testing::TempDir dir;
+  // base.yaml line 4: a bad value the top file leaves alone.
+  dir.write("base.yaml",
+            "aligner:\n  slices:\n    - {type: btest.Dial, max_distance: 0.3}\n"
+            "    - {type: btest.Lever, max_distance: 42}\n");
+  const std::string top = dir.write("top.yaml",
+                                    "# a variant\n"
+                                    "base: base.yaml\n"
+                                    "aligner.slices[0].max_distance: 77\n"
+                                    "aligner.slices[1]:\n"
+                                    "  measurment: rear\n");
+  Root root;
+  const std::string e = buildErrors(loadConfigFile(top), root);
+  expectContains(e, dir.file("top.yaml") + ":3:33: aligner.slices[0].max_distance: value 77 is out of range");
+  expectContains(e, dir.file("base.yaml") + ":4:41: aligner.slices[1].max_distance: value 42 is out of range");
+  expectContains(e, dir.file("top.yaml") + ":5:15: aligner.slices[1].measurment: unknown key 'measurment'");
+  // A --set still wins over both files.
+  ConfigDocument doc = loadConfigFile(top);
+  applyOverride(doc, "aligner.slices[0].max_distance=88");
+  Root again;
+  expectContains(buildErrors(doc, again),
+                 "--set aligner.slices[0].max_distance=88: aligner.slices[0].max_distance: value 88");
+}
+
+TEST(ConfigBase, ChainsListsAndBadBases) {
+  const plugslam::testing::TempDir dir;
+  dir.write("a.yaml", "aligner: {iterations: 2}\n");
+  dir.write("b.yaml", "base: a.yaml\nextra: {type: btest.Dial, measurement: b}\n");
+  dir.write("c.yaml", "extra.measurement: c\naligner.iterations: 3\n");
+  const std::string top = dir.write("top.yaml", "base: [b.yaml, c.yaml]\naligner.iterations: 4\n");
+  ConfigDocument doc = loadConfigFile(top);
+  Root root;
+  ASSERT_EQ(buildErrors(doc, root), "");
+  EXPECT_EQ(root.aligner->iterations(), 4);
+  EXPECT_EQ(root.extra->measurement(), "c");
+  EXPECT_EQ(sourceOf(doc, "aligner.iterations"), top);
+  EXPECT_EQ(sourceOf(doc, "extra.measurement"), dir.file("c.yaml"));
+  EXPECT_EQ(sourceOf(doc, "extra.type"), dir.file("b.yaml"));
+  EXPECT_EQ(sourceOf(doc, "aligner"), dir.file("a.yaml"));
+
+  dir.write("loop1.yaml", "base: loop2.yaml\n");
+  dir.write("loop2.yaml", "aligner: {}\nbase: loop1.yaml\n");
+  expectContains(loadError(dir.file("loop1.yaml")),
+                 dir.file("loop2.yaml") + ":2:7: base: a cycle of bases: " + dir.file("loop1.yaml") +
+                     " -> " + dir.file("loop2.yaml") + " -> " + dir.file("loop1.yaml"));
+  dir.write("missing.yaml", "extra: {}\nbase: nowhere.yaml\n");
+  expectContains(loadError(dir.file("missing.yaml")),
+                 dir.file("missing.yaml") + ":2:7: base: the base config '" +
+                     dir.file("nowhere.yaml") + "' is not a readable file");
+  dir.write("past.yaml", "base: a.yaml\naligner.slices[3]: btest.Dial\n");
+  expectContains(loadError(dir.file("past.yaml")),
+                 "past.yaml:2:1: aligner.slices[3]: no such list element (the list has 0 entries");
+  dir.write("twice.yaml", "base: a.yaml\nextra: {}\nextra: {}\n");
+  expectContains(loadError(dir.file("twice.yaml")), "twice.yaml:3:1: extra: duplicate key 'extra'");
+  EXPECT_THROW(applyOverride(doc, "base=a.yaml"), ConfigError);
+}
+
+TEST(ConfigBase, SetAppendsAtTheListsLength) {
+  auto doc = loadConfigText(kGood, "cfg.yaml");
+  applyOverride(doc, "aligner.slices[2]={type: btest.Dial, measurement: x}");
+  Root root;
+  ASSERT_EQ(buildErrors(doc, root), "");
+  ASSERT_EQ(root.aligner->slices.size(), 3u);
+  EXPECT_EQ(root.aligner->slices[2].measurement(), "x");
+  EXPECT_THROW(applyOverride(doc, "aligner.slices[4]={type: btest.Dial}"), ConfigError);
 }

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "config_builder.h"
 #include "plugin_manager.h"
 #include "plugslam/errors.h"
 #include "test_paths.h"
@@ -33,8 +34,10 @@ std::string slurp(const fs::path& p) {
 }
 
 std::string program() { return plugslam::testing::buildDir() + "/bin/plugslam"; }
+// The built-in default as a run hands it to the editor: the whole document, its base merged.
 std::string defaultConfig() {
-  return slurp(fs::path(plugslam::testing::sourceDir()) / "configs" / "sim2d_double_laser.yaml");
+  return runtime::resolvedYaml(runtime::loadConfigFile(plugslam::testing::sourceDir() +
+                                                       "/configs/sim2d_double_laser.yaml"));
 }
 
 // The module at a path of slot keys and item indexes, e.g. {"pipeline", 0, "tracker", 0}.
@@ -161,6 +164,22 @@ TEST_F(Editor, SavesStayInsideTheRoot) {
   EXPECT_FALSE(fs::exists(tmp.path() / "outside" / "evil.yaml"));
   EXPECT_FALSE(fs::exists(tmp.path() / "up.yaml"));
   EXPECT_EQ(slurp(tmp.path() / "outside" / "victim.yaml"), "keep: me\n");
+}
+
+// A config on a base is loaded as the document it runs: its base's path would mean nothing in
+// the folder the editor validates in.
+TEST_F(Editor, AConfigOnABaseLoadsAsTheWholeDocument) {
+  tmp.write("base.yaml", defaultConfig());
+  tmp.write("sub/variant.yaml", "base: ../base.yaml\nmax_frames: 7\n");
+  ConfigEditor editor(tmp.path(), defaultConfig(), "default.yaml", program());
+  const json loaded = json::parse(editor.call("editor.load", R"({"path": "sub/variant.yaml"})"));
+  const std::string yaml = loaded["yaml"].get<std::string>();
+  EXPECT_EQ(yaml.find("base:"), std::string::npos) << yaml;
+  EXPECT_NE(yaml.find("max_frames: 7"), std::string::npos) << yaml;
+  EXPECT_NE(yaml.find("rear_laser"), std::string::npos) << yaml;
+  const json validated =
+      json::parse(editor.call("editor.validate", json{{"yaml", yaml}}.dump()));
+  EXPECT_TRUE(validated["validation"]["ok"].get<bool>()) << validated.dump(2);
 }
 
 TEST_F(Editor, MalformedRequestsAreRefusedWithAReason) {

@@ -33,8 +33,8 @@ try {
   };
   // The simulated run, its raw images kept as a KITTI sequence.
   const config = path.join(dir, "sim3d_stereo_export.yaml");
-  fs.writeFileSync(config, fs.readFileSync(path.join(root, "configs/sim3d_stereo.yaml"), "utf8") +
-                   "  - {type: io.ImageSequenceWriter, layout: kitti, folder: sequence}\n");
+  fs.writeFileSync(config, `base: ${path.join(root, "configs/sim3d_stereo.yaml")}\n` +
+                   "outputs[3]: {type: io.ImageSequenceWriter, layout: kitti, folder: sequence}\n");
   run([config, "-o", path.join(dir, "sim"), "--set", `max_frames=${FRAMES}`], "simulated stereo run");
   const seq = path.join(dir, "sim", "sequence");
   check(fs.existsSync(path.join(seq, "calib.txt")), "the run wrote the KITTI sequence");
@@ -65,8 +65,8 @@ try {
   // driver's bags (colour rgb8 Image + 32FC1 depth in MCAP; colour PNG CompressedImage in .db3).
   const RGBD_FRAMES = 30;  // one second at 30 Hz
   const rgbdConfig = path.join(dir, "sim3d_rgbd_export.yaml");
-  fs.writeFileSync(rgbdConfig, fs.readFileSync(path.join(root, "configs/sim3d_rgbd.yaml"), "utf8") +
-                   "  - {type: io.ImageSequenceWriter, layout: tum, folder: sequence}\n");
+  fs.writeFileSync(rgbdConfig, `base: ${path.join(root, "configs/sim3d_rgbd.yaml")}\n` +
+                   "outputs[2]: {type: io.ImageSequenceWriter, layout: tum, folder: sequence}\n");
   run([rgbdConfig, "-o", path.join(dir, "sim_rgbd"), "--set", `max_frames=${RGBD_FRAMES}`], "simulated RGB-D run");
   const tum = path.join(dir, "sim_rgbd", "sequence");
   // The simulator's VGA camera (plugins/sim/src/sim3d/renderer.cpp), undistorted.

@@ -97,10 +97,8 @@ struct CellSet {
 TEST(StreamFrames, ComposedLikeAViewerTheScanLiesOnTheMapsAndTheTrajectoryEndsWhereTheRunDoes) {
   plugslam::testing::TempDir dir("plugslam_stream_frames");
   PluginManager plugins;
-  std::ifstream in(plugslam::testing::sourceDir() + "/configs/sim2d_double_laser.yaml");
-  std::stringstream text;
-  text << in.rdbuf();
-  ConfigDocument doc = loadConfigText(text.str(), "sim2d_double_laser.yaml");
+  ConfigDocument doc =
+      loadConfigFile(plugslam::testing::sourceDir() + "/configs/sim2d_double_laser.yaml");
   // 400 frames of the office: a dozen local maps, the last scan seeing walls the earlier ones hold.
   applyOverride(doc, "max_frames=400");
   auto run = buildRun(doc, plugins);

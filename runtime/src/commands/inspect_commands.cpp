@@ -1,4 +1,4 @@
-// plugslam plugins | describe TYPE | config --defaults TYPE | reference
+// plugslam plugins | describe TYPE | config TYPE | config --resolved FILE | reference
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
@@ -54,13 +54,30 @@ void addDescribeCommand(CLI::App& root, int& exit_code) {
 }
 
 void addConfigCommand(CLI::App& root, int& exit_code) {
-  auto* cmd = root.add_subcommand("config", "Print a type's default configuration as YAML");
-  static std::string type;
+  auto* cmd = root.add_subcommand(
+      "config", "Print a type's default configuration, or with --resolved the whole document a "
+                "config file runs (its bases merged, --set applied), as YAML");
+  static std::string type, resolved;
+  static std::vector<std::string> sets;
   static bool defaults = false;
-  // The only mode; the flag stays accepted so older scripts and docs keep working.
-  cmd->add_flag("--defaults", defaults, "the type's defaults (what the command prints anyway)");
-  cmd->add_option("TYPE", type, "type name, e.g. sdk.Pipeline")->required();
+  // The default mode; the flag stays accepted so older scripts and docs keep working.
+  cmd->add_flag("--defaults", defaults, "the type's defaults (what it prints for a TYPE anyway)");
+  cmd->add_option("TYPE", type, "type name, e.g. sdk.Pipeline");
+  cmd->add_option("--resolved", resolved,
+                  "a config file: print the document a run of it uses (what a session saves)");
+  cmd->add_option("--set", sets, "with --resolved: override a parameter: PATH=VALUE (repeatable)");
   cmd->callback([&exit_code] {
+    if (resolved.empty() == type.empty())
+      throw InputError("config: give either a TYPE (its defaults) or --resolved FILE (the "
+                       "document a run of FILE uses)");
+    if (!resolved.empty()) {
+      ConfigDocument doc = loadConfigFile(resolved);
+      for (const auto& s : sets) applyOverride(doc, s);
+      std::cout << resolvedYaml(doc);
+      exit_code = kOk;
+      return;
+    }
+    if (!sets.empty()) throw InputError("config: --set goes with --resolved FILE");
     PluginManager plugins;
     loadPluginOf(plugins, type);
     auto& registry = Registry::instance();

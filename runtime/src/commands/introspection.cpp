@@ -139,8 +139,8 @@ std::string referenceBody(const Configurable& obj) {
 std::string describeType(const std::string& type) {
   if (type == kTopLevelName) {
     RunConfig top;
-    return fmt::format("{} (the top level of a config file)\n  {}\n", kTopLevelName,
-                       kTopLevelDoc) +
+    return fmt::format("{} (the top level of a config file)\n  {}\n  {}.\n", kTopLevelName,
+                       kTopLevelDoc, kBaseKeyDoc) +
            describeBody(top);
   }
   auto& registry = Registry::instance();
@@ -170,8 +170,8 @@ std::string configReferenceMarkdown(const std::vector<PluginInfo>& plugins) {
   std::sort(names.begin() + 1, names.end());
   {
     RunConfig top;
-    out += fmt::format("## The top level of a config file\n\n{} (`plugslam describe {}`)\n\n",
-                       kTopLevelDoc, kTopLevelName);
+    out += fmt::format("## The top level of a config file\n\n{} (`plugslam describe {}`)\n\n{}.\n\n",
+                       kTopLevelDoc, kTopLevelName, kBaseKeyDoc);
     out += referenceBody(top);
   }
   for (const auto& plugin : names) {

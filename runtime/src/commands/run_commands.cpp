@@ -261,7 +261,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
     options.out_dir = out_dir;
     StatusLine& status = StatusLine::console();
     options.rate = rate;
-    std::string config_yaml = YAML::Dump(doc.root) + "\n";  // a viewer's settings update it
+    std::string config_yaml = resolvedYaml(doc);  // a viewer's settings update it
     Pipeline* pipeline = run->pipeline.get();
     const std::string checkpoint_dir = (boost::filesystem::path(out_dir) / "checkpoint").string();
     options.progress = [&status, last = -1.0, last_checkpoint = 0.0, pipeline, &config_yaml,

@@ -345,7 +345,12 @@ std::string ConfigEditor::answer(const std::string& service, const std::string& 
     if (!in) throw InputError("cannot read '" + rel + "'");
     std::stringstream ss;
     ss << in.rdbuf();
-    return json{{"name", rel}, {"yaml", ss.str()}, {"tree", treeFromYaml(ss.str(), rel)}}.dump();
+    std::string yaml = ss.str();
+    // A config on a base is edited, validated and saved as the whole document it runs: its
+    // base's path means nothing in the folder a validation runs in.
+    const ConfigDocument doc = loadConfigText(yaml, file.string());
+    if (!doc.sources.empty()) yaml = resolvedYaml(doc);
+    return json{{"name", rel}, {"yaml", yaml}, {"tree", treeFromYaml(yaml, rel)}}.dump();
   }
   if (service == "editor.validate") {
     const std::string yaml = yamlOf();

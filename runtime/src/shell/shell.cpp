@@ -671,7 +671,7 @@ void Shell::cmdSave(const Args& a) {
   auto lk = lockBetweenFrames();
   if (!doc_ || !run_) throw InputError("no config loaded (load CONFIG)");
   if (!run_->pipeline) throw InputError("the config has no pipeline");
-  SessionSummary s = saveSession(a[0], YAML::Dump(doc_->root) + "\n", *run_->pipeline);
+  SessionSummary s = saveSession(a[0], resolvedYaml(*doc_), *run_->pipeline);
   *out_ << fmt::format("saved session {}: {} local maps, {} edges, {} poses{}\n", a[0], s.maps,
                       s.edges, s.poses, s.graph_file ? ", graph.g2o" : "");
 }

@@ -77,7 +77,7 @@ void RunControl::shutdown() {
 
 std::string RunControl::configYaml() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return YAML::Dump(doc_.root) + "\n";
+  return resolvedYaml(doc_);
 }
 
 bool RunControl::enqueue(Command command) {
@@ -173,7 +173,7 @@ void RunControl::setParameters(std::vector<foxglove::ParameterAssignment> assign
           std::lock_guard<std::mutex> guard(mutex_);
           applyOverride(doc_, a.name + "=" + a.value);
           // Sessions saved from now on carry the new value (this is the run's thread).
-          if (config_yaml_) *config_yaml_ = YAML::Dump(doc_.root) + "\n";
+          if (config_yaml_) *config_yaml_ = resolvedYaml(doc_);
           spdlog::info("viewer: {} = {}", a.name, a.value);
         } catch (const std::exception& e) {
           errors.push_back(e.what());

@@ -161,7 +161,7 @@ void ShellControl::call(const std::string& service, const std::string& request, 
           {
             std::lock_guard<std::recursive_mutex> lock(shell_->command_mutex_);
             if (!shell_->doc_) return done(false, "no config loaded (load CONFIG)");
-            yaml = YAML::Dump(shell_->doc_->root) + "\n";
+            yaml = resolvedYaml(*shell_->doc_);
             name = shell_->doc_->file;
           }
           try {
