@@ -14,8 +14,8 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 seconds="${1:-60}"
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(fuzz_config fuzz_carmen fuzz_rosbag fuzz_graph fuzz_archive fuzz_trajectory fuzz_image
-  fuzz_camera_files fuzz_foxglove)
+[ ${#targets[@]} -eq 0 ] && targets=(fuzz_config fuzz_carmen fuzz_rosbag fuzz_mcap fuzz_graph fuzz_archive fuzz_trajectory
+  fuzz_image fuzz_camera_files fuzz_foxglove)
 build="${PLUGSLAM_FUZZ_DIR:-$root/build-fuzz}"
 lock=()
 [ -n "${PLUGSLAM_LOCK:-}" ] && lock=(flock "$PLUGSLAM_LOCK")
