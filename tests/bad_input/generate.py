@@ -442,6 +442,15 @@ case("yaml_alias_billion", "".join(f"{chr(97 + i)}: &{chr(97 + i)} [" + ", ".joi
                                    for i in range(9)), VALIDATE, 2,
      r"yaml_alias_billion\.yaml:\d+:\d+: invalid YAML: aliases expand the document by more than 1000000 nodes",
      "aliases expanding to 10^9 nodes (the walks over the tree would run for hours)", ext=".yaml")
+case("yaml_base_missing", "base: nowhere_to_be_found.yaml\nmax_frames: 3\n", VALIDATE, 2,
+     r"yaml_base_missing\.yaml:1:7: base: the base config '.*nowhere_to_be_found\.yaml' is not a readable file",
+     "a config starting from a file that does not exist", ext=".yaml")
+case("yaml_base_self", "max_frames: 3\nbase: yaml_base_self.yaml\n", VALIDATE, 2,
+     r"yaml_base_self\.yaml:2:7: base: a cycle of bases: .*yaml_base_self\.yaml -> .*yaml_base_self\.yaml",
+     "a config starting from itself", ext=".yaml")
+case("yaml_base_device", "base: /dev/zero\n", VALIDATE, 2,
+     r"yaml_base_device\.yaml:1:7: base: the base config '/dev/zero' is not a readable file",
+     "a base that is a device (endless): refused before reading", ext=".yaml")
 case("yaml_missing_file", None, VALIDATE, 2, r"(cannot|could not) (open|read)|not found|does not exist",
      "config file missing", ext=".yaml")
 case("yaml_bad_set_path", GOOD_CONFIG, "validate {file} --set pipeline..splitter.distance=1", 2,
