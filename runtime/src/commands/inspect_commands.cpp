@@ -55,8 +55,7 @@ void addDescribeCommand(CLI::App& root, int& exit_code) {
 
 void addConfigCommand(CLI::App& root, int& exit_code) {
   auto* cmd = root.add_subcommand(
-      "config", "Print a type's default configuration, or with --resolved the whole document a "
-                "config file runs (its bases merged, --set applied), as YAML");
+      "config", "A type's default YAML, or --resolved FILE: the document a run uses");
   static std::string type, resolved;
   static std::vector<std::string> sets;
   static bool defaults = false;
@@ -64,7 +63,8 @@ void addConfigCommand(CLI::App& root, int& exit_code) {
   cmd->add_flag("--defaults", defaults, "the type's defaults (what it prints for a TYPE anyway)");
   cmd->add_option("TYPE", type, "type name, e.g. sdk.Pipeline");
   cmd->add_option("--resolved", resolved,
-                  "a config file: print the document a run of it uses (what a session saves)");
+                  "a config file: print the whole document a run of it uses, its bases merged "
+                  "(what a session saves)");
   cmd->add_option("--set", sets, "with --resolved: override a parameter: PATH=VALUE (repeatable)");
   cmd->callback([&exit_code] {
     if (resolved.empty() == type.empty())
