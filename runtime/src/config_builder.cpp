@@ -257,6 +257,9 @@ ConfigDocument composeOnBase(ConfigDocument doc, std::vector<std::string>& chain
     for (const YAML::Node& n : ref) names.push_back(n);
   else
     names.push_back(ref);
+  if (names.empty())
+    throw ConfigError(doc.file, ref.Mark().line + 1, ref.Mark().column + 1, "base",
+                      "an empty list: name the configs this one starts from, or drop 'base:'");
   std::optional<ConfigDocument> out;
   for (const YAML::Node& name : names) {
     const auto fail = [&](const std::string& message) {

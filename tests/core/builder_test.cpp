@@ -372,6 +372,8 @@ TEST(ConfigBase, ChainsListsAndBadBases) {
   dir.write("past.yaml", "base: a.yaml\naligner.slices[3]: btest.Dial\n");
   expectContains(loadError(dir.file("past.yaml")),
                  "past.yaml:2:1: aligner.slices[3]: no such list element (the list has 0 entries");
+  dir.write("none.yaml", "base: []\n");
+  expectContains(loadError(dir.file("none.yaml")), "none.yaml:1:7: base: an empty list");
   dir.write("twice.yaml", "base: a.yaml\nextra: {}\nextra: {}\n");
   expectContains(loadError(dir.file("twice.yaml")), "twice.yaml:3:1: extra: duplicate key 'extra'");
   EXPECT_THROW(applyOverride(doc, "base=a.yaml"), ConfigError);
