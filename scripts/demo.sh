@@ -12,8 +12,15 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 demo_targets() {
   local list
   local config="$root/configs/sim2d_double_laser.yaml"
-  list="$(sed -n 's/^plugins:[[:space:]]*\[\(.*\)\][[:space:]]*\(#.*\)\{0,1\}$/\1/p' "$config")"
-  [ -n "$list" ] || { echo "demo.sh: no 'plugins: [...]' line in $config" >&2; exit 1; }
+  local base
+  # A config may start from another (`base: FILE`, beside it): its plugins are the base's.
+  while :; do
+    list="$(sed -n 's/^plugins:[[:space:]]*\[\(.*\)\][[:space:]]*\(#.*\)\{0,1\}$/\1/p' "$config")"
+    [ -z "$list" ] || break
+    base="$(sed -n 's/^base:[[:space:]]*\([^[:space:]#]*\).*$/\1/p' "$config")"
+    [ -n "$base" ] || { echo "demo.sh: no 'plugins: [...]' line in $config or a base" >&2; exit 1; }
+    config="$(dirname "$config")/$base"
+  done
   local targets="plugslam"
   for p in ${list//,/ }; do targets+=" plugslam_plugin_$p"; done
   echo "$targets"

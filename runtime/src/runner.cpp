@@ -1,7 +1,6 @@
 #include "runner.h"
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 #include <boost/filesystem.hpp>
@@ -10,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <thread>
 
 #include "plugslam/atomic_file.h"
@@ -59,7 +59,11 @@ std::string runReportJson(const RunReport& r) {
   nlohmann::ordered_json reasons = nlohmann::ordered_json::object();
   for (const auto& [reason, n] : r.tracking_failure_reasons) reasons[reason] = n;
   j["tracking_failure_reasons"] = reasons;
-  j["tracking_recovered"] = r.tracking_recovered;
+  j["tracking_searched"] = r.tracking_searched;
+  j["tracking_ambiguous"] = r.tracking_ambiguous;
+  j["tracking_time_s"] = {{"search", r.tracking_search_s},
+                          {"refine", r.tracking_refine_s},
+                          {"merge", r.tracking_merge_s}};
   j["module_errors"] = r.module_errors;
   j["reference"] = {{"ate_rmse_m", optionalFigure(r.ate_rmse)},
                     {"ate_max_m", optionalFigure(r.ate_max)},
@@ -144,8 +148,8 @@ static void scoreAgainstGroundTruth(const RunResult& result, int dimension, RunR
     path += (result.reference[i].pose.translation() - result.reference[i - 1].pose.translation())
                 .norm();
   if (path < rpe.delta) {
-    report.rpe_unavailable = fmt::format(
-        "the run is too short for it (the reference path is {:.2f} m)", path);
+    report.rpe_unavailable =
+        fmt::format("the run is too short for it (the reference path is {:.2f} m)", path);
     return;
   }
   try {
@@ -165,7 +169,8 @@ Execution::Execution(RunConfig& run, RunOptions options)
   for (auto& sink : run_.outputs) asModule(*sink, [&] { sink->begin(options_.out_dir); });
   report_.stopped_by = "end of data";
   total_ = run_.source->sizeHint();
-  if (run_.max_frames() > 0 && (total_ < 0 || total_ > run_.max_frames())) total_ = run_.max_frames();
+  if (run_.max_frames() > 0 && (total_ < 0 || total_ > run_.max_frames()))
+    total_ = run_.max_frames();
   start_ = std::chrono::steady_clock::now();
 }
 
@@ -204,9 +209,10 @@ bool Execution::fetch() {
   if (seq == 0) first_stamp_ = frame->stamp;
   constexpr uint64_t kStampCheck = 10;  // frames after which a paced run expects time to pass
   if (clock_.rate() > 0 && seq == kStampCheck && frame->stamp == first_stamp_)
-    spdlog::warn("--rate {}: the source's frames carry no timestamps (frame {} is stamped like "
-                 "frame 0), so the run is not paced",
-                 clock_.rate(), seq);
+    spdlog::warn(
+        "--rate {}: the source's frames carry no timestamps (frame {} is stamped like "
+        "frame 0), so the run is not paced",
+        clock_.rate(), seq);
   pending_ = std::move(frame);
   return true;
 }
@@ -302,7 +308,11 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
     report.local_maps = pipeline.tracker->stats().local_maps;
     const TrackerStats& stats = pipeline.tracker->stats();
     report.tracking_failures = stats.failed;
-    report.tracking_recovered = stats.recovered;
+    report.tracking_searched = stats.searched;
+    report.tracking_ambiguous = stats.ambiguous;
+    report.tracking_search_s = stats.search_s;
+    report.tracking_refine_s = stats.refine_s;
+    report.tracking_merge_s = stats.merge_s;
     for (std::size_t i = 1; i < kAlignFailures; ++i)
       report.tracking_failure_reasons.emplace_back(toString(static_cast<AlignFailure>(i)),
                                                    stats.failures[i]);
@@ -312,21 +322,22 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
     std::string why;
     for (const auto& [reason, n] : report.tracking_failure_reasons)
       if (n) why += (why.empty() ? "" : ", ") + reason + " " + std::to_string(n);
-    spdlog::warn("tracking failed on {} of {} frames ({:.1f} %): {}; each failure starts a new "
-                 "local map joined by a weak edge (the debug log, -v, names every frame's reason)",
-                 report.tracking_failures, report.frames,
-                 100.0 * report.tracking_failures / report.frames, why);
+    spdlog::warn(
+        "tracking failed on {} of {} frames ({:.1f} %): {}; each failure starts a new "
+        "local map joined by a weak edge (the debug log, -v, names every frame's reason)",
+        report.tracking_failures, report.frames, 100.0 * report.tracking_failures / report.frames,
+        why);
   }
   // In localization a failed frame is one no saved map explains: when that is most of them the
   // poses are mostly predictions, and the session is probably of another place (or sensor).
   if (frozen_frames_ > 0 && 2 * report.tracking_failures > frozen_frames_)
-    spdlog::warn("localization: {} of {} frames did not align with any saved map; the session "
-                 "is probably of another place, or the sensors or config differ from its run",
-                 report.tracking_failures, frozen_frames_);
+    spdlog::warn(
+        "localization: {} of {} frames did not align with any saved map; the session "
+        "is probably of another place, or the sensors or config differ from its run",
+        report.tracking_failures, frozen_frames_);
   scoreAgainstGroundTruth(result, pipeline.tracker ? pipeline.tracker->dimension() : 3, report);
   if (!result.reference.empty())
-    writeTumTrajectory(result.reference,
-                       (fs::path(options_.out_dir) / "reference.tum").string());
+    writeTumTrajectory(result.reference, (fs::path(options_.out_dir) / "reference.tum").string());
   if (options_.observer) options_.observer->finished(result, pipeline);
   for (const auto& e : pipeline.timings().entries()) report.pipeline_s += e.total_s;
   report.pipeline_hz = report.pipeline_s > 0 ? report.frames / report.pipeline_s : 0;

@@ -28,10 +28,14 @@ struct RunReport {
   uint64_t tracking_failures = 0;
   /// The failures by reason (run.json's keys, see AlignFailure), each reason once, in enum order.
   std::vector<std::pair<std::string, uint64_t>> tracking_failure_reasons;
-  uint64_t tracking_recovered = 0;  ///< frames aligned from a seeder's search (poor prediction)
-  uint64_t module_errors = 0;  ///< frames a module failed on, skipped (on_module_error: skip)
-  std::string error;           ///< the error that stopped the run, if one did
-  GraphStats graph;  ///< loops accepted/rejected, optimization time
+  uint64_t tracking_searched = 0;   ///< frames whose solve started from the correlative search
+  uint64_t tracking_ambiguous = 0;  ///< frames whose search found a rival pose nearly as good
+  double tracking_search_s = 0;     ///< front-end time split [s]: correlative search,
+  double tracking_refine_s = 0;     ///< the solve,
+  double tracking_merge_s = 0;      ///< and merging into local maps
+  uint64_t module_errors = 0;       ///< frames a module failed on, skipped (on_module_error: skip)
+  std::string error;                ///< the error that stopped the run, if one did
+  GraphStats graph;                 ///< loops accepted/rejected, optimization time
   /// Against the source's ground truth, when it has one (SE2/SE3-aligned ATE, RPE over 1 m).
   std::optional<double> ate_rmse, ate_max, rpe_rmse;
   std::string rpe_unavailable;  ///< why rpe_rmse is empty when ate_rmse is set (a short run)
@@ -131,9 +135,9 @@ class Execution {
 };
 
 /// Runs source -> pipeline -> sinks to the end of the data (or max_frames, or until
-/// options.interrupted says so), paced at options.rate; writes run.json. An error during the run (bad input, a failing
-/// module) stops it cleanly: the run is finished (outputs, run.json with the error), then
-/// options.stopped_by_error is called and the error rethrown.
+/// options.interrupted says so), paced at options.rate; writes run.json. An error during the run
+/// (bad input, a failing module) stops it cleanly: the run is finished (outputs, run.json with the
+/// error), then options.stopped_by_error is called and the error rethrown.
 RunReport runPipeline(RunConfig& run, const RunOptions& options);
 
 /// "against 'REFERENCE': ATE ..., RPE(1 m) ..." (or why there is no RPE), one line; empty when

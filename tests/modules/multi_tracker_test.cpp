@@ -1,14 +1,16 @@
 // The generic Multi-Aligner and Multi-Tracker on a synthetic landmark cue.
+#include "plugslam/multi_tracker.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <optional>
 #include <random>
 
 #include "landmark_cue.h"
 #include "plugslam/localizer.h"
-#include "plugslam/multi_tracker.h"
 #include "plugslam/pipeline.h"
 #include "plugslam/registry.h"
 #include "plugslam/slice_check.h"
@@ -23,7 +25,8 @@ Landmarks grid(double step, double extent) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> jitter(-0.3, 0.3);
   for (double x = -extent; x <= extent; x += step)
-    for (double y = -extent; y <= extent; y += step) w.emplace_back(x + jitter(rng), y + jitter(rng));
+    for (double y = -extent; y <= extent; y += step)
+      w.emplace_back(x + jitter(rng), y + jitter(rng));
   return w;
 }
 
@@ -62,9 +65,9 @@ TEST(MultiAligner, RecoversAKnownOffsetWithOneSlice) {
   const Eigen::Isometry2d truth = se2(0.3, -0.2, 0.1);
   Frame frame;
   frame.measurement.set<Landmarks>("landmarks", observe(world, truth, 6.0));
-  AlignResult<Space2D> r =
-      aligner.align(frame, scene, AlignContext<Space2D>{Eigen::Isometry2d::Identity(),
-                                                        Eigen::Isometry2d::Identity()});
+  AlignResult<Space2D> r = aligner.align(
+      frame, scene,
+      AlignContext<Space2D>{Eigen::Isometry2d::Identity(), Eigen::Isometry2d::Identity()});
   EXPECT_TRUE(r.valid);
   EXPECT_TRUE(r.converged);
   EXPECT_LT((toVector(r.pose) - toVector(truth)).norm(), 1e-9);
@@ -142,8 +145,8 @@ TEST(MultiAligner, CountsFactorsInliersAndCandidatesPerSlice) {
     for (size_t i = 0; i < std::min(n, l.size()); ++i) k += l[i].allFinite();
     return k;
   };
-  const AlignResult<Space2D> r = aligner.align(
-      frame, scene, {Eigen::Isometry2d::Identity(), Eigen::Isometry2d::Identity()});
+  const AlignResult<Space2D> r =
+      aligner.align(frame, scene, {Eigen::Isometry2d::Identity(), Eigen::Isometry2d::Identity()});
   ASSERT_TRUE(r.valid);
   ASSERT_EQ(r.cues.size(), 2u);
   EXPECT_EQ(r.cues[0].slice, "near");
@@ -223,11 +226,12 @@ TEST(MultiTracker, TracksACircleAndSplitsLocalMaps) {
     pipeline->process(f);
     ASSERT_TRUE(f.estimate.valid);
     Eigen::Isometry2d expected = truth[0].inverse() * truth[i];
-    worst = std::max(worst, (Space2D::toVector(Space2D::from3D(f.estimate.world)) -
-                             Space2D::toVector(expected))
-                                .norm());
+    worst = std::max(
+        worst, Space2D::toVector(expected.inverse() * Space2D::from3D(f.estimate.world)).norm());
   }
-  EXPECT_LT(worst, 1e-6);
+  // Exact landmarks; the constant-velocity prior (a factor with its covariance) moves the
+  // solution by a fraction of a millimetre on the turn.
+  EXPECT_LT(worst, 1e-3);
   // 31.4 m of travel with a split every metre.
   EXPECT_GT(tracker->stats().local_maps, 25u);
   EXPECT_EQ(tracker->stats().failed, 0u);
@@ -285,7 +289,7 @@ TEST(MultiTracker, AFrameWithoutDataStartsANewMapAndTrackingGoesOn) {
     if (i != 15) f.measurement.set<Landmarks>("landmarks", observe(world, pose, 6.0));
     pipeline->process(f);
     if (i > 16) {
-      EXPECT_LT((f.estimate.world.translation().head<2>() - pose.translation()).norm(), 1e-6) << i;
+      EXPECT_LT((f.estimate.world.translation().head<2>() - pose.translation()).norm(), 1e-4) << i;
     }
   }
   EXPECT_EQ(tracker->stats().failed, 1u);
@@ -328,8 +332,10 @@ TEST(MultiTracker, EstimatesSayWhetherTheMapIsFrozenAndWhetherTheFrameWasLost) {
     EXPECT_TRUE(f.estimate.frozen) << i;
     EXPECT_EQ(f.estimate.lost, i == 20) << i;
     if (i != 20) {
+      // Exact landmarks; the constant-velocity prior pulls by millimetres while the velocity
+      // is still being learnt.
       EXPECT_LT((f.estimate.world.translation().head<2>() - Eigen::Vector2d(0.1 * i, 0)).norm(),
-                1e-6)
+                5e-3)
           << i;
     }
   }
@@ -378,15 +384,19 @@ TEST(MultiTracker, FallbackSigmaIsValidated) {
 
 namespace {
 
-// Predicts a scripted motion per frame (by seq); nothing for frames not in the script.
+// Predicts a scripted motion per frame (by seq) with a 1 m, 1 rad standard deviation; nothing
+// for frames not in the script.
 class ScriptedMotion : public MotionModel<Space2D> {
  public:
   std::map<uint64_t, Eigen::Isometry2d> script;
   std::optional<uint64_t> predicts_nothing_at;  ///< a frame without a reading
-  std::optional<Eigen::Isometry2d> predict(const Frame& frame) override {
+  std::optional<MotionEstimate<Space2D>> predict(const Frame& frame) override {
     auto it = script.find(frame.seq);
     if (it == script.end() || frame.seq == predicts_nothing_at) return std::nullopt;
-    return it->second;
+    MotionEstimate<Space2D> e;
+    e.mean = it->second;
+    e.covariance.setIdentity();
+    return e;
   }
 };
 
@@ -421,37 +431,24 @@ std::vector<Eigen::Isometry2d> driveWithABadPrediction(
 
 }  // namespace
 
-TEST(MultiTracker, MaxCorrectionKeepsThePredictionWhenTheAlignmentMovesItTooFar) {
-  // Without a limit the (exact) landmark alignment corrects the bad prediction.
-  auto free = makeTracker(100.0);
-  auto estimates = driveWithABadPrediction(free);
-  EXPECT_EQ(free->stats().failed, 0u);
-  EXPECT_NEAR(estimates[15].translation().x(), 1.5, 1e-6);
-
-  // With a 0.2 m limit the 0.5 m correction is rejected: the frame counts as failed and keeps
-  // the prediction; the 0.1 m steps (corrections ~0) and the frame without prediction pass.
-  auto limited = makeTracker(100.0);
-  limited->max_correction = std::vector<double>{0.2, 0.5};
-  limited->configure();
-  estimates = driveWithABadPrediction(limited);
-  EXPECT_EQ(limited->stats().failed, 1u);
-  EXPECT_EQ(limited->stats().failures[static_cast<size_t>(AlignFailure::gate)], 1u);
-  EXPECT_NEAR(estimates[15].translation().x(), 2.0, 1e-6);
-  // Tracking goes on from the kept prediction, 0.5 m off from there on.
-  EXPECT_NEAR(estimates[29].translation().x(), 2.9 + 0.5, 1e-6);
-  EXPECT_EQ(limited->stats().local_maps, 2u);
+TEST(MultiTracker, TheAlignmentCorrectsAPredictionItsCovarianceCallsUncertain) {
+  // The (exact) landmark alignment corrects the bad prediction: the prior, a factor with the
+  // prediction's 1 m covariance, barely pulls it; the frame without a prediction passes.
+  auto tracker = makeTracker(100.0);
+  auto estimates = driveWithABadPrediction(tracker);
+  EXPECT_EQ(tracker->stats().failed, 0u);
+  EXPECT_NEAR(estimates[15].translation().x(), 1.5, 1e-3);
+  EXPECT_NEAR(estimates[29].translation().x(), 2.9, 1e-3);
 }
 
 // Item 18.6: a frame that failed to align must not enter the map it failed against (its data
 // would sit there at the unverified predicted pose); it seeds the next map instead.
 TEST(MultiTracker, AFrameThatFailedToAlignLeavesTheOldMapUnchanged) {
   auto tracker = makeTracker(100.0);
-  tracker->max_correction = std::vector<double>{0.2, 0.5};
-  tracker->configure();
   auto motion = std::make_shared<ScriptedMotion>();
-  // 0.1 m per frame, but frame 15 is predicted 0.5 m too far: its (exact) alignment corrects
-  // that by 0.5 m > max_correction, so the frame fails and keeps the wrong prediction.
-  for (uint64_t i = 1; i < 20; ++i) motion->script[i] = se2(i == 15 ? 0.6 : 0.1, 0, 0);
+  // 0.1 m per frame; frame 15 sees too few of the map's landmarks to align (below), so it
+  // fails and keeps the prediction.
+  for (uint64_t i = 1; i < 20; ++i) motion->script[i] = se2(0.1, 0, 0);
   tracker->motion.assign(motion);
   const Landmarks world = grid(1.5, 12.0);
   std::shared_ptr<LocalMap> first;
@@ -461,8 +458,14 @@ TEST(MultiTracker, AFrameThatFailedToAlignLeavesTheOldMapUnchanged) {
     f.seq = i;
     f.stamp = 0.1 * i;
     Landmarks seen = observe(world, se2(0.1 * i, 0, 0), 6.0);
-    // Frame 15 also sees a landmark no other frame sees, so merging it would change the old map.
-    if (i == 15) seen.emplace_back(2.0, 1.0);
+    // Frame 15 sees only three of them, too few to align, and a landmark no other frame sees,
+    // so merging it would change the old map.
+    if (i == 15) {
+      int kept = 0;
+      for (auto& l : seen)
+        if (l.allFinite() && ++kept > 3) l.setConstant(std::numeric_limits<double>::quiet_NaN());
+      seen.emplace_back(2.0, 1.0);
+    }
     f.measurement.set<Landmarks>("landmarks", seen);
     const TrackEvents events = tracker->track(f);
     if (i == 0) first = events.started;
@@ -497,91 +500,8 @@ TEST(MultiTracker, AFrameThatFailedToAlignLeavesTheOldMapUnchanged) {
       EXPECT_LT((seeded[k] - seen[k]).norm(), 1e-9) << k;
     }
   }
-  EXPECT_EQ(tracker->stats().failed, 1u);
-  EXPECT_EQ(tracker->stats().local_maps, 2u);
-}
-
-// Issue 20: the gate grows with the predicted motion. Frame 15's prediction is a 0.6 m step
-// (0.5 m too far): a gate of 1 m per metre of it (0.6 m) lets the right 0.5 m correction through,
-// where the fixed 0.2 m gate kept the wrong prediction; 0.5 m per metre (0.3 m) still rejects it,
-// and the 0.1 m steps stay under the 0.2 m floor either way.
-TEST(MultiTracker, MaxCorrectionGrowsWithThePredictedMotion) {
-  auto grown = makeTracker(100.0);
-  grown->max_correction = std::vector<double>{0.2, 0.5};
-  grown->max_correction_per_motion = std::vector<double>{1.0, 0.0, 0.0, 0.0};
-  grown->configure();
-  auto estimates = driveWithABadPrediction(grown);
-  EXPECT_EQ(grown->stats().failed, 0u);
-  EXPECT_NEAR(estimates[15].translation().x(), 1.5, 1e-6);
-  EXPECT_NEAR(estimates[29].translation().x(), 2.9, 1e-6);
-
-  auto tight = makeTracker(100.0);
-  tight->max_correction = std::vector<double>{0.2, 0.5};
-  tight->max_correction_per_motion = std::vector<double>{0.5, 0.0, 0.0, 0.0};
-  tight->configure();
-  estimates = driveWithABadPrediction(tight);
-  EXPECT_EQ(tight->stats().failed, 1u);
-  EXPECT_EQ(tight->stats().failures[static_cast<size_t>(AlignFailure::gate)], 1u);
-  EXPECT_NEAR(estimates[15].translation().x(), 2.0, 1e-6);
-}
-
-namespace {
-
-// The scripted motion, saying that part of frame 15's step was extrapolated, not measured.
-class ScriptedExtrapolation : public ScriptedMotion,
-                              public plugslam::ExtrapolatingMotionModel<Space2D> {
- public:
-  Eigen::Isometry2d part = se2(0.5, 0, 0);
-  std::optional<Eigen::Isometry2d> predict(const Frame& frame) override {
-    seq_ = frame.seq;
-    return ScriptedMotion::predict(frame);
-  }
-  std::optional<Eigen::Isometry2d> extrapolated() const override {
-    if (seq_ != 15) return std::nullopt;
-    return part;
-  }
-
- private:
-  uint64_t seq_ = 0;
-};
-
-}  // namespace
-
-// Issue 20, odometry older than its frame: the part of the prediction the motion model
-// extrapolated was not measured, so the gate widens by its size. Frame 15's 0.6 m step, 0.5 m of
-// it extrapolated and in truth not travelled: the 0.2 m gate widens to 0.7 m and lets the right
-// correction through; claimed as 0.25 m, the gate (0.45 m) still rejects the 0.5 m correction.
-TEST(MultiTracker, TheGateWidensByTheExtrapolatedPartOfThePrediction) {
-  for (const double part : {0.5, 0.25}) {
-    auto tracker = makeTracker(100.0);
-    tracker->max_correction = std::vector<double>{0.2, 0.5};
-    tracker->configure();
-    auto motion = std::make_shared<ScriptedExtrapolation>();
-    motion->part = se2(part, 0, 0);
-    const Eigen::Isometry2d at15 = driveWithABadPrediction(tracker, motion)[15];
-    if (part == 0.5) {
-      EXPECT_EQ(tracker->stats().failed, 0u);
-      EXPECT_NEAR(at15.translation().x(), 1.5, 1e-6);
-    } else {
-      EXPECT_EQ(tracker->stats().failures[static_cast<size_t>(AlignFailure::gate)], 1u);
-      EXPECT_NEAR(at15.translation().x(), 2.0, 1e-6);
-    }
-  }
-}
-
-TEST(MultiTracker, MaxCorrectionIsValidated) {
-  auto tracker = makeTracker(1.0);
-  tracker->max_correction = std::vector<double>{0.2};
-  EXPECT_THROW(tracker->configure(), ParamError);
-  tracker->max_correction = std::vector<double>{0.2, 0.0};
-  EXPECT_THROW(tracker->configure(), ParamError);
-  tracker->max_correction = std::vector<double>{0.2, 0.5};
-  tracker->max_correction_per_motion = std::vector<double>{0.1, 0.2};
-  EXPECT_THROW(tracker->configure(), ParamError);  // four values
-  tracker->max_correction_per_motion = std::vector<double>{0.1, 0.2, -0.1, 0.0};
-  EXPECT_THROW(tracker->configure(), ParamError);
-  tracker->max_correction_per_motion = std::vector<double>{0.1, 0.2, 0.05, 0.2};
-  EXPECT_NO_THROW(tracker->configure());
-  tracker->max_correction = std::vector<double>{};  // it grows max_correction: needs it
-  EXPECT_THROW(tracker->configure(), ParamError);
+  // Frame 16 sees the landmarks frame 15's map lacks, too few of them in it to align: it fails
+  // too and seeds a third map, which frame 17 on tracks against.
+  EXPECT_EQ(tracker->stats().failed, 2u);
+  EXPECT_EQ(tracker->stats().local_maps, 3u);
 }

@@ -85,10 +85,11 @@ TEST(TrackerRobustness, UnsolvableFrameIsCountedAndStartsANewLocalMap) {
     if (i > 22) {
       const Eigen::Isometry3d step = previous_estimate.inverse() * f.estimate.world;
       const Eigen::Isometry2d truth = previous_pose.inverse() * pose;
-      EXPECT_LT((step.translation().head<2>() - truth.translation()).norm(), 1e-6)
+      // Exact landmarks; the constant-velocity prior pulls by micrometres.
+      EXPECT_LT((step.translation().head<2>() - truth.translation()).norm(), 1e-4)
           << "tracking did not recover at frame " << i;
       EXPECT_NEAR(std::atan2(step.linear()(1, 0), step.linear()(0, 0)),
-                  std::atan2(truth.linear()(1, 0), truth.linear()(0, 0)), 1e-6)
+                  std::atan2(truth.linear()(1, 0), truth.linear()(0, 0)), 1e-5)
           << "frame " << i;
     }
     previous_estimate = f.estimate.world;

@@ -133,180 +133,70 @@ std::vector<Eigen::Vector2d> correlativeQuery(const std::vector<Eigen::Vector2d>
 }
 
 int correlativeLevels(double window, double resolution, int max_levels) {
-  int levels = 0;
-  while ((1 << levels) < 2 * static_cast<int>(std::ceil(window / resolution)) + 1 &&
-         levels < max_levels)
-    ++levels;
-  return levels;
+  return searchLevels(static_cast<int>(std::ceil(window / resolution)), max_levels);
 }
 
-namespace {
-
-struct Candidate {
-  int angle = 0, x = 0, y = 0;  // angle index; cell offset of the region's lower corner
-  int64_t score = 0;            // sum of grid values (upper bound above level 0)
-};
-
-// Branch and bound over the discretized poses: the query's points are rotated and discretized
-// once per angle; a candidate at level h stands for 2^h x 2^h offsets and its score on the
-// level-h grid bounds theirs from above.
-class Search {
- public:
-  Search(const CorrelativeGrid& grid, const std::vector<Eigen::Vector2d>& query, const SE2& guess,
-         const CorrelativeOptions& o)
-      : grid_(grid), n_(static_cast<int64_t>(query.size())) {
-    const double r = grid.resolution();
-    double range = 0;
-    for (const auto& q : query) range = std::max(range, q.norm());
-    step_ = o.angular_step;
-    if (step_ <= 0) {
-      // One cell of arc at the farthest point (Hess et al., eq. 7).
-      const double c = 1 - r * r / (2 * std::max(range, r) * std::max(range, r));
-      step_ = std::acos(std::max(c, -1.0));
-    }
-    const int half_angles = static_cast<int>(std::ceil(o.angular_window / step_ - 1e-9));
-    window_ = static_cast<int>(std::ceil(o.linear_window / r - 1e-9));
-    const double theta0 = std::atan2(guess.linear()(1, 0), guess.linear()(0, 0));
-    const Eigen::Vector2d t0 = guess.translation();
-    for (int k = -half_angles; k <= half_angles; ++k) {
-      const double theta = theta0 + k * step_;
-      const Eigen::Rotation2Dd rot(theta);
-      std::vector<Eigen::Vector2i> cells(query.size());
-      for (size_t i = 0; i < query.size(); ++i) {
-        const Eigen::Vector2d p = t0 + rot * query[i] - grid.origin();
-        cells[i] = Eigen::Vector2i(floorCell(p.x() / r), floorCell(p.y() / r));
-      }
-      thetas_.push_back(theta);
-      scans_.push_back(std::move(cells));
-    }
-    t0_ = t0;
-  }
-
-  double step() const { return step_; }
-  int angles() const { return static_cast<int>(thetas_.size()); }
-  int leaves() const { return leaves_; }
-  double toScore(int64_t sum) const { return n_ ? static_cast<double>(sum) / (255.0 * n_) : 0; }
-  SE2 pose(const Candidate& c) const {
-    const double r = grid_.resolution();
-    return se2(t0_.x() + c.x * r, t0_.y() + c.y * r, thetas_[static_cast<size_t>(c.angle)]);
-  }
-
-  // Best leaf scoring above `threshold` (score -1 when none); with `first`, the first such leaf.
-  // Leaves within `exclusion` of `center` are skipped.
-  Candidate run(int64_t threshold, bool first, const Candidate* center = nullptr,
-                double exclusion_cells = 0, int exclusion_angles = 0) {
-    center_ = center;
-    exclusion_cells_ = exclusion_cells;
-    exclusion_angles_ = exclusion_angles;
-    first_ = first;
-    done_ = false;
-    int top = 0;
-    while ((1 << top) < 2 * window_ + 1 && top < grid_.levels()) ++top;
-    std::vector<Candidate> roots;
-    const int w = 1 << top;
-    for (int a = 0; a < angles(); ++a)
-      for (int x = -window_; x <= window_; x += w)
-        for (int y = -window_; y <= window_; y += w) roots.push_back(Candidate{a, x, y, 0});
-    Candidate best{0, 0, 0, -1};
-    best_ = &best;
-    threshold_ = threshold;
-    expand(roots, top);
-    return best;
-  }
-
- private:
-  int64_t score(int level, const Candidate& c) const {
-    int64_t sum = 0;
-    for (const auto& p : scans_[static_cast<size_t>(c.angle)])
-      sum += grid_.value(level, p.x() + c.x, p.y() + c.y);
-    return sum;
-  }
-
-  // True when every pose of the region lies within the exclusion zone.
-  bool excluded(const Candidate& c, int size) const {
-    if (!center_ || std::abs(c.angle - center_->angle) > exclusion_angles_) return false;
-    const double r2 = exclusion_cells_ * exclusion_cells_;
-    for (int dx : {0, size - 1})
-      for (int dy : {0, size - 1}) {
-        const double ex = c.x + dx - center_->x, ey = c.y + dy - center_->y;
-        if (ex * ex + ey * ey > r2) return false;
-      }
-    return true;
-  }
-
-  void expand(std::vector<Candidate>& candidates, int level) {
-    const int size = 1 << level;
-    for (auto& c : candidates) c.score = excluded(c, size) ? -1 : score(level, c);
-    std::sort(candidates.begin(), candidates.end(),
-              [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
-    for (const auto& c : candidates) {
-      if (done_ || c.score <= threshold_) return;
-      if (level == 0) {
-        ++leaves_;
-        *best_ = c;
-        threshold_ = c.score;
-        done_ = first_;
-        continue;
-      }
-      const int half = size / 2;
-      std::vector<Candidate> children;
-      children.reserve(4);
-      for (int dx : {0, half})
-        for (int dy : {0, half})
-          if (c.x + dx <= window_ && c.y + dy <= window_)
-            children.push_back(Candidate{c.angle, c.x + dx, c.y + dy, 0});
-      expand(children, level - 1);
+GridScorer::GridScorer(const CorrelativeGrid& grid, const std::vector<Eigen::Vector2d>& query,
+                       const SearchLattice<Space2D>& lattice)
+    : grid_(&grid), angles_(lattice.angles), points_(query.size()) {
+  const double r = grid.resolution();
+  const SE2& c = lattice.center;
+  const double theta0 = std::atan2(c.linear()(1, 0), c.linear()(0, 0));
+  cells_.resize(static_cast<size_t>(2 * angles_ + 1));
+  for (int a = -angles_; a <= angles_; ++a) {
+    const Eigen::Rotation2Dd rot(theta0 + a * lattice.angular_step);
+    std::vector<Eigen::Vector2i>& cells = cells_[static_cast<size_t>(a + angles_)];
+    cells.reserve(query.size());
+    for (const auto& q : query) {
+      const Eigen::Vector2d p = c.translation() + rot * q - grid.origin();
+      cells.emplace_back(floorCell(p.x() / r), floorCell(p.y() / r));
     }
   }
+}
 
-  const CorrelativeGrid& grid_;
-  int64_t n_;
-  double step_ = 0;
-  int window_ = 0;
-  Eigen::Vector2d t0_;
-  std::vector<double> thetas_;
-  std::vector<std::vector<Eigen::Vector2i>> scans_;
-  const Candidate* center_ = nullptr;
-  double exclusion_cells_ = 0;
-  int exclusion_angles_ = 0;
-  bool first_ = false, done_ = false;
-  Candidate* best_ = nullptr;
-  int64_t threshold_ = 0;
-  int leaves_ = 0;
-};
+double GridScorer::score(int level, int a, int x, int y) const {
+  int64_t sum = 0;
+  for (const auto& p : cells_[static_cast<size_t>(a + angles_)])
+    sum += grid_->value(level, p.x() + x, p.y() + y);
+  return static_cast<double>(sum) / 255.0;
+}
 
-}  // namespace
+double angularStepAt(double range, double resolution) {
+  const double d = std::max(range, resolution);
+  return std::acos(std::max(1 - resolution * resolution / (2 * d * d), -1.0));
+}
 
 CorrelativeMatch matchCorrelative(const CorrelativeGrid& grid,
                                   const std::vector<Eigen::Vector2d>& query, const SE2& guess,
                                   const CorrelativeOptions& options) {
   CorrelativeMatch m;
   if (query.empty()) return m;
-  Search search(grid, query, guess, options);
-  m.angular_step = search.step();
-  m.angles = search.angles();
-  const auto n = static_cast<int64_t>(query.size());
-  // Sums are integers: a score threshold s becomes the sum just below s * 255 * n.
-  const auto sumBelow = [n](double s) {
-    return static_cast<int64_t>(std::ceil(s * 255.0 * static_cast<double>(n))) - 1;
-  };
-  const Candidate best = search.run(sumBelow(options.min_score), false);
-  m.leaves = search.leaves();
-  if (best.score < 0) return m;
-  m.found = true;
-  m.pose = search.pose(best);
-  m.score = search.toScore(best.score);
-  if (options.min_score_margin > 0) {
-    const double cells = options.distinct_translation / grid.resolution();
-    const int angles = static_cast<int>(std::floor(options.distinct_rotation / m.angular_step));
-    const Candidate second =
-        search.run(sumBelow(m.score - options.min_score_margin), true, &best, cells, angles);
-    m.leaves = search.leaves();
-    if (second.score >= 0) {
-      m.ambiguous = true;
-      m.second_score = search.toScore(second.score);
-    }
-  }
+  const double r = grid.resolution();
+  double range = 0;
+  for (const auto& q : query) range = std::max(range, q.norm());
+  SearchLattice<Space2D> lattice;
+  lattice.center = guess;
+  lattice.resolution = r;
+  lattice.angular_step = options.angular_step > 0 ? options.angular_step : angularStepAt(range, r);
+  lattice.cells = static_cast<int>(std::ceil(options.linear_window / r - 1e-9));
+  lattice.angles =
+      static_cast<int>(std::ceil(options.angular_window / lattice.angular_step - 1e-9));
+  lattice.levels = grid.levels();
+  const GridScorer scorer(grid, query, lattice);
+  SearchOptions o;
+  o.min_score = options.min_score;
+  o.ambiguity_margin = options.min_score_margin;
+  o.distinct_translation = options.distinct_translation;
+  o.distinct_rotation = options.distinct_rotation;
+  const SearchResult<Space2D> found = correlativeSearch<Space2D>({&scorer}, lattice, o);
+  m.angular_step = lattice.angular_step;
+  m.angles = 2 * lattice.angles + 1;
+  m.leaves = found.leaves;
+  m.found = found.found;
+  m.ambiguous = found.ambiguous;
+  m.pose = found.pose;
+  m.score = found.score;
+  m.second_score = found.rival_score;
   return m;
 }
 

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "plugslam/correlative_search.h"
 #include "plugslam/geometry.h"
 
 namespace plugslam {
@@ -60,6 +61,27 @@ class CorrelativeGrid {
   uint8_t outside_ = 0;
   std::vector<Level> levels_;
 };
+
+/// Scores the poses of a lattice for a query cloud against a grid: the query is turned for every
+/// heading and discretized into the grid's cells once, so a pose costs one lookup a point.
+class GridScorer : public LatticeScorer {
+ public:
+  /// `query`: points in the robot frame; `lattice` in the grid's frame, at its resolution.
+  GridScorer(const CorrelativeGrid& grid, const std::vector<Eigen::Vector2d>& query,
+             const SearchLattice<Space2D>& lattice);
+  double score(int level, int a, int x, int y) const override;
+  double maxScore() const override { return static_cast<double>(points_); }
+
+ private:
+  const CorrelativeGrid* grid_;
+  int angles_ = 0;
+  size_t points_ = 0;
+  std::vector<std::vector<Eigen::Vector2i>> cells_;  // per heading index + angles_
+};
+
+/// The heading step [rad] that moves a point at `range` by one `resolution` cell (Hess et al.,
+/// eq. 7).
+double angularStepAt(double range, double resolution);
 
 /// Options of the correlative search; windows are half-widths around the guess.
 struct CorrelativeOptions {

@@ -1,11 +1,10 @@
 // The laser2d plugin's register function: every type of the cue, by name.
 #include "plugslam/plugin.h"
-#include "plugslam/view/drawers.h"
 
-#include "correlative_seeder.h"
 #include "correlative_validator.h"
 #include "global_match_detector.h"
 #include "occupancy_map_writer.h"
+#include "plugslam/view/drawers.h"
 #include "point_cloud2d.h"
 #include "point_map_slice.h"
 #include "scan_preprocessor.h"
@@ -23,15 +22,16 @@ PLUGSLAM_PLUGIN("laser2d", "1.0.0", "2D laser: scan preprocessing, ICP slices, p
       });
   registrar.add<ScanPreprocessor>("ScanPreprocessor",
                                   "laser scan -> 2D points with normals in the robot frame");
-  registrar.add<PointToLineSlice>("PointToLineSlice", "point-to-line ICP factors (2D)");
-  registrar.add<PointToPointSlice>("PointToPointSlice", "point-to-point ICP factors (2D)");
+  registrar.add<PointToLineSlice>(
+      "PointToLineSlice",
+      "point-to-line ICP factors (2D); scores the aligner's correlative search");
+  registrar.add<PointToPointSlice>(
+      "PointToPointSlice",
+      "point-to-point ICP factors (2D); scores the aligner's correlative search");
   registrar.add<PointMapSlice>("PointMapSlice",
                                "merges points into the local map with fusion and clipping");
   registrar.add<OccupancyMapWriter>("OccupancyMapWriter",
                                     "occupancy grid of the run: PGM + YAML (map_server), PNG");
-  registrar.add<CorrelativeSeeder>(
-      "CorrelativeSeeder",
-      "aligner seeder: correlative scan-to-map search around a poor prediction (recovery)");
   registrar.add<CorrelativeValidator>(
       "CorrelativeValidator",
       "loop validator: branch-and-bound correlative scan-to-map matching over a wide window");

@@ -1,5 +1,6 @@
 #include "scan_slices.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <nanoflann.hpp>
@@ -100,6 +101,29 @@ bool ScanSliceBase::prepare(const AlignContext<Space2D>&) {
     for (const Eigen::Vector2d& p : measured.points)
       point_information_.push_back(1.0 / (s2 + k2 * (p - measured.sensor_origin).squaredNorm()));
   }
+  search_extent_ = 0;
+  for (const Eigen::Vector2d& p : measured.points)
+    if (p.norm() <= search_range()) search_extent_ = std::max(search_extent_, p.norm());
+  scorer_.reset();
+  return true;
+}
+
+double ScanSliceBase::angularStep(double resolution) const {
+  return search_extent_ > 0 ? angularStepAt(search_extent_, resolution) : 0.0;
+}
+
+bool ScanSliceBase::beginSearch(const SearchLattice<Space2D>& lattice) {
+  scorer_.reset();
+  const double r = lattice.resolution;
+  const std::vector<Eigen::Vector2d> query =
+      correlativeQuery(measurement->points, search_range(), r);
+  if (query.empty()) return false;
+  // Only the part of the scene the scan can reach from the window is rasterized.
+  const Eigen::Vector2d reach = Eigen::Vector2d::Constant(search_extent_ + (lattice.cells + 1) * r);
+  const Eigen::Vector2d c = lattice.center.translation();
+  grid_ = std::make_unique<CorrelativeGrid>(scene->points, scene->normals, point_extent(), r,
+                                            lattice.levels, c - reach, c + reach);
+  scorer_ = std::make_unique<GridScorer>(*grid_, query, lattice);
   return true;
 }
 

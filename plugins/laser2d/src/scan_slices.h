@@ -8,7 +8,9 @@
 #include <utility>
 #include <vector>
 
+#include "correlative_matcher.h"
 #include "plugslam/aligner_slice.h"
+#include "plugslam/correlative_search.h"
 #include "plugslam/solver/robust_kernel.h"
 #include "point_cloud2d.h"
 
@@ -16,8 +18,9 @@ namespace plugslam {
 namespace laser2d {
 
 /// Entries, nearest-neighbour association (k-d tree or projective) and the robust weighting
-/// shared by the laser2d aligner slices.
-class ScanSliceBase : public AlignerSlice<Space2D> {
+/// shared by the laser2d aligner slices, and the correlative score of the scan against a
+/// likelihood grid of the scene that the Multi-Aligner's search sums (ScoringSlice).
+class ScanSliceBase : public AlignerSlice<Space2D>, public ScoringSlice<Space2D> {
  public:
   Input<PointCloud2D> measurement{this, Container::measurement, "measurement", "front",
                                   "measured cloud to align (robot frame)"};
@@ -74,10 +77,35 @@ class ScanSliceBase : public AlignerSlice<Space2D> {
                                       "bearing bin width of the projective association",
                                       Range{1e-4, 0.5}};
 
+  // The search's heading step moves the farthest scored point by one cell: far points cost
+  // fine steps over the whole angular window, and beyond a few tens of metres a scan's points
+  // are too sparse to score a cell anyway (the solve still uses them).
+  Param<double> search_range{this,
+                             "search_range",
+                             30.0,
+                             "m",
+                             "the correlative search scores the scan's points within this range",
+                             Range{0.1, 1000}};
+  // A far wall's points are a beam spacing apart, wider than a cell: each stands for a patch of
+  // its wall so that the gaps between them still score.
+  Param<double> point_extent{this,
+                             "point_extent",
+                             0.1,
+                             "m",
+                             "in the search's grid each scene point covers this much of its "
+                             "wall either side (along its tangent)",
+                             Range{0, 10}};
+
   ScanSliceBase();
   ~ScanSliceBase() override;
   void configure() override;
   void associate(const Pose& t) override;
+  double angularStep(double resolution) const override;
+  bool beginSearch(const SearchLattice<Space2D>& lattice) override;
+  double score(int level, int a, int x, int y) const override {
+    return scorer_->score(level, a, x, y);
+  }
+  double maxScore() const override { return scorer_ ? scorer_->maxScore() : 0.0; }
 
   /// The pairs (measured index, scene index) of the last association.
   const std::vector<std::pair<int, int>>& pairs() const { return pairs_; }
@@ -106,6 +134,9 @@ class ScanSliceBase : public AlignerSlice<Space2D> {
 
   struct KdTree;
   std::unique_ptr<KdTree> tree_;
+  double search_extent_ = 0;               // the farthest measured point within search_range [m]
+  std::unique_ptr<CorrelativeGrid> grid_;  // of the scene, for the current search
+  std::unique_ptr<GridScorer> scorer_;
   uint64_t tree_revision_ = 0;
   size_t tree_builds_ = 0;
   double cos_normal_ = -1.0;

@@ -37,5 +37,50 @@ TEST(CorrelativeGrid, PooledLevelsBoundTheBase) {
   }
 }
 
+// The branch and bound of the SDK's correlative search finds the pose an exhaustive scoring of
+// every lattice pose finds (its bounds never prune the best), on a room seen from a guess that is
+// off in translation and heading.
+TEST(CorrelativeSearch, BranchAndBoundFindsTheExhaustiveBest) {
+  std::vector<Eigen::Vector2d> room, normals;
+  for (int i = 0; i < 200; ++i) {
+    const double t = -5 + 0.05 * i;
+    room.emplace_back(t, 3.0), normals.emplace_back(0, -1);
+    room.emplace_back(t, -2.0), normals.emplace_back(0, 1);
+    if (i < 100) room.emplace_back(4.0, -2 + 0.05 * i), normals.emplace_back(-1, 0);
+    if (i < 40) room.emplace_back(1.0 + 0.05 * i, 0.5), normals.emplace_back(0, 1);
+  }
+  const SE2 truth = se2(0.3, -0.2, 0.16);  // on the lattice
+  std::vector<Eigen::Vector2d> scan;
+  for (size_t i = 0; i < room.size(); i += 3) scan.push_back(truth.inverse() * room[i]);
+  SearchLattice<Space2D> lattice;
+  lattice.center = se2(0, 0, 0);
+  lattice.resolution = 0.1;
+  lattice.angular_step = 0.02;
+  lattice.cells = 6;
+  lattice.angles = 12;
+  lattice.levels = searchLevels(lattice.cells);
+  const Eigen::Vector2d reach(12, 12);
+  const CorrelativeGrid grid(room, normals, 0.1, lattice.resolution, lattice.levels, -reach, reach);
+  const GridScorer scorer(grid, scan, lattice);
+  double best = -1;
+  SE2 best_pose = SE2::Identity();
+  for (int a = -lattice.angles; a <= lattice.angles; ++a)
+    for (int x = -lattice.cells; x <= lattice.cells; ++x)
+      for (int y = -lattice.cells; y <= lattice.cells; ++y)
+        if (scorer.score(0, a, x, y) > best) {
+          best = scorer.score(0, a, x, y);
+          best_pose = lattice.pose(a, x, y);
+        }
+  SearchOptions o;
+  o.min_score = 0.1;
+  o.ambiguity_margin = 0;
+  const SearchResult<Space2D> found = correlativeSearch<Space2D>({&scorer}, lattice, o);
+  ASSERT_TRUE(found.found);
+  EXPECT_NEAR(found.score * scorer.maxScore(), best, 1e-9);
+  EXPECT_LT((found.pose.translation() - truth.translation()).norm(), 0.11);
+  EXPECT_NEAR(std::atan2(found.pose.linear()(1, 0), found.pose.linear()(0, 0)), 0.16, 0.021);
+  EXPECT_LT((best_pose.translation() - found.pose.translation()).norm(), 1e-9);
+}
+
 }  // namespace
 }  // namespace plugslam::laser2d

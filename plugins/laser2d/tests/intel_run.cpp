@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <chrono>
+#include <cmath>
 #include <limits>
 
 #include "occupancy_map_writer.h"
@@ -21,12 +22,22 @@ namespace {
 
 SE2 poseOf(const io::CarmenPose& p) { return se2(p.x, p.y, p.theta); }
 
-// Motion prediction from the odometry increment each frame carries (raw entry "odom_delta").
+// Motion prediction from the odometry increment each frame carries (raw entry "odom_delta"),
+// with odometry.WheelOdometry's default noise model (a differential drive's: a few per cent of
+// the step, a fifth of a turn in heading, above floors).
 class DeltaMotion final : public MotionModel<Space2D> {
  public:
-  std::optional<SE2> predict(const Frame& frame) override {
-    if (const SE2* d = frame.raw.find<SE2>("odom_delta")) return *d;
-    return std::nullopt;
+  std::optional<MotionEstimate<Space2D>> predict(const Frame& frame) override {
+    const SE2* d = frame.raw.find<SE2>("odom_delta");
+    if (!d) return std::nullopt;
+    const double m = d->translation().norm();
+    const double a = std::abs(std::atan2((*d)(1, 0), (*d)(0, 0)));
+    const double st = std::max(0.02, 0.02 * m + 0.05 * a);
+    const double sr = std::max(0.05, 0.02 * m + 0.2 * a);
+    MotionEstimate<Space2D> e;
+    e.mean = *d;
+    e.covariance = Eigen::Vector3d(st * st, st * st, sr * sr).asDiagonal();
+    return e;
   }
 };
 

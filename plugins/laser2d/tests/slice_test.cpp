@@ -65,9 +65,10 @@ TEST(PointToLineSlice, RecoversAKnownOffsetInARoom) {
   EXPECT_GT(r.inlierRatio(), 0.9);
 }
 
-TEST(MultiAligner, RetryHeadingsRecoverAHeadingErrorBeyondTheGate) {
+TEST(MultiAligner, TheSearchRecoversAHeadingErrorTheCovarianceAllows) {
   // A 0.6 rad heading error moves the far walls of a 40 x 30 m hall by metres: with a 0.3 m
-  // gate the solve from the guess finds too few pairs; from the guess turned by 0.6 rad it
+  // gate the solve from the guess finds too few pairs. With a covariance that allows it
+  // (0.3 rad sigma: a 0.9 rad window), the correlative search finds the heading and the solve
   // converges to the truth.
   const auto world = test::room(40, 30);
   const SE2 a = se2(15.0, 12.0, 0.0);
@@ -88,14 +89,15 @@ TEST(MultiAligner, RetryHeadingsRecoverAHeadingErrorBeyondTheGate) {
   const auto plain = aligner.align(frame, scene, {SE2::Identity(), SE2::Identity()});
   EXPECT_FALSE(plain.valid && rotationError(plain.pose, offset) < 0.01);
 
-  aligner.retry_headings = std::vector<double>{0.3, -0.3, 0.6, -0.6};
-  aligner.configure();
-  const auto r = aligner.align(frame, scene, {SE2::Identity(), SE2::Identity()});
+  AlignContext<Space2D> context{SE2::Identity(), SE2::Identity()};
+  context.covariance = Eigen::Vector3d(0.1 * 0.1, 0.1 * 0.1, 0.3 * 0.3).asDiagonal();
+  const auto r = aligner.align(frame, scene, context);
   EXPECT_TRUE(r.valid);
+  EXPECT_TRUE(r.searched);
   EXPECT_LT((r.pose.translation() - offset.translation()).norm(), 1e-3);
   EXPECT_LT(rotationError(r.pose, offset), 0.1 * M_PI / 180);
 
-  aligner.retry_headings = std::vector<double>{0.1, 4.0};
+  aligner.max_window = std::vector<double>{0.1};
   EXPECT_THROW(aligner.configure(), ParamError);
 }
 

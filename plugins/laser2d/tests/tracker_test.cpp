@@ -8,7 +8,6 @@
 
 #include "plugslam/multi_tracker.h"
 #include "plugslam/pipeline.h"
-#include "correlative_seeder.h"
 #include "point_map_slice.h"
 #include "scan_preprocessor.h"
 #include "scan_slices.h"
@@ -25,12 +24,19 @@ std::vector<test::Segment> office() {
   return w;
 }
 
-// Motion prediction from the increment the frame carries (biased odometry, built below).
+// Motion prediction from the increment the frame carries (biased odometry, built below), with
+// the standard deviations (m, rad) the frame's raw "odom_sigma" says, else 5 cm and 0.05 rad.
 class OdometryIncrement final : public MotionModel<Space2D> {
  public:
-  std::optional<SE2> predict(const Frame& frame) override {
-    if (const SE2* d = frame.raw.find<SE2>("odom_delta")) return *d;
-    return std::nullopt;
+  std::optional<MotionEstimate<Space2D>> predict(const Frame& frame) override {
+    const SE2* d = frame.raw.find<SE2>("odom_delta");
+    if (!d) return std::nullopt;
+    const Eigen::Vector2d* sigma = frame.raw.find<Eigen::Vector2d>("odom_sigma");
+    const Eigen::Vector2d s = sigma ? *sigma : Eigen::Vector2d(0.05, 0.05);
+    MotionEstimate<Space2D> e;
+    e.mean = *d;
+    e.covariance = Eigen::Vector3d(s.x() * s.x(), s.x() * s.x(), s.y() * s.y()).asDiagonal();
+    return e;
   }
 };
 
@@ -60,7 +66,8 @@ std::vector<SE2> lap() {
 std::pair<double, double> trackLap(
     MultiTracker<Space2D>& tracker,
     const std::function<SE2(size_t, const Eigen::Vector3d&)>& odometry,
-    const std::vector<SE2>& truth = lap()) {
+    const std::vector<SE2>& truth = lap(), double interval = 0.1,
+    const std::function<std::optional<Eigen::Vector2d>(size_t)>& sigma = {}) {
   Pipeline pipeline;  // places the local maps and composes the world pose
   pipeline.tracker.assign(std::shared_ptr<Tracker>(std::shared_ptr<Tracker>(), &tracker));
   ScanPreprocessor pre;
@@ -75,10 +82,12 @@ std::pair<double, double> trackLap(
     spec.seed = static_cast<uint32_t>(k + 1);
     Frame frame;
     frame.seq = k;
-    frame.stamp = 0.1 * k;
+    frame.stamp = interval * k;
     frame.raw.set("front_laser", test::castScan(world, truth[k], spec));
     if (k > 0)
       frame.raw.set("odom_delta", odometry(k, toVector(truth[k - 1].inverse() * truth[k])));
+    if (sigma)
+      if (const auto s = sigma(k)) frame.raw.set("odom_sigma", *s);
     EXPECT_TRUE(pre.process(frame));
     pipeline.process(frame);
     EXPECT_TRUE(frame.estimate.valid);
@@ -119,58 +128,64 @@ TEST(MultiTracker2D, RecoversASyntheticTrajectory) {
 }
 
 // The lap with exact odometry except at frame `bad`, whose increment is off by 1 m (0.6, 0.8)
-// and 30 deg.
-std::pair<double, double> lapWithOnePoorPrediction(MultiTracker<Space2D>& tracker, size_t bad) {
-  return trackLap(tracker, [bad](size_t k, const Eigen::Vector3d& d) {
-    return k == bad ? se2(d.x() + 0.6, d.y() + 0.8, d.z() + M_PI / 6) : se2(d.x(), d.y(), d.z());
-  });
+// and 30 deg, with the standard deviations `bad_sigma` (m, rad) for it.
+std::pair<double, double> lapWithOnePoorPrediction(MultiTracker<Space2D>& tracker, size_t bad,
+                                                   const Eigen::Vector2d& bad_sigma) {
+  return trackLap(
+      tracker,
+      [bad](size_t k, const Eigen::Vector3d& d) {
+        return k == bad ? se2(d.x() + 0.6, d.y() + 0.8, d.z() + M_PI / 6)
+                        : se2(d.x(), d.y(), d.z());
+      },
+      lap(), 0.1,
+      [bad, bad_sigma](size_t k) {
+        return k == bad ? std::optional<Eigen::Vector2d>(bad_sigma) : std::nullopt;
+      });
 }
 
-void build(MultiTracker<Space2D>& tracker, bool seeded) {
+void build(MultiTracker<Space2D>& tracker) {
   auto aligner = std::make_shared<MultiAligner<Space2D>>();
   aligner->slices.assign(std::make_shared<PointToLineSlice>());
-  if (seeded) aligner->seeder.assign(std::make_shared<CorrelativeSeeder>());
   aligner->configure();
   tracker.aligner.assign(aligner);
   tracker.slices.assign(std::make_shared<PointMapSlice>());
   tracker.splitter.assign(std::make_shared<DistanceSplitter>());
   tracker.motion.assign(std::make_shared<OdometryIncrement>());
-  tracker.max_correction = std::vector<double>{0.3, 0.5};  // the shipped config's gate
-  // A seed beyond the gate (the 1 m / 30 deg frame) needs twice the prediction's support.
-  tracker.seed_beyond_gate = 2.0;
   tracker.configure();
 }
 
 TEST(MultiTracker2D, RecoversFromAPredictionOffByOneMetreAndThirtyDegrees) {
-  // Issue 20: frame 40 (mid-leg, 0.15 m steps) is predicted 1 m and 30 deg off. Without a
-  // seeder the ICP solve from there fails or is gated, and the prediction's error stays in the
-  // trajectory; with the correlative seeder the frame is recovered and nothing fails.
-  MultiTracker<Space2D> plain;
-  build(plain, false);
-  const auto [plain_worst, plain_angle] = lapWithOnePoorPrediction(plain, 40);
-  std::printf("without seeder: %lu failed, worst %.3f m, %.2f deg\n",
-              static_cast<unsigned long>(plain.stats().failed), plain_worst,
-              plain_angle * 180 / M_PI);
-  // The kept prediction is off by 1 m / 30 deg; the bound leaves room for partial corrections.
-  EXPECT_GT(plain_worst, 0.5);
-
-  MultiTracker<Space2D> seeded;
-  build(seeded, true);
-  const auto [worst, worst_angle] = lapWithOnePoorPrediction(seeded, 40);
-  std::printf("with seeder: %lu failed, %lu recovered, worst %.4f m, %.3f deg\n",
-              static_cast<unsigned long>(seeded.stats().failed),
-              static_cast<unsigned long>(seeded.stats().recovered), worst,
+  // Frame 40 (mid-leg, 0.15 m steps) is predicted 1 m and 30 deg off. When its covariance says
+  // so (0.5 m, 0.3 rad: a reading long after its frame, a slip the model knows of), the search
+  // covers the error and the frame is found; nothing fails.
+  MultiTracker<Space2D> tracker;
+  build(tracker);
+  const auto [worst, worst_angle] =
+      lapWithOnePoorPrediction(tracker, 40, Eigen::Vector2d(0.5, 0.3));
+  std::printf("covered: %lu failed, %lu searched, worst %.4f m, %.3f deg\n",
+              static_cast<unsigned long>(tracker.stats().failed),
+              static_cast<unsigned long>(tracker.stats().searched), worst,
               worst_angle * 180 / M_PI);
-  EXPECT_EQ(seeded.stats().failed, 0u);
-  EXPECT_GE(seeded.stats().recovered, 1u);
+  EXPECT_EQ(tracker.stats().failed, 0u);
   // Same bounds as the exact-odometry lap above (its worst error is ~1 cm, 0.3 deg).
   EXPECT_LT(worst, 0.05);
   EXPECT_LT(worst_angle, 0.75 * M_PI / 180);
+
+  // When the model claims 5 cm and 0.05 rad, the error is far outside what it allows: the frame
+  // may fail, but it must not be taken silently at a wrong pose.
+  MultiTracker<Space2D> confident;
+  build(confident);
+  const auto [c_worst, c_angle] =
+      lapWithOnePoorPrediction(confident, 40, Eigen::Vector2d(0.05, 0.05));
+  std::printf("claimed sure: %lu failed, worst %.4f m, %.3f deg\n",
+              static_cast<unsigned long>(confident.stats().failed), c_worst, c_angle * 180 / M_PI);
+  EXPECT_TRUE(confident.stats().failed > 0 || (c_worst < 0.05 && c_angle < 0.75 * M_PI / 180));
 }
 
-// Laser only at a slow scan rate: 0.5 m steps that stop, start and turn one way then the
-// other (0.5 rad per frame), so the constant-velocity prediction is off by a whole step (0.5 m,
-// or 1 rad where the turn reverses).
+// Laser only at a slow scan rate (1 s between scans): 0.5 m steps that stop, start and turn one
+// way then the other (0.5 rad per frame), so the constant-velocity prediction is off by a whole
+// step (0.5 m, or 1 rad where the turn reverses), which the largest plausible accelerations
+// over a second cover.
 std::vector<SE2> stopAndGo() {
   std::vector<SE2> poses;
   SE2 t = se2(1.5, 1.5, 0.0);
@@ -193,49 +208,66 @@ std::vector<SE2> stopAndGo() {
   return poses;
 }
 
-void buildLaserOnly(MultiTracker<Space2D>& tracker, bool seeded) {
+TEST(MultiTracker2D, LaserOnlyTheConstantVelocityWindowCoversStopsAndTurns) {
+  MultiTracker<Space2D> tracker;
   auto aligner = std::make_shared<MultiAligner<Space2D>>();
   aligner->slices.assign(std::make_shared<PointToLineSlice>());
-  if (seeded) {
-    // The shipped CARMEN config's laser-only search.
-    auto seeder = std::make_shared<CorrelativeSeeder>();
-    seeder->linear_window = 1.5;
-    seeder->angular_window = 1.5;
-    seeder->min_score = 0.3;
-    seeder->with_measured_motion = false;
-    seeder->configure();
-    aligner->seeder.assign(seeder);
-  }
   aligner->configure();
   tracker.aligner.assign(aligner);
   tracker.slices.assign(std::make_shared<PointMapSlice>());
   tracker.splitter.assign(std::make_shared<DistanceSplitter>());
-  tracker.max_correction = std::vector<double>{0.3, 0.5};  // no gate applies: nothing measured
-  tracker.configure();
-}
-
-TEST(MultiTracker2D, LaserOnlyTheSeedersSearchChecksEveryFrame) {
-  // Issue 20, no odometry: without the search the solve from the constant-velocity prediction
-  // settles in a wrong minimum at a stop or a reversed turn; with it every frame is recovered.
+  tracker.configure();  // no motion model: constant velocity
   const auto unused = [](size_t, const Eigen::Vector3d& d) { return se2(d.x(), d.y(), d.z()); };
-  MultiTracker<Space2D> plain;
-  buildLaserOnly(plain, false);
-  const auto [plain_worst, plain_angle] = trackLap(plain, unused, stopAndGo());
-  std::printf("laser only, no search: %lu failed, worst %.3f m, %.2f deg\n",
-              static_cast<unsigned long>(plain.stats().failed), plain_worst,
-              plain_angle * 180 / M_PI);
-  MultiTracker<Space2D> checked;
-  buildLaserOnly(checked, true);
-  const auto [worst, worst_angle] = trackLap(checked, unused, stopAndGo());
-  std::printf("laser only, searched: %lu failed, %lu recovered, worst %.4f m, %.3f deg\n",
-              static_cast<unsigned long>(checked.stats().failed),
-              static_cast<unsigned long>(checked.stats().recovered), worst,
+  const auto [worst, worst_angle] = trackLap(tracker, unused, stopAndGo(), 1.0);
+  std::printf("laser only: %lu failed, %lu searched, %lu ambiguous, worst %.4f m, %.3f deg\n",
+              static_cast<unsigned long>(tracker.stats().failed),
+              static_cast<unsigned long>(tracker.stats().searched),
+              static_cast<unsigned long>(tracker.stats().ambiguous), worst,
               worst_angle * 180 / M_PI);
-  EXPECT_GT(plain_worst, 0.3);
-  EXPECT_EQ(checked.stats().failed, 0u);
-  EXPECT_GE(checked.stats().recovered, 1u);
+  EXPECT_EQ(tracker.stats().failed, 0u);
   EXPECT_LT(worst, 0.05);
   EXPECT_LT(worst_angle, 0.75 * M_PI / 180);
+}
+
+// A corridor whose ends the scan does not see: every pose along its axis fits the walls alike.
+// The search reports the match as ambiguous with its rival along the axis, and the information
+// along the axis is cut to what the two poses leave known; across it stays.
+TEST(MultiAligner, ACorridorIsAmbiguousAlongItsAxis) {
+  const auto world = test::corridor(-50, 50, 1.5);
+  test::ScanSpec spec;
+  spec.range_max = 8;
+  spec.noise = 0.005;
+  const SE2 a = se2(0.0, 0.0, 0.0);
+  const SE2 offset = se2(0.3, 0.05, 0.02);
+  ScanPreprocessor pre;
+  pre.configure();
+  Frame frame;
+  frame.raw.set("front_laser", test::castScan(world, a * offset, spec));
+  ASSERT_TRUE(pre.process(frame));
+  Frame map_frame;
+  map_frame.raw.set("front_laser", test::castScan(world, a, spec));
+  ASSERT_TRUE(pre.process(map_frame));
+  PropertyContainer scene;
+  scene.set("front", *map_frame.measurement.find<PointCloud2D>("front"));
+  MultiAligner<Space2D> aligner;
+  aligner.slices.assign(std::make_shared<PointToLineSlice>());
+  aligner.configure();
+  AlignContext<Space2D> context{SE2::Identity(), SE2::Identity()};
+  context.covariance = Eigen::Vector3d(0.5 * 0.5, 0.5 * 0.5, 0.05 * 0.05).asDiagonal();
+  const AlignResult<Space2D> r = aligner.align(frame, scene, context);
+  std::printf("corridor: valid %d ambiguous %d rival (%.3f %.3f %.3f) H diag (%.1f %.1f %.1f)\n",
+              r.valid, r.ambiguous, r.rival(0), r.rival(1), r.rival(2), r.H(0, 0), r.H(1, 1),
+              r.H(2, 2));
+  ASSERT_TRUE(r.valid);
+  EXPECT_TRUE(r.ambiguous);
+  EXPECT_GE(std::abs(r.rival(0)), 0.5);
+  EXPECT_LT(std::abs(r.rival(1)), 0.1);
+  // Across the axis the pose is right; along it, the covariance reaches the rival (a standard
+  // deviation of at least half the way to it), across it stays tight.
+  EXPECT_NEAR(r.pose.translation().y(), offset.translation().y(), 0.02);
+  const Eigen::Matrix3d covariance = r.H.inverse();
+  EXPECT_GE(std::sqrt(covariance(0, 0)), 0.45 * std::abs(r.rival(0)));
+  EXPECT_LT(std::sqrt(covariance(1, 1)), 0.01);
 }
 
 }  // namespace

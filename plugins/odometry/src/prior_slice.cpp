@@ -75,11 +75,10 @@ bool OdometryPriorSlice<S>::prepare(const AlignContext<S>& context) {
   if (new_frame) {
     before_bound_ = last_;
     bound_ = std::make_pair(context.seq, context.stamp);
-    observeDisagreement(context);
   }
   last_ = odom->pose;
   // The first reading the slice sees adds no prior, even when the motion model has a delta for
-  // it (the tracker's first aligned frame): taking that one moved freiburg-campus's relations
+  // it (the tracker's first aligned frame): taking that one moved a sparse outdoor log's relations
   // from 0.073 to 0.60 m (chaotically; the other logs by the last digits), so it waits.
   if (!before_bound_) return false;
   // The tracker's motion model read this same odometry: its delta (the same product of the same
@@ -91,41 +90,11 @@ bool OdometryPriorSlice<S>::prepare(const AlignContext<S>& context) {
   prior_ = context.previous * lift(delta);
   const double d = delta.translation().norm();
   const double a = std::abs(angleOf(delta.linear()));
-  double model_st = std::max(min_sigma_translation(), sigma_translation_per_m() * d);
-  double model_sr =
+  const double st = std::max(min_sigma_translation(), sigma_translation_per_m() * d);
+  const double sr =
       std::max(min_sigma_rotation(), sigma_rotation_per_rad() * a + sigma_rotation_per_m() * d);
-  if (model_delta && context.motion_extrapolated) {
-    // The model extrapolated part of the delta (a reading older than the frame): the wheels
-    // did not measure that part, the robot went anywhere between standing still and the
-    // extrapolation, so the prior is no surer than its size.
-    const Eigen::Isometry2d e = planar(*context.motion_extrapolated);
-    model_st += e.translation().norm();
-    model_sr += std::abs(angleOf(e.linear()));
-  }
-  if (new_frame) last_sigmas_ = Eigen::Vector2d(model_st, model_sr);
-  information_ = informationFor(scale_.x() * model_st, scale_.y() * model_sr);
+  information_ = informationFor(st, sr);
   return true;
-}
-
-template <class S>
-void OdometryPriorSlice<S>::observeDisagreement(const AlignContext<S>& context) {
-  const int n = disagreement_frames();
-  if (n == 0) {
-    scale_.setOnes();
-    return;
-  }
-  // The previous frame's residual, in units of the sigmas its prior had; a running mean of the
-  // squares over about n frames (an exponential window), so one slip weighs for a while and
-  // then fades. The scale is its root, never below 1: odometry as good as its model keeps it.
-  if (context.motion_residual && last_sigmas_) {
-    const Eigen::Vector3d e = toVector(planar(*context.motion_residual));
-    const Eigen::Vector2d z(e.head<2>().norm() / last_sigmas_->x(),
-                            std::abs(e.z()) / last_sigmas_->y());
-    const double alpha = 1.0 / n;
-    mean_square_ = (1 - alpha) * mean_square_ + alpha * z.cwiseProduct(z);
-  }
-  last_sigmas_.reset();
-  scale_ = mean_square_.cwiseSqrt().cwiseMax(1.0);
 }
 
 template <class S>

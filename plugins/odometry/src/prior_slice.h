@@ -75,16 +75,6 @@ class OdometryPriorSlice : public AlignerSlice<S> {
                                       "m",  "translation noise floor", Range{1e-9, 1e6}};
   Param<double> min_sigma_rotation{this,  "min_sigma_rotation",   0.005,
                                    "rad", "rotation noise floor", Range{1e-9, 1e6}};
-  // Odometry that disagrees with the other cues (wheel slip, a wrong scale, a kidnap) must not
-  // hold the solve: the prior's sigmas grow with the disagreement observed on the last frames,
-  // relative to the noise model above (never below it). Off by default: on the shared CARMEN
-  // logs it did not yet pay (freiburg-campus's relations went from 0.07 to 0.65 m with it on).
-  Param<int> disagreement_frames{
-      this, "disagreement_frames", 0, "frames",
-      "memory of the observed disagreement (the solved motion against the odometry, in units of "
-      "the model's sigmas) that scales the sigmas up when above 1; 0: the model's sigmas only",
-      Range{0, 100000}};
-
   void configure() override;
   void linearize(const Pose& t, NormalEquations<S>& eq) const override;
 
@@ -92,9 +82,6 @@ class OdometryPriorSlice : public AlignerSlice<S> {
   const Pose& prior() const { return prior_; }
   /// The information matrix of the bound frame's factor.
   const typename S::Matrix& information() const { return information_; }
-  /// The factor by which the bound frame's translation and rotation sigmas are scaled up for
-  /// the observed disagreement (1: none).
-  const Eigen::Vector2d& disagreementScale() const { return scale_; }
   /// The error e(T) and its Jacobian w.r.t. the right perturbation of T.
   typename S::Vector error(const Pose& t, typename S::Matrix* jacobian = nullptr) const;
 
@@ -110,9 +97,6 @@ class OdometryPriorSlice : public AlignerSlice<S> {
   virtual Factor factor(const Pose& prior) const = 0;
 
  private:
-  // Folds the previous frame's residual (context.motion_residual) into the running mean and
-  // sets scale_ for this frame.
-  void observeDisagreement(const AlignContext<S>& context);
   // Reading of the last frame seen, and the one before the frame being bound (so binding the
   // same frame twice gives the same delta).
   std::optional<Eigen::Isometry2d> last_;
@@ -120,11 +104,6 @@ class OdometryPriorSlice : public AlignerSlice<S> {
   std::optional<std::pair<uint64_t, double>> bound_;  // (seq, stamp) of the bound frame
   Pose prior_ = Pose::Identity();
   typename S::Matrix information_ = S::Matrix::Identity();
-  // The model's sigmas (translation, rotation) of the last bound frame, to normalize its
-  // residual when the next frame brings it.
-  std::optional<Eigen::Vector2d> last_sigmas_;
-  Eigen::Vector2d mean_square_ = Eigen::Vector2d::Zero();  // running, normalized residuals
-  Eigen::Vector2d scale_ = Eigen::Vector2d::Ones();
 };
 
 extern template class OdometryPriorSlice<Space2D>;

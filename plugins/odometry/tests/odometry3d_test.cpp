@@ -70,13 +70,13 @@ TEST(WheelOdometry3D, TheMountIsTheCameraOnTheVehicle) {
   model.predict(odomFrame(0, se2(0, 0, 0)));
   auto forward = model.predict(odomFrame(1, se2(2.0, 0, 0)));
   ASSERT_TRUE(forward);
-  expectPose(Eigen::Isometry3d(Eigen::Translation3d(0, 0, 2.0)), *forward, 1e-9);
+  expectPose(Eigen::Isometry3d(Eigen::Translation3d(0, 0, 2.0)), forward->mean, 1e-9);
   auto turn = model.predict(odomFrame(2, se2(2.0, 0, 0.3)));
   ASSERT_TRUE(turn);
   Eigen::Isometry3d expected = Eigen::Isometry3d::Identity();
   expected.linear() = Eigen::AngleAxisd(0.3, -Eigen::Vector3d::UnitY()).toRotationMatrix();
   // The base turns about its own up axis, 1.65 m below the camera: the camera turns in place.
-  expectPose(expected, *turn, 1e-9);
+  expectPose(expected, turn->mean, 1e-9);
 }
 
 TEST(WheelOdometry3D, DeltasComposeBackToTheCameraPath) {
@@ -98,7 +98,7 @@ TEST(WheelOdometry3D, DeltasComposeBackToTheCameraPath) {
   for (size_t i = 1; i < path.size(); ++i) {
     auto delta = model.predict(odomFrame(i, path[i]));
     ASSERT_TRUE(delta);
-    composed = composed * *delta;
+    composed = composed * delta->mean;
     expectPose(camera(i), composed, 1e-9);
   }
 }

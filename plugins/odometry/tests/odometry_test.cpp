@@ -58,7 +58,7 @@ TEST(WheelOdometry, DeltasComposeBackToTheOdometryPath) {
     }
     auto delta = model.predict(odomFrame(i, path[i]));
     ASSERT_TRUE(delta.has_value());
-    composed = composed * *delta;
+    composed = composed * delta->mean;
     expectPose(path[i], composed, 1e-9);
   }
   model.reset();
@@ -72,123 +72,56 @@ TEST(WheelOdometry, ReadsTheConfiguredEntry) {
   EXPECT_FALSE(model.predict(odomFrame(0, se2(0, 0, 0), "wheels")).has_value());
   auto delta = model.predict(odomFrame(1, se2(1, 0, 0), "wheels"));
   ASSERT_TRUE(delta.has_value());
-  expectPose(se2(1, 0, 0), *delta, 1e-12);
+  expectPose(se2(1, 0, 0), delta->mean, 1e-12);
   EXPECT_FALSE(model.predict(odomFrame(2, se2(2, 0, 0), "odom")).has_value());
   model.input = std::string("");
   EXPECT_THROW(model.configure(), plugslam::ParamError);
 }
 
-// Odometry arriving less often than the scans: a frame between two readings gets the last one,
-// stamped with its own (older) time. The model carries it to the frame's time with the recent
-// velocity, so each frame's delta is the motion of its own interval, not zero then five at once;
-// and the deltas still compose to the readings wherever a fresh one arrives.
-TEST(WheelOdometry, AStaleReadingIsExtrapolatedWithTheRecentVelocity) {
-  // 0.5 m/s forward, turning 0.3 rad/s; frames every 0.2 s, readings at every 5th frame after 10.
-  const auto truth = [](double t) {
-    const double w = 0.3, v = 0.5;
-    return se2(v / w * std::sin(w * t), v / w * (1 - std::cos(w * t)), w * t);
+// The covariance grows with the step the wheels measured (per metre and per radian, above the
+// floors) and with the time between the frame and the reading it was given: a reading older
+// than its frame did not see the motion since, which the recent speed bounds. A frame given the
+// previous reading again predicts no motion, with the covariance of the motion it missed.
+TEST(WheelOdometry, CovarianceGrowsWithTheStepAndWhatTheReadingsDidNotSee) {
+  WheelOdometry model;
+  model.configure();
+  const auto sigmas = [](const plugslam::MotionEstimate<Space2D>& e) {
+    return Eigen::Vector2d(std::sqrt(e.covariance(0, 0)), std::sqrt(e.covariance(2, 2)));
   };
-  const auto frameAt = [&](uint64_t seq) {
+  const auto at = [](double stamp, double reading, const Eigen::Isometry2d& pose) {
     Frame f;
-    f.seq = seq;
-    f.stamp = 0.2 * static_cast<double>(seq);
-    const uint64_t read = seq < 10 ? seq : seq - seq % 5;  // the last reading's frame
-    const double t = 0.2 * static_cast<double>(read);
-    f.raw.set<Odometry2D>("odom", {t, truth(t)});
+    f.stamp = stamp;
+    f.raw.set<Odometry2D>("odom", {reading, pose});
     return f;
   };
-  WheelOdometry model, stale;
-  model.configure();
-  stale.max_extrapolation = 0.0;  // the reading taken as the pose at the frame
-  stale.configure();
-  model.predict(frameAt(0));
-  stale.predict(frameAt(0));
-  Eigen::Isometry2d composed = truth(0);
-  double worst = 0, worst_stale = 0;
-  for (uint64_t i = 1; i < 40; ++i) {
-    const Frame f = frameAt(i);
-    const auto delta = model.predict(f);
-    const auto delta_stale = stale.predict(f);
-    ASSERT_TRUE(delta && delta_stale);
-    const Eigen::Isometry2d step = truth(f.stamp - 0.2).inverse() * truth(f.stamp);
-    worst = std::max(worst, (step.inverse() * *delta).translation().norm());
-    worst_stale = std::max(worst_stale, (step.inverse() * *delta_stale).translation().norm());
-    composed = composed * *delta;
-    if (i % 5 == 0) expectPose(truth(f.stamp), composed, 1e-9);  // fresh: back on the readings
-    // What was not measured is said (the tracker's gate and the prior widen by it): the
-    // extrapolation this delta ends with and the one it starts from (0.1 m per frame carried).
-    const double carried = i > 10 ? 0.1 * static_cast<double>(i % 5) : 0.0;
-    const double before = i > 11 ? 0.1 * static_cast<double>((i - 1) % 5) : 0.0;
-    EXPECT_EQ(model.extrapolated().has_value(), carried + before > 0) << i;
-    EXPECT_FALSE(stale.extrapolated().has_value());
-    if (model.extrapolated()) {
-      EXPECT_NEAR(model.extrapolated()->translation().norm(), carried + before, 0.01) << i;
-    }
-  }
-  // The true step is 0.1 m: the extrapolation is off by the turn's curvature only (1.2 cm);
-  // the stale reading predicts no motion (0.1 m off) and then five steps at once (0.4 m off).
-  EXPECT_LT(worst, 0.02);
-  EXPECT_GT(worst_stale, 0.35);
-}
-
-// A new reading older than its frame measured the step only up to its stamp. The prediction stays
-// the readings' own delta (CARMEN stamps are too loose to carry it on), but the part after the
-// reading is said (the recent velocity over the reading's age), so the tracker's gate and the
-// prior widen by it and the seeder may check the frame (issue 20). The next frame's delta starts
-// from that reading, so it holds the same part again (the frame's alignment took it up): that
-// frame says it too.
-TEST(WheelOdometry, ANewReadingOlderThanItsFrameSaysWhatItDidNotSee) {
-  WheelOdometry model;
-  model.configure();
-  // 0.5 m/s straight; frames every 0.2 s, each with a reading taken 0.1 s before it.
-  for (uint64_t i = 0; i < 10; ++i) {
-    Frame f;
-    f.seq = i;
-    f.stamp = 0.2 * static_cast<double>(i);
-    const double t = f.stamp - 0.1;
-    f.raw.set<Odometry2D>("odom", {t, se2(0.5 * t, 0, 0)});
-    const auto delta = model.predict(f);
-    if (i == 0) continue;
-    ASSERT_TRUE(delta.has_value()) << i;
-    expectPose(se2(0.1, 0, 0), *delta, 1e-12);  // reading to reading, not carried
-    ASSERT_TRUE(model.extrapolated().has_value()) << i;
-    // Its own 0.05 m after the reading, and from frame 2 on the previous frame's 0.05 m.
-    EXPECT_NEAR(model.extrapolated()->translation().norm(), i == 1 ? 0.05 : 0.10, 1e-9) << i;
-  }
-  // A reading stamped at its frame saw all of this frame's step, but the delta still starts from
-  // the previous frame's older reading.
-  Frame fresh;
-  fresh.seq = 10;
-  fresh.stamp = 2.0;
-  fresh.raw.set<Odometry2D>("odom", {2.0, se2(1.0, 0, 0)});
-  ASSERT_TRUE(model.predict(fresh).has_value());
-  ASSERT_TRUE(model.extrapolated().has_value());
-  EXPECT_NEAR(model.extrapolated()->translation().norm(), 0.05, 1e-9);
-  // The next one, from a reading at its frame to a reading at its frame, saw all of it.
-  Frame next;
-  next.seq = 11;
-  next.stamp = 2.2;
-  next.raw.set<Odometry2D>("odom", {2.2, se2(1.1, 0, 0)});
-  ASSERT_TRUE(model.predict(next).has_value());
-  EXPECT_FALSE(model.extrapolated().has_value());
-}
-
-// The extrapolation never carries more motion than the readings measured: a reading older than
-// the history behind it is carried by at most that history's motion, and max_extrapolation caps
-// the age.
-TEST(WheelOdometry, ExtrapolationIsBoundedByTheMeasuredMotionAndItsLimit) {
-  WheelOdometry model;
-  model.max_extrapolation = 2.0;
-  model.configure();
-  Frame a, b, c;
-  a.seq = 0, a.stamp = 0.0, a.raw.set<Odometry2D>("odom", {0.0, se2(0, 0, 0)});
-  b.seq = 1, b.stamp = 0.5, b.raw.set<Odometry2D>("odom", {0.5, se2(0.25, 0, 0)});
-  c.seq = 2, c.stamp = 10.0, c.raw.set<Odometry2D>("odom", {0.5, se2(0.25, 0, 0)});
-  model.predict(a);
-  model.predict(b);
-  const auto delta = model.predict(c);  // 9.5 s old, 0.5 s of readings behind it
-  ASSERT_TRUE(delta.has_value());
-  expectPose(se2(0.25, 0, 0), *delta, 1e-12);
+  ASSERT_FALSE(model.predict(at(0.0, 0.0, se2(0, 0, 0))));
+  // 0.1 m straight, read at the frame: the floors.
+  auto e = model.predict(at(0.1, 0.1, se2(0.1, 0, 0)));
+  ASSERT_TRUE(e);
+  EXPECT_NEAR(sigmas(*e).x(), model.min_sigma_translation(), 1e-12);
+  EXPECT_NEAR(sigmas(*e).y(), model.min_sigma_rotation(), 1e-12);
+  EXPECT_NEAR(e->covariance(0, 1), 0.0, 1e-15);
+  // 2 m and 1 rad: the per-metre and per-radian terms.
+  e = model.predict(at(0.2, 0.2, se2(0.1, 0, 0) * se2(2.0, 0, 1.0)));
+  ASSERT_TRUE(e);
+  EXPECT_NEAR(sigmas(*e).x(),
+              model.sigma_translation_per_m() * 2.0 + model.sigma_translation_per_rad() * 1.0,
+              1e-9);
+  EXPECT_NEAR(sigmas(*e).y(),
+              model.sigma_rotation_per_m() * 2.0 + model.sigma_rotation_per_rad() * 1.0, 1e-9);
+  // The same reading again 0.5 s later: no motion predicted, and the covariance of what the
+  // robot may have done since at its recent speed (2.1 m / 0.2 s over the readings kept).
+  const Eigen::Isometry2d last = se2(0.1, 0, 0) * se2(2.0, 0, 1.0);
+  e = model.predict(at(0.7, 0.2, last));
+  ASSERT_TRUE(e);
+  expectPose(se2(0, 0, 0), e->mean, 1e-12);
+  const double speed = 2.1 / 0.2;
+  EXPECT_NEAR(sigmas(*e).x(), model.min_sigma_translation() + speed * 0.5, 1e-9);
+  // The next fresh reading's delta starts from that old one, so the missed time counts again, at
+  // the speed over the readings kept then (2.2 m in 0.8 s).
+  e = model.predict(at(0.8, 0.8, last * se2(0.1, 0, 0)));
+  ASSERT_TRUE(e);
+  EXPECT_NEAR(sigmas(*e).x(), model.min_sigma_translation() + 2.2 / 0.8 * 0.5, 1e-9);
 }
 
 TEST(PriorSlice, JacobianMatchesNumericalDifferentiation) {
@@ -359,34 +292,6 @@ TEST(PriorSlice, TakesTheMotionModelsDeltaWhenItReadTheSameEntry) {
   }
 }
 
-// The part of the model's delta it extrapolated (a reading older than the frame) was not
-// measured: the prior's sigmas grow by its size (translation and turn), so the prior does not
-// hold the solve on a guess.
-TEST(PriorSlice, AnExtrapolatedDeltaWeighsLess) {
-  PropertyContainer scene;
-  AlignContext<Space2D> ctx{se2(0, 0, 0), se2(0, 0, 0), se2(0.5, 0.0, 0.1)};
-  ctx.motion_entry = "odom";
-  PriorSlice measured, extrapolated;
-  for (PriorSlice* s : {&measured, &extrapolated}) {
-    s->sigma_translation_per_m = 0.02;
-    s->min_sigma_translation = 0.02;
-    s->sigma_rotation_per_rad = 0.2;
-    s->min_sigma_rotation = 0.05;
-    s->configure();
-  }
-  EXPECT_FALSE(measured.bind(odomFrame(0, se2(0, 0, 0)), scene, ctx));
-  ASSERT_TRUE(measured.bind(odomFrame(1, se2(0.5, 0, 0.1)), scene, ctx));
-  ctx.motion_extrapolated = se2(0.3, 0.0, 0.05);
-  EXPECT_FALSE(extrapolated.bind(odomFrame(0, se2(0, 0, 0)), scene, ctx));
-  ASSERT_TRUE(extrapolated.bind(odomFrame(1, se2(0.5, 0, 0.1)), scene, ctx));
-  expectPose(measured.prior(), extrapolated.prior(), 1e-12);  // the same delta
-  // sigma_t 0.02 -> 0.02 + 0.3, sigma_r max(0.05, 0.2 * 0.1 + 0.02 * 0.5) = 0.05 -> 0.1.
-  EXPECT_NEAR(measured.information()(0, 0), 1 / (0.02 * 0.02), 1e-6);
-  EXPECT_NEAR(extrapolated.information()(0, 0), 1 / (0.32 * 0.32), 1e-6);
-  EXPECT_NEAR(measured.information()(2, 2), 1 / (0.05 * 0.05), 1e-6);
-  EXPECT_NEAR(extrapolated.information()(2, 2), 1 / (0.1 * 0.1), 1e-6);
-}
-
 // The tracker's prediction names the one raw entry the wheel odometry read, so a PriorSlice
 // reading that entry takes the model's delta (AlignContext::motion_entry); nothing without a
 // reading.
@@ -395,12 +300,13 @@ TEST(WheelOdometry, ThePredictionNamesTheEntryItsDeltaCameFrom) {
   model.input = std::string("wheels");
   model.configure();
   plugslam::MotionPrediction<Space2D> prediction;
-  prediction.predict(&model, false, odomFrame(0, se2(1, 0, 0), "wheels"), se2(0, 0, 0));
-  prediction.predict(&model, false, odomFrame(1, se2(2, 0, 0), "wheels"), se2(0, 0, 0));
+  const plugslam::ConstantVelocityBounds bounds;
+  prediction.predict(&model, bounds, odomFrame(0, se2(1, 0, 0), "wheels"));
+  prediction.predict(&model, bounds, odomFrame(1, se2(2, 0, 0), "wheels"));
   ASSERT_TRUE(prediction.model_motion);
-  expectPose(se2(1, 0, 0), *prediction.model_motion, 1e-12);
+  expectPose(se2(1, 0, 0), prediction.model_motion->mean, 1e-12);
   EXPECT_EQ(prediction.model_entry, "wheels");
-  prediction.predict(&model, false, odomFrame(2, se2(2, 0, 0), "other"), se2(0, 0, 0));
+  prediction.predict(&model, bounds, odomFrame(2, se2(2, 0, 0), "other"));
   EXPECT_FALSE(prediction.model_motion);
   EXPECT_EQ(prediction.model_entry, "");
 }
@@ -434,91 +340,4 @@ TEST(PriorSlice, InATrackerThePosesFollowTheOdometry) {
 
 }  // namespace
 
-namespace {
-
-TEST(PriorSlice, ObservedDisagreementWeighsTheOdometryDown) {
-  // Issue 20: 1 m steps straight ahead, model sigmas 0.05 m (0.05 per m) and 0.02 rad (0.02 per
-  // m). One frame whose solved motion was 0.5 m longer than the odometry said (a slip) is a
-  // residual of 10 sigmas: the running mean of squares over 10 frames becomes 0.1 x 100 = 10,
-  // so the next prior's translation sigma grows by sqrt(10); its rotation is untouched. It fades
-  // as 0.9^k: after 25 agreeing frames the mean is 0.72 and the model's sigma is back.
-  PriorSlice slice;
-  slice.disagreement_frames = 10;
-  slice.configure();
-  PropertyContainer scene;
-  AlignContext<Space2D> ctx{se2(0, 0, 0), se2(0, 0, 0)};
-  slice.bind(odomFrame(0, se2(0, 0, 0)), scene, ctx);
-  ASSERT_TRUE(slice.bind(odomFrame(1, se2(1, 0, 0)), scene, ctx));
-  EXPECT_NEAR(slice.information()(0, 0), 1 / (0.05 * 0.05), 1e-9);
-
-  ctx.motion_residual = se2(0.5, 0, 0);
-  ASSERT_TRUE(slice.bind(odomFrame(2, se2(2, 0, 0)), scene, ctx));
-  EXPECT_NEAR(slice.disagreementScale().x(), std::sqrt(10.0), 1e-9);
-  EXPECT_NEAR(slice.disagreementScale().y(), 1.0, 1e-12);
-  EXPECT_NEAR(slice.information()(0, 0), 1 / (10.0 * 0.05 * 0.05), 1e-9);
-  EXPECT_NEAR(slice.information()(2, 2), 1 / (0.02 * 0.02), 1e-9);
-  // Rebinding the same frame (the aligner's recovery does) does not count the residual twice.
-  ASSERT_TRUE(slice.bind(odomFrame(2, se2(2, 0, 0)), scene, ctx));
-  EXPECT_NEAR(slice.disagreementScale().x(), std::sqrt(10.0), 1e-9);
-
-  ctx.motion_residual = se2(0, 0, 0);
-  for (uint64_t k = 3; k < 28; ++k)
-    ASSERT_TRUE(slice.bind(odomFrame(k, se2(static_cast<double>(k), 0, 0)), scene, ctx));
-  EXPECT_DOUBLE_EQ(slice.disagreementScale().x(), 1.0);
-  EXPECT_NEAR(slice.information()(0, 0), 1 / (0.05 * 0.05), 1e-9);
-
-  // Off: the model's sigmas whatever the residual.
-  slice.disagreement_frames = 0;
-  ctx.motion_residual = se2(5, 0, 1);
-  ASSERT_TRUE(slice.bind(odomFrame(28, se2(28, 0, 0)), scene, ctx));
-  EXPECT_NEAR(slice.information()(0, 0), 1 / (0.05 * 0.05), 1e-9);
-}
-
-}  // namespace
-
-// Wheels 10 % short, a wheel base 5 % off and a heading drift of 5 deg per metre (issue 20's
-// degraded odometry): fed the motions the tracker solved, the model learns all three and its
-// deltas come back to the true steps; a slip among them teaches nothing.
-TEST(WheelOdometry, CalibratesScaleWheelBaseAndHeadingDriftFromTheSolvedMotion) {
-  const double scale = 0.9, rotation_scale = 1.05, drift = 5.0 * M_PI / 180;  // per metre
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> forward(0.05, 0.5), turn(-0.4, 0.4);
-  std::normal_distribution<double> noise(0.0, 0.005);
-  WheelOdometry model;
-  model.calibration_distance = 50.0;
-  model.configure();
-  Eigen::Isometry2d odom = Eigen::Isometry2d::Identity();
-  model.predict(odomFrame(0, odom));
-  double driven = 0;
-  Eigen::Vector3d last_error = Eigen::Vector3d::Zero();
-  for (uint64_t i = 1; driven < 120.0; ++i) {
-    const Eigen::Vector3d truth(forward(rng), 0.02 * turn(rng), turn(rng));
-    // What the miscalibrated wheels read for that step.
-    const Eigen::Vector3d read(truth.x() * scale, truth.y() * scale,
-                               (truth.z() + drift * truth.x()) * rotation_scale);
-    odom = odom * se2(read);
-    auto delta = model.predict(odomFrame(i, odom));
-    ASSERT_TRUE(delta.has_value());
-    last_error = plugslam::toVector(se2(truth).inverse() * *delta);
-    Eigen::Vector3d solved = truth + Eigen::Vector3d(noise(rng), noise(rng), 0.2 * noise(rng));
-    if (i == 40) solved.x() += 0.8;  // a slip: the wheels turned, the robot did not follow
-    model.solved(se2(solved));
-    driven += truth.x();
-  }
-  const auto& c = model.calibration();
-  EXPECT_NEAR(c.scale(), 1 / scale, 0.01);
-  EXPECT_NEAR(c.rotationScale(), 1 / rotation_scale, 0.01);
-  EXPECT_NEAR(c.headingPerMetre(), -drift / scale, 0.005);
-  EXPECT_LT(last_error.head<2>().norm(), 0.01);
-  EXPECT_LT(std::abs(last_error.z()), 0.005);
-
-  // Without calibration_distance the deltas are the readings'.
-  WheelOdometry plain;
-  plain.configure();
-  plain.predict(odomFrame(0, Eigen::Isometry2d::Identity()));
-  auto d = plain.predict(odomFrame(1, se2(0.3, 0.0, 0.1)));
-  plain.solved(se2(0.5, 0.0, 0.3));
-  d = plain.predict(odomFrame(2, se2(0.3, 0.0, 0.1) * se2(0.3, 0.0, 0.1)));
-  ASSERT_TRUE(d.has_value());
-  expectPose(se2(0.3, 0.0, 0.1), *d, 1e-12);
-}
+namespace {}  // namespace

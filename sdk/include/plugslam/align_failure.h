@@ -12,14 +12,14 @@ enum class AlignFailure {
   no_data,          ///< no cue gave a factor (an empty or absent measurement or scene)
   too_few_inliers,  ///< fewer inlier factors than the aligner's min_inliers
   degenerate,       ///< the information is rank deficient: some direction is unconstrained
-  gate,  ///< a correction gate rejected the solution: the tracker's max_correction (too far from
-         ///< the prediction) or the aligner's seed_tolerance (slid off its seed)
+  slid,             ///< the solve left the searched pose by a distinct peak's distance
+                    ///< (MultiAligner::distinct)
 };
 
 /// Number of AlignFailure values (for counters indexed by reason).
 constexpr std::size_t kAlignFailures = 5;
 
-/// "none", "no_data", "too_few_inliers", "degenerate", "correction_gate": run.json's keys.
+/// "none", "no_data", "too_few_inliers", "degenerate", "slid": run.json's keys.
 const char* toString(AlignFailure failure);
 
 }  // namespace abi_v1

@@ -43,26 +43,17 @@ struct AlignContext {
 
   Pose previous = Pose::Identity();  ///< the previous frame's pose in the scene frame
   Pose guess = Pose::Identity();     ///< the initial estimate (the motion prediction)
+  /// The covariance of `guess` (tangent space at it, right perturbation); empty when nothing
+  /// predicted it (a loop's validation): the aligner then neither searches nor adds a prior.
+  std::optional<typename S::Matrix> covariance;
   /// The motion since the previous frame as the tracker's motion model measured it (in the
   /// previous robot frame); empty without a motion model or a reading this frame.
   std::optional<typename S::Pose> motion;
   uint64_t seq = 0;  ///< the frame's index in the run (set by bind from the frame)
   double stamp = 0;  ///< the frame's time [s] (set by bind from the frame)
-  /// How the last aligned frame's solved motion differed from the motion model's measurement
-  /// (measured^-1 * solved, in the robot frame); empty when that frame had no measurement or
-  /// failed. A motion prior weighs itself by it (slip, bad scale, a kidnap: issue 20).
-  std::optional<typename S::Pose> motion_residual;
   /// The raw entry `motion` was measured from, when the motion model reads exactly one (a slice
   /// that reads the same entry can take `motion` instead of computing it again); else empty.
   std::string motion_entry;
-  /// How much of `motion` the motion model extrapolated rather than measured (a motion whose
-  /// distance and angle bound that part: ExtrapolatingMotionModel); empty when all of it was
-  /// measured. A motion prior is no surer of the motion than that.
-  std::optional<typename S::Pose> motion_extrapolated;
-
-  /// Whether the motion model measured all of this frame's motion (not none, not in part): else
-  /// the prediction is, wholly or in part, the last motion again.
-  bool motionMeasuredInFull() const { return motion && !motion_extrapolated; }
 };
 
 /// One cue's contribution to the Multi-Aligner.
@@ -94,8 +85,8 @@ class AlignerSlice : public Configurable {
 
 /// Optional second base of an aligner slice that can place the robot without the prediction
 /// (wide-baseline relocalisation, e.g. descriptor matching + RANSAC). The Multi-Aligner asks it,
-/// after bind(), when the solve from the prediction (and its retry headings) is invalid, then
-/// solves again from the pose it proposes: the cue's own alignment refines it.
+/// after bind(), when the solve from the prediction is invalid, then solves again from the pose
+/// it proposes: the cue's own alignment refines it.
 template <class S>
 class RecoverableSlice {
  public:

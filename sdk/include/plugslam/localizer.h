@@ -24,9 +24,23 @@ class Localizer : public Tracker {
                                 "solves for the robot pose against a frozen map"};
   Slot<MotionModel<S>> motion{this, "motion", "",
                               "predicts motion between frames (default: constant velocity)"};
-  Param<bool> constant_velocity{this, "constant_velocity", true, "",
-                                "without a motion model, predict the last motion again"};
-  Param<double> tie{this, "tie", 0.02, "",
+  Param<double> max_acceleration{this,
+                                 "max_acceleration",
+                                 1.0,
+                                 "m/s^2",
+                                 "largest plausible linear acceleration: the uncertainty of a "
+                                 "constant-velocity prediction",
+                                 Range{0, 1e4}};
+  Param<double> max_angular_acceleration{this,
+                                         "max_angular_acceleration",
+                                         2.0,
+                                         "rad/s^2",
+                                         "largest plausible angular acceleration",
+                                         Range{0, 1e4}};
+  Param<double> tie{this,
+                    "tie",
+                    0.02,
+                    "",
                     "maps whose alignment's inlier ratio is within this of the best are equally "
                     "good, and the one nearest the motion prediction wins",
                     Range{0, 1}};
@@ -43,7 +57,7 @@ class Localizer : public Tracker {
   static std::shared_ptr<Localizer> create(const std::string& name,
                                            std::shared_ptr<MultiAligner<S>> aligner,
                                            std::shared_ptr<MotionModel<S>> motion,
-                                           bool constant_velocity, double tie,
+                                           const ConstantVelocityBounds& bounds, double tie,
                                            std::vector<std::shared_ptr<const LocalMap>> maps);
 
  private:

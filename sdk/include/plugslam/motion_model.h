@@ -1,8 +1,13 @@
 #pragma once
-// MotionModel: predicts the robot's motion between two frames (e.g. from wheel odometry), and
-// the prediction a tracker makes from it.
+// MotionModel: predicts the robot's motion between two frames (e.g. from wheel odometry) as a
+// mean and a covariance, and the prediction a tracker makes from it. The covariance is the one
+// statement of how far the motion may be off: the aligner searches a window it sets and weighs
+// its motion prior by it (seed, section III: predict, search, refine).
+#include <algorithm>
+#include <deque>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "plugslam/configurable.h"
 #include "plugslam/entry.h"
@@ -12,89 +17,122 @@
 namespace plugslam {
 inline namespace abi_v1 {
 
-/// Predicts the relative motion since the previous frame it saw.
+/// A relative motion and the covariance of its error, in the tangent space at the mean (right
+/// perturbation: the true motion is mean * exp(e), e ~ N(0, covariance)).
+template <class S>
+struct MotionEstimate {
+  typename S::Pose mean = S::Pose::Identity();            ///< the motion
+  typename S::Matrix covariance = S::Matrix::Identity();  ///< of its error [m^2, rad^2]
+};
+
+/// Predicts the relative motion since the previous frame it saw, with its uncertainty.
 template <class S>
 class MotionModel : public Configurable {
  public:
   static constexpr const char* kKind = S::kDim == 2 ? "MotionModel2D" : "MotionModel3D";
   using Pose = typename S::Pose;
   ~MotionModel() override;
-  /// The motion since the previous call (in the previous robot frame), or nothing when this
-  /// frame carries no usable reading.
-  virtual std::optional<Pose> predict(const Frame& frame) = 0;
+  /// The motion since the previous call (in the previous robot frame) and its covariance, or
+  /// nothing when this frame carries no usable reading.
+  virtual std::optional<MotionEstimate<S>> predict(const Frame& frame) = 0;
   /// Forgets the previous reading.
   virtual void reset() {}
 };
 
-/// A second base a motion model may add when part of its prediction is not measured but
-/// extrapolated (a reading older than the frame, carried to the frame's time with the recent
-/// velocity): how the robot moved in that part is known only to lie between standing still and
-/// the extrapolation, so the tracker's correction gate and a motion prior widen by it.
-template <class S>
-class ExtrapolatingMotionModel {
- public:
-  virtual ~ExtrapolatingMotionModel();
-  /// How much of the last predict()'s motion was extrapolated rather than measured: a motion
-  /// whose distance and angle bound that part (the guess the motion ends with, plus the one it
-  /// starts from, whose error comes back in it); empty when all of it was measured.
-  virtual std::optional<typename S::Pose> extrapolated() const = 0;
+/// Without a motion model's reading the robot is taken to keep its velocity, and how far that
+/// can be wrong follows from how fast it can change it: the largest plausible accelerations.
+struct ConstantVelocityBounds {
+  double acceleration = 1.0;            ///< [m/s^2] largest plausible linear acceleration
+  double angular_acceleration = 2.0;    ///< [rad/s^2] largest plausible angular acceleration
+  double min_sigma_translation = 0.01;  ///< [m] floor (a stamp-less or instantaneous step)
+  double min_sigma_rotation = 0.005;    ///< [rad] floor
 };
 
-/// A second base a motion model may add to learn from the tracker: after each frame it aligned,
-/// the tracker reports the motion it solved for the frame the model last predicted, so the model
-/// can calibrate itself against the other cues (wheel odometry: wheel radii and the wheel base
-/// differ from their nominal values).
-template <class S>
-class CalibratingMotionModel {
- public:
-  virtual ~CalibratingMotionModel();
-  /// The motion the tracker solved for the frame last predicted (in the previous robot frame);
-  /// called only when the model predicted that frame and the frame was aligned, not lost.
-  virtual void solved(const typename S::Pose& motion) = 0;
-};
-
-/// The pose a tracker predicts before aligning: the motion model's delta when it has one for the
-/// frame, else the last motion again (constant velocity) or none.
+/// The motion a tracker predicts before aligning: the motion model's estimate when it has one
+/// for the frame, else the recent velocity kept over the time since the last frame, with the
+/// covariance the largest plausible accelerations give over that time.
 template <class S>
 struct MotionPrediction {
   using Pose = typename S::Pose;
-  Pose last_motion = Pose::Identity();  ///< the motion of the last frame (constant velocity)
-  /// The motion model's measured motion for the last frame (empty: the prediction did not come
-  /// from it); the aligner's slices get it in their AlignContext.
-  std::optional<Pose> model_motion;
+  /// The motion model's estimate for the last frame (empty: the prediction is constant
+  /// velocity); the aligner's slices get it in their AlignContext.
+  std::optional<MotionEstimate<S>> model_motion;
   /// The raw entry `model_motion` was measured from when the model reads exactly one (a slice
   /// reading the same entry then takes that delta rather than computing it again); else empty.
   std::string model_entry;
-  /// How much of `model_motion` the model extrapolated rather than measured
-  /// (ExtrapolatingMotionModel::extrapolated()); empty when all of it was measured.
-  std::optional<Pose> model_extrapolated;
 
-  /// The pose predicted for `frame` from the robot's pose `from`.
-  Pose predict(MotionModel<S>* model, bool constant_velocity, const Frame& frame,
-               const Pose& from) {
+  /// The motion predicted for `frame` (in the previous robot frame) and its covariance.
+  MotionEstimate<S> predict(MotionModel<S>* model, const ConstantVelocityBounds& bounds,
+                            const Frame& frame) {
     model_motion.reset();
     model_entry.clear();
-    model_extrapolated.reset();
+    interval_ = last_stamp_ ? frame.stamp - *last_stamp_ : 0.0;
+    last_stamp_ = frame.stamp;
     if (model) {
       model_motion = model->predict(frame);
-      if (model_motion) model_entry = soleRawInput(*model);
-      if (const auto* e = dynamic_cast<const ExtrapolatingMotionModel<S>*>(model);
-          e && model_motion)
-        model_extrapolated = e->extrapolated();
+      if (model_motion) {
+        model_entry = soleRawInput(*model);
+        return *model_motion;
+      }
     }
-    const Pose delta =
-        model_motion ? *model_motion : constant_velocity ? last_motion : Pose::Identity();
-    return S::normalized(from * delta);
+    MotionEstimate<S> e;
+    e.covariance.setZero();
+    // A sensor runs at a steady rate, and a log's stamps say when a frame arrived, give or take
+    // the logger's buffering (some logs' stamps go backwards): a frame within twice the typical
+    // interval of the last one came at the usual rate; only a longer gap (a dropped scan, a
+    // pause) is time the robot had to change its velocity. The velocity is the mean over the
+    // last steps, per step.
+    const double n = static_cast<double>(steps_.size());
+    double sum = 0;
+    for (const auto& step : steps_) sum += std::max(step.first, 0.0);
+    const double typical = n > 0 ? sum / n : 0.0;
+    const double dt = typical > 0 && interval_ > 2 * typical ? interval_ : typical;
+    // Known at the middle of the steps averaged; from there to the middle of this one the
+    // velocity may change by at most acceleration x (their time + this) / 2, and the position by
+    // that times this step's duration. Before a step was seen (the second frame, after a reset)
+    // the velocity is unknown: the prediction says nothing (a standard deviation no search
+    // window or prior is narrowed by).
+    const bool known = n > 0;
+    typename S::Vector per_step = S::Vector::Zero();
+    if (known) {
+      Pose total = Pose::Identity();
+      for (const auto& step : steps_) total = total * step.second;
+      per_step = S::toVector(S::normalized(total)) / n;
+    }
+    // The mean is one step at that velocity: over a gap the robot may have gone on, slowed or
+    // stopped, which the covariance, not the mean, follows.
+    e.mean = S::normalized(S::boxplus(Pose::Identity(), per_step));
+    const double reach = dt * 0.5 * (n * typical + dt);
+    const double st =
+        known ? std::max(bounds.min_sigma_translation, bounds.acceleration * reach) : kUnknown;
+    const double sr =
+        known ? std::max(bounds.min_sigma_rotation, bounds.angular_acceleration * reach) : kUnknown;
+    for (int i = 0; i < S::kDim; ++i) e.covariance(i, i) = st * st;
+    for (int i = S::kDim; i < S::kDof; ++i) e.covariance(i, i) = sr * sr;
+    return e;
+  }
+  /// Records the motion the frame just predicted really made.
+  void solved(const Pose& motion) {
+    steps_.emplace_back(interval_, motion);
+    while (steps_.size() > kMaxSteps) steps_.pop_front();
   }
   /// Forgets the motion history.
   void reset() {
-    last_motion = Pose::Identity();
+    steps_.clear();
+    interval_ = 0;
+    last_stamp_.reset();
     model_motion.reset();
     model_entry.clear();
-    model_extrapolated.reset();
   }
 
  private:
+  static constexpr double kUnknown = 1e3;  // [m, rad] a standard deviation that bounds nothing
+  // The velocity is the mean of the last few steps: enough to average the stamps' jitter, few
+  // enough to follow a turn.
+  static constexpr size_t kMaxSteps = 3;
+  std::deque<std::pair<double, Pose>> steps_;  // (stamp interval, motion) of the last frames
+  double interval_ = 0;                        // of the frame last predicted
+  std::optional<double> last_stamp_;
   // The name of the one raw entry `model` reads; empty when it reads none or several.
   static std::string soleRawInput(const MotionModel<S>& model) {
     std::string name;
@@ -110,10 +148,6 @@ struct MotionPrediction {
 
 extern template class MotionModel<Space2D>;
 extern template class MotionModel<Space3D>;
-extern template class ExtrapolatingMotionModel<Space2D>;
-extern template class ExtrapolatingMotionModel<Space3D>;
-extern template class CalibratingMotionModel<Space2D>;
-extern template class CalibratingMotionModel<Space3D>;
 
 }  // namespace abi_v1
 }  // namespace plugslam

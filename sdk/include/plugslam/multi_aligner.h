@@ -2,12 +2,19 @@
 // The Multi-Aligner (seed, section IV-B): one iterative least-squares solve on the robot's
 // relative pose, to which every slice adds the factors of its cue. Data association is redone
 // at each outer iteration; each inner iteration is a damped Gauss-Newton step.
+// Before it, when the prediction comes with a covariance, a correlative search over the window
+// that covariance sets (correlative_search.h: every slice that can score poses takes part) picks
+// where the solve starts; the prediction enters the solve as a factor with the same covariance;
+// a search that finds a rival pose nearly as good marks the result ambiguous and takes the
+// information along the rival's direction down to what the two poses leave known.
+#include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "plugslam/align_failure.h"
-#include "plugslam/align_seeder.h"
 #include "plugslam/aligner_slice.h"
+#include "plugslam/correlative_search.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
@@ -31,26 +38,31 @@ std::string describeCues(const std::vector<CueStats>& cues);
 /// Outcome of one alignment.
 template <class S>
 struct AlignResult {
-  typename S::Pose pose;         ///< estimate of the robot in the scene frame
-  typename S::Matrix H;          ///< information of the estimate (J^T W J at the solution)
-  double chi2 = 0;               ///< final robustified error
-  size_t inliers = 0;            ///< inlier factors at the solution
-  size_t factors = 0;            ///< factors at the solution
-  size_t candidates = 0;         ///< measurement elements considered, summed over the cues
-  int iterations = 0;            ///< Gauss-Newton steps taken
-  bool converged = false;        ///< the step fell below the threshold
-  bool valid = false;            ///< enough constraints for a well-posed solution
-  std::vector<CueStats> cues;    ///< per slice that took part, in slice order
+  typename S::Pose pose;       ///< estimate of the robot in the scene frame
+  typename S::Matrix H;        ///< information of the estimate (J^T W J at the solution)
+  double chi2 = 0;             ///< final robustified error
+  size_t inliers = 0;          ///< inlier factors at the solution
+  size_t factors = 0;          ///< factors at the solution
+  size_t candidates = 0;       ///< measurement elements considered, summed over the cues
+  int iterations = 0;          ///< Gauss-Newton steps taken
+  bool converged = false;      ///< the step fell below the threshold
+  bool valid = false;          ///< enough constraints for a well-posed solution
+  std::vector<CueStats> cues;  ///< per slice that took part, in slice order
   /// Why the result is not valid (none when it is); the aligner sets all but `gate`.
   AlignFailure failure = AlignFailure::no_data;
   /// With `degenerate`: the unit direction (tangent coordinates) the information constrains
   /// least, e.g. along a corridor's axis.
   typename S::Vector weakest = S::Vector::Zero();
-  /// The solve started from a seeder's pose (MultiAligner::seeder), not the prediction.
-  bool seeded = false;
-  /// With `seeded` from align(): the inliers of the best solve from the prediction (and the
-  /// retry headings) that failed, which the seed's solve replaced.
-  size_t unseeded_inliers = 0;
+  /// The correlative search found a pose and the solve started from it.
+  bool searched = false;
+  double search_score = 0;  ///< the searched pose's normalized score (0..1)
+  /// A distinct pose scored nearly as well as the chosen one: H holds no more along `rival`
+  /// than the two poses leave known.
+  bool ambiguous = false;
+  /// With `ambiguous`: the rival pose as a tangent vector at `pose` (robot frame).
+  typename S::Vector rival = S::Vector::Zero();
+  double search_s = 0;  ///< [s] spent searching
+  double refine_s = 0;  ///< [s] spent in the solve
   /// inliers / factors, 0 without factors.
   double inlierRatio() const { return factors ? double(inliers) / factors : 0.0; }
   /// How much of the measurement the scene explains: inliers over candidates, summed over the
@@ -77,63 +89,100 @@ class MultiAligner : public Configurable {
   ~MultiAligner() override;
 
   SlotList<AlignerSlice<S>> slices{this, "slices", "one per cue; all factors go in one solve"};
-  Param<int> outer_iterations{this, "outer_iterations", 10, "",
-                              "data association rounds", Range{1, 1000}};
-  Param<int> inner_iterations{this, "inner_iterations", 3, "",
-                              "Gauss-Newton steps per association round", Range{1, 100}};
-  Param<double> convergence{this, "convergence", 1e-5, "",
-                            "stop when the step's norm falls below this", Range{0, 1}};
-  Param<double> damping{this, "damping", 1e-6, "",
-                        "Levenberg damping added to the diagonal", Range{0, 1e6}};
-  Param<int> min_inliers{this, "min_inliers", 10, "",
-                         "fewer inliers than this makes the result invalid", Range{0, 1e9}};
-  // A heading error of the prediction moves far points more than the association gate (0.1 rad
-  // at 10 m is 1 m): no pairs form and the solve cannot start. Restarting from turned guesses is
-  // a one-dimensional search in the direction odometry knows worst; it costs nothing on frames
-  // that align from the prediction.
-  Param<std::vector<double>> retry_headings{
-      this, "retry_headings", {}, "rad",
-      "when the alignment from the prediction is invalid, retry from the prediction turned by "
-      "each of these about the vertical axis; the valid result with the most inliers wins"};
-
-  // Two sources of other starting poses, tried in this order while the result is invalid: slices
-  // that relocalise from their own cue without a prior (RecoverableSlice: the landmark cue's
-  // descriptor matching + RANSAC, issue 15), then the seeder's search in a window around the
-  // prediction (AlignSeeder: the laser's correlative search, issue 20).
+  Param<int> outer_iterations{this, "outer_iterations",        10,
+                              "",   "data association rounds", Range{1, 1000}};
+  Param<int> inner_iterations{
+      this, "inner_iterations", 3, "", "Gauss-Newton steps per association round", Range{1, 100}};
+  Param<double> convergence{
+      this, "convergence", 1e-5, "", "stop when the step's norm falls below this", Range{0, 1}};
+  Param<double> damping{
+      this, "damping", 1e-6, "", "Levenberg damping added to the diagonal", Range{0, 1e6}};
+  Param<int> min_inliers{
+      this,         "min_inliers", 10, "", "fewer inliers than this makes the result invalid",
+      Range{0, 1e9}};
+  // Relocalisation by a cue's own means (the landmark cue: descriptor matching + RANSAC)
+  // when the solve fails.
   Param<bool> relocalise{this, "relocalise", true, "",
-                         "when the alignment from the prediction (and the retry headings) is "
-                         "invalid, solve again from the pose each slice that can relocalise "
-                         "without a prior proposes (the landmark cue: descriptor matching + "
-                         "RANSAC)"};
+                         "when the alignment is invalid, solve again from the pose each slice "
+                         "that can relocalise without a prior proposes (the landmark cue: "
+                         "descriptor matching + RANSAC)"};
 
-  // Recovery from a poor prediction (issue 20): a search over a wide window proposes where to
-  // start when the solve from the prediction fails (or, asked by the tracker, when it lands too
-  // far from the prediction).
-  Slot<AlignSeeder<S>> seeder{this, "seeder", "",
-                              "searches the scene for starting poses when the solve from the "
-                              "prediction fails (e.g. laser2d.CorrelativeSeeder; empty: none)"};
-  Param<std::vector<double>> seed_tolerance{
-      this, "seed_tolerance", {0.2, 0.1}, "m, rad",
-      "translation and rotation: a solve from a seed that ends farther than this from it slid "
-      "off what the search found and does not count"};
+  // The search window is the prediction's uncertainty: this many standard deviations cover all
+  // but the rarest errors of a gaussian motion model.
+  Param<double> search_sigmas{this,
+                              "search_sigmas",
+                              3.0,
+                              "",
+                              "half-width of the correlative search in standard deviations of "
+                              "the prediction (0: no search)",
+                              Range{0, 100}};
+  // A scan sees a local map only within its range: a wider window finds nothing the map can
+  // confirm, only look-alikes, and costs time.
+  Param<std::vector<double>> max_window{
+      this,
+      "max_window",
+      {3.0, M_PI},
+      "m, rad",
+      "largest half-width of the search (translation, rotation) whatever the uncertainty"};
+  // The search need only land the solve within its basin of convergence (a few association
+  // gates' worth); the solve gives the precision. A coarser lattice is cheaper to rasterize.
+  Param<double> search_resolution{this,
+                                  "search_resolution",
+                                  0.1,
+                                  "m",
+                                  "translation step of the search (the scoring cues' grid cell)",
+                                  Range{1e-3, 10}};
+  Param<double> min_score{this,
+                          "min_score",
+                          0.3,
+                          "",
+                          "the searched pose's normalized score must reach this, else the solve "
+                          "starts from the prediction (after a step the scan sees much that the "
+                          "local map never did)",
+                          Range{0, 1}};
+  Param<double> ambiguity_margin{this,
+                                 "ambiguity_margin",
+                                 0.03,
+                                 "",
+                                 "a distinct pose scoring within this of the best is a rival: "
+                                 "the result is ambiguous",
+                                 Range{0, 1}};
+  // Also the check of the solve: one from the searched pose that ends a distinct peak away from
+  // it went to a minimum the search did not find best (a corridor's slide, a wall pair's swap).
+  Param<std::vector<double>> distinct{
+      this,
+      "distinct",
+      {0.5, 0.2},
+      "m, rad",
+      "poses farther apart than this (translation or rotation) are distinct peaks of the "
+      "search, not one peak's spread; a solve that ends this far from the searched pose slid "
+      "off it and is invalid"};
+  Param<bool> motion_prior{this, "motion_prior", S::kDim == 2, "",
+                           "add the prediction to the solve as a factor with its covariance "
+                           "(the motion model's, or constant velocity's)"};
 
   void configure() override;
-  /// Aligns the frame's cues to the scene, starting from context.guess (then from the retry
-  /// headings, then from the relocalising slices' and the seeder's poses, while the result is
-  /// invalid).
+  /// Aligns the frame's cues to the scene: searches the window context.covariance sets (when
+  /// given and a slice can score), then solves from the searched pose, or from context.guess,
+  /// with the prediction as a factor (motion_prior); relocalises while the result is invalid.
   AlignResult<S> align(const Frame& frame, const PropertyContainer& scene,
                        const AlignContext<S>& context);
-  /// Aligns from the seeder's poses only (none: an invalid result); the valid solve with the
-  /// most inliers wins.
-  AlignResult<S> recover(const Frame& frame, const PropertyContainer& scene,
-                         const AlignContext<S>& context);
 
  private:
-  AlignResult<S> recoverBound(const Frame& frame, const PropertyContainer& scene,
-                              const AlignContext<S>& context,
-                              const std::vector<AlignerSlice<S>*>& active);
-  // One solve from `guess` with the slices already bound.
-  AlignResult<S> solve(const std::vector<AlignerSlice<S>*>& active, const Pose& guess);
+  // The search window (translation m, rotation rad) a prediction's covariance sets.
+  std::pair<double, double> window(const typename S::Matrix& covariance) const;
+  // The correlative search of `window` around `guess` with `scorers`; the lattice and the
+  // scorers that took part are kept in `lattice` and `ready`.
+  SearchResult<S> search(const std::vector<ScoringSlice<S>*>& scorers, const Pose& guess,
+                         std::pair<double, double> window, SearchLattice<S>& lattice,
+                         std::vector<const LatticeScorer*>& ready);
+  // Invalidates `result` (slid) when the solve from the searched pose `start` left it for
+  // another peak, or left the window without a wider search confirming it.
+  void check(const std::vector<ScoringSlice<S>*>& scorers, const Pose& guess, const Pose& start,
+             const SearchLattice<S>& lattice, AlignResult<S>& result);
+  // One solve from `start` with the slices already bound (`prior`: the prediction's factor).
+  AlignResult<S> solve(const std::vector<AlignerSlice<S>*>& active, const Pose& start,
+                       const Pose* prior_mean, const typename S::Matrix* prior_information);
 };
 
 extern template class MultiAligner<Space2D>;

@@ -15,10 +15,16 @@ inline namespace abi_v1 {
 
 /// Counters a tracker keeps over a run.
 struct TrackerStats {
-  uint64_t frames = 0;          ///< frames tracked
-  uint64_t aligned = 0;         ///< frames whose alignment was valid
-  uint64_t failed = 0;          ///< frames where the aligner gave no valid or plausible solution
-  uint64_t recovered = 0;       ///< frames aligned from a seeder's pose (a poor prediction)
+  uint64_t frames = 0;    ///< frames tracked
+  uint64_t aligned = 0;   ///< frames whose alignment was valid
+  uint64_t failed = 0;    ///< frames where the aligner gave no valid or plausible solution
+  uint64_t searched = 0;  ///< frames whose solve started from the correlative search
+  /// Frames whose search found a distinct pose nearly as good (a corridor, a look-alike): the
+  /// prediction chose, and their information along the rival's direction was cut.
+  uint64_t ambiguous = 0;
+  double search_s = 0;          ///< [s] spent in the aligner's correlative search
+  double refine_s = 0;          ///< [s] spent in the aligner's solve
+  double merge_s = 0;           ///< [s] spent merging frames into local maps
   uint64_t local_maps = 0;      ///< local maps created
   double inlier_ratio_sum = 0;  ///< for the mean inlier ratio
   /// The failed frames by reason (index: AlignFailure); they sum to `failed`.

@@ -1,6 +1,9 @@
 #include "plugslam/multi_aligner.h"
 
+#include <spdlog/spdlog.h>
+
 #include <Eigen/Dense>
+#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -13,11 +16,16 @@ FactorObserver::~FactorObserver() = default;
 
 const char* toString(AlignFailure failure) {
   switch (failure) {
-    case AlignFailure::none: return "none";
-    case AlignFailure::no_data: return "no_data";
-    case AlignFailure::too_few_inliers: return "too_few_inliers";
-    case AlignFailure::degenerate: return "degenerate";
-    case AlignFailure::gate: return "correction_gate";
+    case AlignFailure::none:
+      return "none";
+    case AlignFailure::no_data:
+      return "no_data";
+    case AlignFailure::too_few_inliers:
+      return "too_few_inliers";
+    case AlignFailure::degenerate:
+      return "degenerate";
+    case AlignFailure::slid:
+      return "slid";
   }
   return "unknown";
 }
@@ -26,7 +34,8 @@ std::string describeCues(const std::vector<CueStats>& cues) {
   std::string out;
   for (const CueStats& c : cues) {
     const size_t dot = c.slice.rfind('.');
-    out += (out.empty() ? "" : "; ") + (dot == std::string::npos ? c.slice : c.slice.substr(dot + 1));
+    out +=
+        (out.empty() ? "" : "; ") + (dot == std::string::npos ? c.slice : c.slice.substr(dot + 1));
     out += ": " + std::to_string(c.inliers) + (c.inliers == 1 ? " inlier of " : " inliers of ") +
            std::to_string(c.factors) + (c.factors == 1 ? " factor" : " factors");
     if (c.candidates) out += ", " + std::to_string(c.candidates) + " candidates";
@@ -36,15 +45,16 @@ std::string describeCues(const std::vector<CueStats>& cues) {
 
 namespace {
 
-// Binds a slice's or seeder's entries: raw and measurement ones to the frame, scene ones to the
+// Binds a slice's entries: raw and measurement ones to the frame, scene ones to the
 // scene. False when one is absent.
 bool bindEntries(const std::vector<EntryBase*>& entries, const Frame& frame,
                  const PropertyContainer& scene) {
   bool present = true;
   for (EntryBase* entry : entries) {
     const Container c = entry->container();
-    entry->bind(c == Container::scene ? &scene : c == Container::raw ? &frame.raw
-                                                                     : &frame.measurement);
+    entry->bind(c == Container::scene ? &scene
+                : c == Container::raw ? &frame.raw
+                                      : &frame.measurement);
     present = present && entry->bound();
   }
   return present;
@@ -71,54 +81,174 @@ bool AlignerSlice<S>::bind(const Frame& frame, const PropertyContainer& scene,
 }
 
 template <class S>
-AlignSeeder<S>::~AlignSeeder() = default;
-
-template <class S>
-std::vector<typename S::Pose> AlignSeeder<S>::seeds(const Frame& frame,
-                                                    const PropertyContainer& scene,
-                                                    const AlignContext<S>& context) {
-  if (!bindEntries(entries(), frame, scene)) return {};
-  return search(ofFrame(context, frame));
-}
-
-template <class S>
 MultiAligner<S>::MultiAligner() = default;
 template <class S>
 MultiAligner<S>::~MultiAligner() = default;
 
 template <class S>
 void MultiAligner<S>::configure() {
-  for (double h : retry_headings())
-    if (!(std::abs(h) <= M_PI))
-      throw ParamError("retry_headings",
-                       "every value must be an angle in [-pi, pi] rad, got " + std::to_string(h));
-  if (seed_tolerance().size() != 2)
-    throw ParamError("seed_tolerance", "expected 2 values (translation m, rotation rad), got " +
-                                           std::to_string(seed_tolerance().size()));
-  for (double v : seed_tolerance())
-    if (!(v > 0)) throw ParamError("seed_tolerance", "every value must be > 0");
+  const auto pair = [](const Param<std::vector<double>>& p) {
+    if (p().size() != 2)
+      throw ParamError(p.name(), "expected 2 values (translation m, rotation rad), got " +
+                                     std::to_string(p().size()));
+    for (double v : p())
+      if (!(v > 0)) throw ParamError(p.name(), "every value must be > 0");
+  };
+  pair(max_window);
+  pair(distinct);
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// The prior's error e = log(Z^-1 T) and its Jacobian w.r.t. T's right perturbation: exact in 2D
+// (blockdiag(R(E), 1)); in 3D the rotation block is the identity, exact to first order in the
+// error, which a prior that holds keeps small.
+template <class S>
+typename S::Vector priorError(const typename S::Pose& prior, const typename S::Pose& t,
+                              typename S::Matrix& j) {
+  const typename S::Pose e = prior.inverse() * t;
+  j.setIdentity();
+  j.template topLeftCorner<S::kDim, S::kDim>() = e.linear();
+  return S::toVector(e);
+}
+
+}  // namespace
+
+template <class S>
+std::pair<double, double> MultiAligner<S>::window(const typename S::Matrix& covariance) const {
+  // search_sigmas standard deviations of the prediction's largest translation uncertainty, and
+  // of its heading's (the last tangent coordinate in 2D and 3D alike).
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, S::kDim, S::kDim>> eig(
+      covariance.template topLeftCorner<S::kDim, S::kDim>());
+  const double sigma_t = std::sqrt(std::max(0.0, eig.eigenvalues().maxCoeff()));
+  const double sigma_r = std::sqrt(std::max(0.0, covariance(S::kDof - 1, S::kDof - 1)));
+  return {std::min(max_window()[0], search_sigmas() * sigma_t),
+          std::min(max_window()[1], search_sigmas() * sigma_r)};
+}
+
+template <class S>
+SearchResult<S> MultiAligner<S>::search(const std::vector<ScoringSlice<S>*>& scorers,
+                                        const Pose& guess, std::pair<double, double> window,
+                                        SearchLattice<S>& lattice,
+                                        std::vector<const LatticeScorer*>& ready) {
+  const auto [linear, angular] = window;
+  lattice.center = guess;
+  lattice.resolution = search_resolution();
+  double step = M_PI;
+  for (const ScoringSlice<S>* s : scorers) {
+    const double a = s->angularStep(lattice.resolution);
+    if (a > 0) step = std::min(step, a);
+  }
+  lattice.angular_step = step;
+  lattice.cells = static_cast<int>(std::ceil(linear / lattice.resolution - 1e-9));
+  lattice.angles = static_cast<int>(std::ceil(angular / step - 1e-9));
+  lattice.levels = searchLevels(lattice.cells);
+  ready.clear();
+  for (ScoringSlice<S>* s : scorers)
+    if (s->beginSearch(lattice)) ready.push_back(s);
+  SearchOptions o;
+  o.min_score = min_score();
+  o.ambiguity_margin = ambiguity_margin();
+  o.distinct_translation = distinct()[0];
+  o.distinct_rotation = distinct()[1];
+  return correlativeSearch(ready, lattice, o);
+}
+
+template <class S>
+void MultiAligner<S>::check(const std::vector<ScoringSlice<S>*>& scorers, const Pose& guess,
+                            const Pose& start, const SearchLattice<S>& lattice,
+                            AlignResult<S>& result) {
+  // A solve that ends a distinct peak away from the searched pose went to a minimum the search
+  // did not find best (a corridor's slide, a wall pair's swap).
+  const Pose moved = S::normalized(start.inverse() * result.pose);
+  if (S::distance(moved) > distinct()[0] || S::angle(moved) > distinct()[1]) {
+    result.valid = false;
+    result.failure = AlignFailure::slid;
+    return;
+  }
+  // A solve that ends outside the window claims an error the prediction's covariance calls
+  // implausible, and the search never scored it: a search over a window that covers it must
+  // find it best, unambiguously (odometry that slipped), or it slid along what the scan
+  // constrains weakly.
+  const Pose off = S::normalized(guess.inverse() * result.pose);
+  const typename S::Vector v = S::toVector(off);
+  const double along = v.template head<S::kDim>().template lpNorm<Eigen::Infinity>();
+  const double turned = std::abs(v(S::kDof - 1));
+  const double linear = lattice.cells * lattice.resolution;
+  const double angular = lattice.angles * lattice.angular_step;
+  if (along <= linear + lattice.resolution && turned <= angular + lattice.angular_step) return;
+  SearchLattice<S> wide;
+  std::vector<const LatticeScorer*> ready;
+  const SearchResult<S> again =
+      search(scorers, guess,
+             {std::min(max_window()[0], std::max(linear, along + lattice.resolution)),
+              std::min(max_window()[1], std::max(angular, turned + lattice.angular_step))},
+             wide, ready);
+  const Pose apart = S::normalized(again.pose.inverse() * result.pose);
+  if (!again.found || again.ambiguous || S::distance(apart) > distinct()[0] / 2 ||
+      S::angle(apart) > distinct()[1] / 2) {
+    result.valid = false;
+    result.failure = AlignFailure::slid;
+  }
 }
 
 template <class S>
 AlignResult<S> MultiAligner<S>::align(const Frame& frame, const PropertyContainer& scene,
                                       const AlignContext<S>& context) {
   std::vector<AlignerSlice<S>*> active;
+  std::vector<ScoringSlice<S>*> scorers;
   for (auto& slice : slices)
-    if (slice->bind(frame, scene, context)) active.push_back(slice.get());
-  if (active.empty()) {
-    AlignResult<S> none;
-    none.pose = context.guess;
-    none.H.setZero();
-    return none;
+    if (slice->bind(frame, scene, context)) {
+      active.push_back(slice.get());
+      if (auto* s = dynamic_cast<ScoringSlice<S>*>(slice.get())) scorers.push_back(s);
+    }
+  AlignResult<S> result;
+  result.pose = context.guess;
+  result.H.setZero();
+  if (active.empty()) return result;
+  // Search: where in the prediction's window the cues fit best.
+  Pose start = context.guess;
+  SearchResult<S> found;
+  SearchLattice<S> lattice;
+  std::vector<const LatticeScorer*> ready;
+  const auto t_search = Clock::now();
+  if (context.covariance && !scorers.empty() && search_sigmas() > 0) {
+    found = search(scorers, context.guess, window(*context.covariance), lattice, ready);
+    if (found.found && found.ambiguous) {
+      // Two distinct poses fit alike: the cues cannot tell them apart, the prediction can.
+      const Eigen::LDLT<typename S::Matrix> cov(*context.covariance);
+      const auto mahalanobis = [&](const Pose& p) {
+        const typename S::Vector d = S::toVector(S::normalized(context.guess.inverse() * p));
+        return d.dot(cov.solve(d));
+      };
+      if (mahalanobis(found.rival) < mahalanobis(found.pose)) {
+        std::swap(found.pose, found.rival);
+        std::swap(found.score, found.rival_score);
+      }
+    }
+    if (found.found) start = found.pose;
   }
-  AlignResult<S> result = solve(active, context.guess);
-  if (result.valid) return result;
-  // The last tangent coordinate is the rotation about the vertical axis in 2D and 3D alike.
-  for (double heading : retry_headings()) {
-    typename S::Vector turn = S::Vector::Zero();
-    turn(S::kDof - 1) = heading;
-    AlignResult<S> retry = solve(active, S::boxplus(context.guess, turn));
-    if (retry.valid && (!result.valid || retry.inliers > result.inliers)) result = retry;
+  const double search_s = since(t_search);
+  // Refine: the cues' solve from there, the prediction a factor with its covariance.
+  const auto t_refine = Clock::now();
+  std::optional<typename S::Matrix> prior_information;
+  if (motion_prior() && context.covariance) {
+    const Eigen::LDLT<typename S::Matrix> ldlt(*context.covariance);
+    if (ldlt.info() == Eigen::Success && ldlt.isPositive())
+      prior_information = ldlt.solve(S::Matrix::Identity());
+  }
+  const Pose* prior = prior_information ? &context.guess : nullptr;
+  const typename S::Matrix* info = prior_information ? &*prior_information : nullptr;
+  result = solve(active, start, prior, info);
+  if (found.found) {
+    result.searched = true;
+    result.search_score = found.score;
+    if (result.valid) check(scorers, context.guess, start, lattice, result);
   }
   if (!result.valid && relocalise()) {
     // Wide-baseline recovery: a slice that can place the robot from its cue alone proposes a
@@ -128,57 +258,36 @@ AlignResult<S> MultiAligner<S>::align(const Frame& frame, const PropertyContaine
       if (!recoverable) continue;
       const std::optional<Pose> proposed = recoverable->recoverPose();
       if (!proposed) continue;
-      AlignResult<S> retry = solve(active, *proposed);
+      AlignResult<S> retry = solve(active, *proposed, prior, info);
       if (retry.valid && (!result.valid || retry.inliers > result.inliers)) result = retry;
     }
   }
-  if (result.valid || !seeder) return result;
-  AlignResult<S> seeded = recoverBound(frame, scene, context, active);
-  seeded.unseeded_inliers = result.inliers;  // the caller weighs the seed against it
-  return seeded.valid ? seeded : result;
-}
-
-template <class S>
-AlignResult<S> MultiAligner<S>::recover(const Frame& frame, const PropertyContainer& scene,
-                                        const AlignContext<S>& context) {
-  AlignResult<S> none;
-  none.pose = context.guess;
-  none.H.setZero();
-  if (!seeder) return none;
-  std::vector<AlignerSlice<S>*> active;
-  for (auto& slice : slices)
-    if (slice->bind(frame, scene, context)) active.push_back(slice.get());
-  if (active.empty()) return none;
-  return recoverBound(frame, scene, context, active);
-}
-
-template <class S>
-AlignResult<S> MultiAligner<S>::recoverBound(const Frame& frame, const PropertyContainer& scene,
-                                             const AlignContext<S>& context,
-                                             const std::vector<AlignerSlice<S>*>& active) {
-  AlignResult<S> best;
-  best.pose = context.guess;
-  best.H.setZero();
-  // A solve that leaves its seed by more than the seeder's resolution slid off what the search
-  // found (along a corridor, onto a parallel wall): it does not count.
-  for (const Pose& seed : seeder->seeds(frame, scene, context)) {
-    AlignResult<S> r = solve(active, seed);
-    const Pose moved = S::normalized(seed.inverse() * r.pose);
-    r.seeded = true;
-    if (r.valid && (S::distance(moved) > seed_tolerance()[0] ||
-                    S::angle(moved) > seed_tolerance()[1])) {
-      r.valid = false;
-      r.failure = AlignFailure::gate;
-    }
-    if (r.valid && (!best.valid || r.inliers > best.inliers)) best = r;
-    if (!best.valid && !r.valid && r.failure != AlignFailure::no_data) best = r;
+  if (result.valid && found.found && found.ambiguous) {
+    // The cues cannot tell the solve from the rival: the covariance must reach the rival, so the
+    // information along the way to it is cut to a standard deviation of half that distance
+    // (H' = (H^-1 + d d^T / 4)^-1, Sherman-Morrison). The rival is a lattice pose, off by up to
+    // half a cell across a corridor's axis, where the cues are sure: when most of the way lies
+    // along the direction the cues constrain least, the cut is along that direction alone.
+    const typename S::Vector d = S::toVector(S::normalized(result.pose.inverse() * found.rival));
+    const Eigen::SelfAdjointEigenSolver<typename S::Matrix> eig(result.H);
+    const typename S::Vector weakest = eig.eigenvectors().col(0);
+    const double along = weakest.dot(d);
+    const typename S::Vector way =
+        d.norm() > 0 && std::abs(along) >= 0.5 * d.norm() ? typename S::Vector(along * weakest) : d;
+    const typename S::Vector hd = result.H * way;
+    result.H -= hd * hd.transpose() / (4.0 + way.dot(hd));
+    result.ambiguous = true;
+    result.rival = d;
   }
-  return best;
+  result.search_s = search_s;
+  result.refine_s = since(t_refine);
+  return result;
 }
 
 template <class S>
 AlignResult<S> MultiAligner<S>::solve(const std::vector<AlignerSlice<S>*>& active,
-                                      const Pose& guess) {
+                                      const Pose& guess, const Pose* prior_mean,
+                                      const typename S::Matrix* prior_information) {
   AlignResult<S> result;
   result.pose = guess;
   result.H.setZero();
@@ -207,6 +316,15 @@ AlignResult<S> MultiAligner<S>::solve(const std::vector<AlignerSlice<S>*>& activ
       eq.inliers += part.inliers;
       eq.factors += part.factors;
       eq.candidates += part.candidates;
+    }
+    // The prediction's factor is not a cue: it adds to the sums, not to the counts.
+    if (prior_mean) {
+      typename S::Matrix j;
+      const typename S::Vector e = priorError<S>(*prior_mean, t, j);
+      const typename S::Matrix jt_omega = j.transpose() * *prior_information;
+      eq.H += jt_omega * j;
+      eq.b += jt_omega * e;
+      eq.chi2 += e.dot(*prior_information * e);
     }
   };
   typename S::Pose t = guess;
@@ -254,8 +372,7 @@ AlignResult<S> MultiAligner<S>::solve(const std::vector<AlignerSlice<S>*>& activ
     result.failure = AlignFailure::no_data;
   } else if (eq.inliers < static_cast<size_t>(min_inliers())) {
     result.failure = AlignFailure::too_few_inliers;
-  } else if (!(eig.eigenvalues().minCoeff() >
-               1e-9 * std::max(1.0, eig.eigenvalues().maxCoeff()))) {
+  } else if (!(eig.eigenvalues().minCoeff() > 1e-9 * std::max(1.0, eig.eigenvalues().maxCoeff()))) {
     result.failure = AlignFailure::degenerate;
     result.weakest = eig.eigenvectors().col(0).normalized();
   } else {
@@ -270,8 +387,6 @@ RecoverableSlice<S>::~RecoverableSlice() = default;
 
 template class AlignerSlice<Space2D>;
 template class AlignerSlice<Space3D>;
-template class AlignSeeder<Space2D>;
-template class AlignSeeder<Space3D>;
 template class RecoverableSlice<Space2D>;
 template class RecoverableSlice<Space3D>;
 template class MultiAligner<Space2D>;

@@ -4,8 +4,8 @@
 // pipeline keeps one pose per frame for its outputs (a corrected trajectory needs every frame),
 // so without this a localization run of days would grow by ~150 bytes per frame. The chunk is
 // small (1024 records, 112 KiB) so that filling it is not itself a growth a soak can see: at
-// 16384 records the two logs of a run added 3.5 MiB over the first 16k frames (+19 % of intel's
-// localization RSS); one write per 1024 frames costs nothing measurable.
+// 16384 records the two logs of a run added 3.5 MiB over the first 16k frames (+19 % of a building
+// log's localization RSS); one write per 1024 frames costs nothing measurable.
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <cstdio>

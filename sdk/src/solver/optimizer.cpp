@@ -29,7 +29,7 @@ double secondsSince(Clock::time_point t0) {
 // With an optimised BLAS, kAuto leaves the block kernels for CHOLMOD's supernodal factorisation
 // when L's block columns are this long on average (BlockCholesky::Fill::density). Measured with
 // OpenBLAS 0.3.21, one thread (docs/benchmarks.md, History): block and supernodal tie at 91
-// (intel replayed 10 times), supernodal wins 2.8x at 227 (20 times) and 3.5x at 615; the
+// (a building's log replayed 10 times), supernodal wins 2.8x at 227 (20 times) and 3.5x at 615; the
 // standard pose graphs stay at or below 43 (sphere2500), where the block kernels win 1.3-2.6x.
 constexpr double kDenseFillDensity = 100.0;
 }  // namespace

@@ -15,7 +15,7 @@ namespace io {
 class Replay {
  public:
   /// Back to pass 1 with the log's own clock; `log` names the log in messages, e.g.
-  /// "CARMEN log 'intel.log'".
+  /// "CARMEN log 'lab.log'".
   void restart(std::string log);
   /// The current pass, 1-based.
   int64_t pass() const { return pass_; }

@@ -30,8 +30,8 @@ std::vector<double> OdometryAudit::strain(const std::vector<GraphEdge>& odometry
     if (translation() > 0)
       s = err.translation().norm() / std::max(translation(), k * std::sqrt(var_t));
     if (rotation() > 0)
-      s = std::max(s, Eigen::AngleAxisd(err.linear()).angle() /
-                          std::max(rotation(), k * std::sqrt(var_r)));
+      s = std::max(
+          s, Eigen::AngleAxisd(err.linear()).angle() / std::max(rotation(), k * std::sqrt(var_r)));
     out.push_back(s);
   }
   return out;
@@ -44,7 +44,7 @@ size_t OdometryAudit::runEnds(PoseGraph& graph, GraphOptimizer& optimizer) {
   // graph component) starts the next. Between stretches only the motion model's prediction
   // holds, so loops can bend the graph there; but wheel odometry between two maps does not err
   // by metres, and where the optimized graph says it did, the loops that pull a stretch there are
-  // what is wrong (on freiburg-campus, a stretch tied 15 m along a repeating facade).
+  // what is wrong (outdoors, a stretch tied 15 m along a repeating facade).
   const auto& maps = graph.maps();
   const auto& components = graph.components();
   const auto& weak_t = graph.weakVarianceT();
@@ -56,8 +56,8 @@ size_t OdometryAudit::runEnds(PoseGraph& graph, GraphOptimizer& optimizer) {
   size_t stretches = 0;
   for (size_t i = 0; i < n; ++i) {
     const int64_t p = maps[i]->previous;
-    const bool starts = p < 0 || components[i] != components[p] || weak_t[i] != weak_t[p] ||
-                        weak_r[i] != weak_r[p];
+    const bool starts =
+        p < 0 || components[i] != components[p] || weak_t[i] != weak_t[p] || weak_r[i] != weak_r[p];
     stretch[i] = starts ? stretches++ : stretch[p];
     if (starts) length.push_back(0);
     ++length[stretch[i]];
@@ -145,13 +145,12 @@ size_t OdometryAudit::runEnds(PoseGraph& graph, GraphOptimizer& optimizer) {
         best_trial = std::move(trial);
       }
     }
-    const Eigen::Isometry3d err =
-        edgeError(edge, maps[edge.from]->origin, maps[edge.to]->origin);
+    const Eigen::Isometry3d err = edgeError(edge, maps[edge.from]->origin, maps[edge.to]->origin);
     if (best == stretches) {
-      spdlog::info("odometry audit: the graph stretches odometry edge {} -> {} by {:.2f} m, "
-                   "{:.3f} rad; no side's loops explain it, kept",
-                   edge.from, edge.to, err.translation().norm(),
-                   Eigen::AngleAxisd(err.linear()).angle());
+      spdlog::info(
+          "odometry audit: the graph stretches odometry edge {} -> {} by {:.2f} m, "
+          "{:.3f} rad; no side's loops explain it, kept",
+          edge.from, edge.to, err.translation().norm(), Eigen::AngleAxisd(err.linear()).angle());
       settled[worst] = 1;
       continue;
     }
@@ -186,11 +185,11 @@ size_t OdometryAudit::runEnds(PoseGraph& graph, GraphOptimizer& optimizer) {
         if (first < 0) first = static_cast<int64_t>(i);
         last = static_cast<int64_t>(i);
       }
-    spdlog::info("odometry audit: the graph stretched odometry edge {} -> {} by {:.2f} m, "
-                 "{:.3f} rad; rejected {} of the {} loops joining maps {}-{} to the rest",
-                 edge.from, edge.to, err.translation().norm(),
-                 Eigen::AngleAxisd(err.linear()).angle(), joining[best].size() - reinstated,
-                 joining[best].size(), first, last);
+    spdlog::info(
+        "odometry audit: the graph stretched odometry edge {} -> {} by {:.2f} m, "
+        "{:.3f} rad; rejected {} of the {} loops joining maps {}-{} to the rest",
+        edge.from, edge.to, err.translation().norm(), Eigen::AngleAxisd(err.linear()).angle(),
+        joining[best].size() - reinstated, joining[best].size(), first, last);
   }
   return rejected;
 }

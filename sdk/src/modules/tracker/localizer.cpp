@@ -42,14 +42,15 @@ void Localizer<S>::continueSession(int64_t) {
 template <class S>
 std::shared_ptr<Localizer<S>> Localizer<S>::create(
     const std::string& name, std::shared_ptr<MultiAligner<S>> aligner,
-    std::shared_ptr<MotionModel<S>> motion, bool constant_velocity, double tie,
+    std::shared_ptr<MotionModel<S>> motion, const ConstantVelocityBounds& bounds, double tie,
     std::vector<std::shared_ptr<const LocalMap>> maps) {
   auto out = std::make_shared<Localizer<S>>();
   out->setName(name);
   out->setTypeName(std::string("sdk.Localizer") + S::kSuffix);
   out->aligner.assign(std::move(aligner));
   out->motion.assign(std::move(motion));
-  out->constant_velocity = constant_velocity;
+  out->max_acceleration = bounds.acceleration;
+  out->max_angular_acceleration = bounds.angular_acceleration;
   out->tie = tie;
   out->setMaps(std::move(maps));
   return out;
@@ -58,8 +59,10 @@ std::shared_ptr<Localizer<S>> Localizer<S>::create(
 template <class S>
 std::shared_ptr<Tracker> Localizer<S>::localizer(
     std::vector<std::shared_ptr<const LocalMap>> maps) const {
-  return create(name(), aligner.shared(), motion.shared(), constant_velocity(), tie(),
-                std::move(maps));
+  ConstantVelocityBounds bounds;
+  bounds.acceleration = max_acceleration();
+  bounds.angular_acceleration = max_angular_acceleration();
+  return create(name(), aligner.shared(), motion.shared(), bounds, tie(), std::move(maps));
 }
 
 template <class S>
@@ -80,8 +83,11 @@ TrackEvents Localizer<S>::track(Frame& frame) {
   ++stats_.frames;
   const Eigen::Isometry3d at = st.located ? st.located->origin : Eigen::Isometry3d::Identity();
   const Eigen::Isometry3d previous_world = at * S::to3D(st.pose);
-  const Eigen::Isometry3d guess_world =
-      at * S::to3D(st.prediction.predict(motion.get(), constant_velocity(), frame, st.pose));
+  ConstantVelocityBounds bounds;
+  bounds.acceleration = max_acceleration();
+  bounds.angular_acceleration = max_angular_acceleration();
+  const MotionEstimate<S> predicted = st.prediction.predict(motion.get(), bounds, frame);
+  const Eigen::Isometry3d guess_world = at * S::to3D(S::normalized(st.pose * predicted.mean));
   std::vector<std::pair<double, std::shared_ptr<const LocalMap>>> near;
   for (const auto& m : st.maps)
     if (m != st.located)
@@ -108,9 +114,11 @@ TrackEvents Localizer<S>::track(Frame& frame) {
     const Pose previous = S::normalized(S::from3D(to_map * previous_world));
     const Pose guess = S::normalized(S::from3D(to_map * guess_world));
     if (m == fallback) fallback_guess = guess;
-    AlignResult<S> r = aligner->align(
-        frame, m->scene, AlignContext<S>{previous, guess, st.prediction.model_motion,
-                                          st.prediction.model_entry});
+    std::optional<Pose> measured;
+    if (st.prediction.model_motion) measured = st.prediction.model_motion->mean;
+    AlignContext<S> context{previous, guess, measured, st.prediction.model_entry};
+    context.covariance = predicted.covariance;
+    AlignResult<S> r = aligner->align(frame, m->scene, context);
     if (!r.valid) {
       if (m == fallback) fallback_failure = r.failure;
       continue;
@@ -129,13 +137,13 @@ TrackEvents Localizer<S>::track(Frame& frame) {
     st.pose = chosen->result.pose;
     ++stats_.aligned;
     stats_.inlier_ratio_sum += chosen->result.inlierRatio();
-    st.prediction.last_motion = S::normalized(chosen->previous.inverse() * st.pose);
+    st.prediction.solved(S::normalized(chosen->previous.inverse() * st.pose));
   } else {
     const Eigen::Isometry3d to_map = fallback->origin.inverse();
     const Pose previous = S::normalized(S::from3D(to_map * previous_world));
     st.located = fallback;
     st.pose = fallback_guess;
-    st.prediction.last_motion = S::normalized(previous.inverse() * st.pose);
+    st.prediction.solved(S::normalized(previous.inverse() * st.pose));
     // No saved map explains the frame: the reason is the nearest map's.
     stats_.countFailure(fallback_failure);
     spdlog::debug("frame {}: localization failed in maps near {} ({})", frame.seq, fallback->id,

@@ -1,8 +1,9 @@
 // The tracker interfaces' out-of-line parts: destructors (they anchor the vtables in the SDK),
 // the defaults of Tracker's optional abilities, and the slice and motion-model instantiations.
+#include "plugslam/tracker.h"
+
 #include "plugslam/errors.h"
 #include "plugslam/motion_model.h"
-#include "plugslam/tracker.h"
 #include "plugslam/tracker_slice.h"
 
 namespace plugslam {
@@ -33,18 +34,15 @@ void TrackerSlice<S>::merge(const Frame& frame, PropertyContainer& scene, const 
       continue;
     }
     const Container c = entry->container();
-    entry->bind(static_cast<const PropertyContainer*>(
-        c == Container::scene ? &scene : c == Container::raw ? &frame.raw : &frame.measurement));
+    entry->bind(static_cast<const PropertyContainer*>(c == Container::scene ? &scene
+                                                      : c == Container::raw ? &frame.raw
+                                                                            : &frame.measurement));
     present = present && entry->bound();
   }
   if (present) integrate(MergeContext<S>{t, frame.seq, frame.stamp});
 }
 template <class S>
 MotionModel<S>::~MotionModel() = default;
-template <class S>
-ExtrapolatingMotionModel<S>::~ExtrapolatingMotionModel() = default;
-template <class S>
-CalibratingMotionModel<S>::~CalibratingMotionModel() = default;
 
 template <class S>
 HandoverSlice<S>::~HandoverSlice() = default;
@@ -55,10 +53,6 @@ template class HandoverSlice<Space2D>;
 template class HandoverSlice<Space3D>;
 template class MotionModel<Space2D>;
 template class MotionModel<Space3D>;
-template class ExtrapolatingMotionModel<Space2D>;
-template class ExtrapolatingMotionModel<Space3D>;
-template class CalibratingMotionModel<Space2D>;
-template class CalibratingMotionModel<Space3D>;
 
 }  // namespace abi_v1
 }  // namespace plugslam

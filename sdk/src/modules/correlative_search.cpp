@@ -1,0 +1,194 @@
+#include "plugslam/correlative_search.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "plugslam/geometry.h"
+
+namespace plugslam {
+inline namespace abi_v1 {
+
+LatticeScorer::~LatticeScorer() = default;
+
+template <class S>
+typename S::Pose SearchLattice<S>::pose(int a, int x, int y) const {
+  // Turned about the scene's vertical axis through the center, moved in the scene's plane: the
+  // lattice's cells are the scene's, so a scorer rasterizes the scene once for every heading.
+  Eigen::Isometry3d c = S::to3D(center);
+  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+  p.linear() =
+      Eigen::AngleAxisd(a * angular_step, Eigen::Vector3d::UnitZ()).toRotationMatrix() * c.linear();
+  p.translation() = c.translation() + Eigen::Vector3d(x * resolution, y * resolution, 0);
+  return S::normalized(S::from3D(p));
+}
+
+template <class S>
+bool SearchLattice<S>::nearest(const typename S::Pose& p, int& a, int& x, int& y) const {
+  const Eigen::Isometry3d c = S::to3D(center), q = S::to3D(p);
+  const Eigen::Matrix3d turn = q.linear() * c.linear().transpose();
+  const double yaw = std::atan2(turn(1, 0), turn(0, 0));
+  const Eigen::Vector3d d = q.translation() - c.translation();
+  a = angular_step > 0 ? static_cast<int>(std::lround(yaw / angular_step)) : 0;
+  x = static_cast<int>(std::lround(d.x() / resolution));
+  y = static_cast<int>(std::lround(d.y() / resolution));
+  return std::abs(a) <= angles && std::abs(x) <= cells && std::abs(y) <= cells;
+}
+
+double latticeScore(const std::vector<const LatticeScorer*>& scorers, int a, int x, int y) {
+  double sum = 0, total = 0;
+  for (const LatticeScorer* s : scorers) {
+    sum += s->score(0, a, x, y);
+    total += s->maxScore();
+  }
+  return total > 0 ? sum / total : 0.0;
+}
+
+int searchLevels(int cells, int max_levels) {
+  int levels = 0;
+  while ((1 << levels) < 2 * cells + 1 && levels < max_levels) ++levels;
+  return levels;
+}
+
+namespace {
+
+struct Node {
+  int a = 0, x = 0, y = 0;  // heading index; lower corner of the node's cells
+  double score = 0;         // summed score (an upper bound above level 0)
+};
+
+// Branch and bound over the lattice, depth first, best child first: a node's bound below the
+// best leaf so far prunes it and all it stands for.
+class BranchAndBound {
+ public:
+  BranchAndBound(const std::vector<const LatticeScorer*>& scorers, int cells, int angles,
+                 int levels)
+      : scorers_(scorers), cells_(cells), angles_(angles), levels_(levels) {}
+
+  // The best leaf scoring above `threshold` (score < 0: none); leaves within `radius` cells and
+  // `turn` headings of `center` are skipped; with `first`, the first leaf found above it.
+  Node run(double threshold, bool first, const Node* center = nullptr, double radius = 0,
+           int turn = 0) {
+    center_ = center;
+    radius_ = radius;
+    turn_ = turn;
+    first_ = first;
+    done_ = false;
+    threshold_ = threshold;
+    int top = 0;
+    while ((1 << top) < 2 * cells_ + 1 && top < levels_) ++top;
+    const int w = 1 << top;
+    std::vector<Node> roots;
+    for (int a = -angles_; a <= angles_; ++a)
+      for (int x = -cells_; x <= cells_; x += w)
+        for (int y = -cells_; y <= cells_; y += w) roots.push_back(Node{a, x, y, 0});
+    Node best{0, 0, 0, -1};
+    best_ = &best;
+    expand(roots, top);
+    return best;
+  }
+  int leaves() const { return leaves_; }
+
+ private:
+  double score(int level, const Node& n) const {
+    double sum = 0;
+    for (const LatticeScorer* s : scorers_) sum += s->score(level, n.a, n.x, n.y);
+    return sum;
+  }
+  // Whether every pose of the node lies within the excluded neighbourhood.
+  bool excluded(const Node& n, int size) const {
+    if (!center_ || std::abs(n.a - center_->a) > turn_) return false;
+    for (int dx : {0, size - 1})
+      for (int dy : {0, size - 1}) {
+        const double ex = n.x + dx - center_->x, ey = n.y + dy - center_->y;
+        if (ex * ex + ey * ey > radius_ * radius_) return false;
+      }
+    return true;
+  }
+  void expand(std::vector<Node>& nodes, int level) {
+    const int size = 1 << level;
+    for (Node& n : nodes) n.score = excluded(n, size) ? -1 : score(level, n);
+    std::sort(nodes.begin(), nodes.end(),
+              [](const Node& a, const Node& b) { return a.score > b.score; });
+    for (const Node& n : nodes) {
+      if (done_ || n.score <= threshold_) return;
+      if (level == 0) {
+        ++leaves_;
+        *best_ = n;
+        threshold_ = n.score;
+        done_ = first_;
+        continue;
+      }
+      const int half = size / 2;
+      std::vector<Node> children;
+      children.reserve(4);
+      for (int dx : {0, half})
+        for (int dy : {0, half})
+          if (n.x + dx <= cells_ && n.y + dy <= cells_)
+            children.push_back(Node{n.a, n.x + dx, n.y + dy, 0});
+      expand(children, level - 1);
+    }
+  }
+
+  const std::vector<const LatticeScorer*>& scorers_;
+  int cells_, angles_, levels_;
+  const Node* center_ = nullptr;
+  double radius_ = 0;
+  int turn_ = 0;
+  bool first_ = false, done_ = false;
+  double threshold_ = 0;
+  Node* best_ = nullptr;
+  int leaves_ = 0;
+};
+
+}  // namespace
+
+template <class S>
+SearchResult<S> correlativeSearch(const std::vector<const LatticeScorer*>& scorers,
+                                  const SearchLattice<S>& lattice, const SearchOptions& options) {
+  SearchResult<S> r;
+  double total = 0;
+  for (const LatticeScorer* s : scorers) total += s->maxScore();
+  if (scorers.empty() || !(total > 0)) return r;
+  BranchAndBound search(scorers, lattice.cells, lattice.angles, lattice.levels);
+  // Scores are compared as sums; a threshold just below s * total admits a sum of s * total.
+  const auto below = [total](double s) { return s * total * (1 - 1e-12) - 1e-9; };
+  const Node best = search.run(below(options.min_score), false);
+  r.leaves = search.leaves();
+  if (best.score < 0) return r;
+  r.found = true;
+  r.pose = lattice.pose(best.a, best.x, best.y);
+  r.score = best.score / total;
+  if (options.ambiguity_margin > 0) {
+    const double radius = options.distinct_translation / lattice.resolution;
+    const int turn =
+        lattice.angular_step > 0
+            ? static_cast<int>(std::floor(options.distinct_rotation / lattice.angular_step))
+            : 0;
+    const Node rival =
+        search.run(below(r.score - options.ambiguity_margin), true, &best, radius, turn);
+    r.leaves = search.leaves();
+    if (rival.score >= 0) {
+      r.ambiguous = true;
+      r.rival = lattice.pose(rival.a, rival.x, rival.y);
+      r.rival_score = rival.score / total;
+    }
+  }
+  return r;
+}
+
+template <class S>
+ScoringSlice<S>::~ScoringSlice() = default;
+
+template struct SearchLattice<Space2D>;
+template struct SearchLattice<Space3D>;
+template class ScoringSlice<Space2D>;
+template class ScoringSlice<Space3D>;
+template SearchResult<Space2D> correlativeSearch(const std::vector<const LatticeScorer*>&,
+                                                 const SearchLattice<Space2D>&,
+                                                 const SearchOptions&);
+template SearchResult<Space3D> correlativeSearch(const std::vector<const LatticeScorer*>&,
+                                                 const SearchLattice<Space3D>&,
+                                                 const SearchOptions&);
+
+}  // namespace abi_v1
+}  // namespace plugslam
