@@ -78,12 +78,11 @@ print("\n".join(rows))
 EOF
 )
 
-machine=$("$here/machine_info.sh" 2>/dev/null || echo "$(nproc) cores")
-commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
+machine=$("$here/machine_info.sh")
 doc=$(cat <<EOF
 ## 2D laser SLAM: the Freiburg benchmark (issue 41)
 
-Machine: $machine; date $(date -u +%Y-%m-%d); commit $commit.
+$machine
 Command: \`scripts/bench/laser2d_benchmark.sh\` (configs/laser2d_carmen.yaml, only \`source.path\`
 set; laser only: \`--set pipeline.tracker.motion=null\`, the odometry unread). Metric: \`plugslam
 eval relations --relations\` on the benchmark's manual relations, E = relation^-1 * (estimate(t1)^-1
