@@ -14,8 +14,8 @@
 #include "config_builder.h"
 #include "plugin_manager.h"
 #include "plugslam/errors.h"
-#include "test_paths.h"
 #include "temp_dir.h"
+#include "test_paths.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -36,8 +36,8 @@ std::string slurp(const fs::path& p) {
 std::string program() { return plugslam::testing::buildDir() + "/bin/plugslam"; }
 // The built-in default as a run hands it to the editor: the whole document, its base merged.
 std::string defaultConfig() {
-  return runtime::resolvedYaml(runtime::loadConfigFile(plugslam::testing::sourceDir() +
-                                                       "/configs/sim2d_double_laser.yaml"));
+  return runtime::resolvedYaml(
+      runtime::loadConfigFile(plugslam::testing::sourceDir() + "/configs/sim2d_double_laser.yaml"));
 }
 
 // The module at a path of slot keys and item indexes, e.g. {"pipeline", 0, "tracker", 0}.
@@ -88,10 +88,11 @@ TEST_F(Editor, SchemaListsEveryParameterWithItsIntrospection) {
 TEST_F(Editor, TreeRoundTripsThroughYamlAndValidates) {
   const json tree = treeFromYaml(defaultConfig(), "default.yaml");
   json copy = tree;
-  // Aligner slices of the tracker: three, the first a point-to-line slice on "front".
+  // Aligner slices of the tracker: two (front and rear lasers; the odometry is the motion
+  // model's prediction), the first a point-to-line slice on "front".
   json& aligner = moduleAt(copy, {{"pipeline", 0}, {"tracker", 0}, {"aligner", 0}});
   json& slices = aligner["slots"][0]["items"];
-  ASSERT_EQ(slices.size(), 3u);
+  ASSERT_EQ(slices.size(), 2u);
   EXPECT_EQ(slices[0]["type"], "laser2d.PointToLineSlice");
   const std::string yaml = treeToYaml(tree);
   // Same tree again from the YAML it wrote: nothing lost, nothing added.
@@ -114,17 +115,21 @@ TEST_F(Editor, EditsAreValidatedWithTheCliMessages) {
   EXPECT_NE(all.find("edited.yaml"), std::string::npos) << all;
   EXPECT_NE(all.find("max_distance"), std::string::npos) << all;
   EXPECT_EQ(all.find("plugslam-editor-"), std::string::npos) << "temp path leaked: " << all;
-  // Swapping the slice for another registered aligner slice, and removing the odometry prior.
+  // Swapping the slice for another registered aligner slice, and removing the rear one.
   slice["params"] = json::array(
       {{{"key", "measurement"}, {"value", "front"}}, {{"key", "scene"}, {"value", "front"}}});
   slice["type"] = "laser2d.PointToPointSlice";
   json& slices = moduleAt(tree, {{"pipeline", 0}, {"tracker", 0}, {"aligner", 0}})["slots"][0];
-  slices["items"].erase(2);
+  slices["items"].erase(1);
   const std::string yaml = treeToYaml(tree);
   v = validateYaml(yaml, "edited.yaml", program());
   EXPECT_TRUE(v.ok) << ::testing::PrintToString(v.messages) << yaml;
   EXPECT_NE(yaml.find("laser2d.PointToPointSlice"), std::string::npos);
-  EXPECT_EQ(yaml.find("odometry.PriorSlice"), std::string::npos);
+  json again = treeFromYaml(yaml, "again.yaml");
+  EXPECT_EQ(moduleAt(again, {{"pipeline", 0}, {"tracker", 0}, {"aligner", 0}})["slots"][0]["items"]
+                .size(),
+            1u)
+      << yaml;
 }
 
 TEST_F(Editor, SavesStayInsideTheRoot) {
@@ -177,8 +182,7 @@ TEST_F(Editor, AConfigOnABaseLoadsAsTheWholeDocument) {
   EXPECT_EQ(yaml.find("base:"), std::string::npos) << yaml;
   EXPECT_NE(yaml.find("max_frames: 7"), std::string::npos) << yaml;
   EXPECT_NE(yaml.find("rear_laser"), std::string::npos) << yaml;
-  const json validated =
-      json::parse(editor.call("editor.validate", json{{"yaml", yaml}}.dump()));
+  const json validated = json::parse(editor.call("editor.validate", json{{"yaml", yaml}}.dump()));
   EXPECT_TRUE(validated["validation"]["ok"].get<bool>()) << validated.dump(2);
 }
 
