@@ -34,10 +34,7 @@ class DeltaMotion final : public MotionModel<Space2D> {
     const double a = std::abs(std::atan2((*d)(1, 0), (*d)(0, 0)));
     const double st = std::max(0.02, 0.02 * m + 0.05 * a);
     const double sr = std::max(0.05, 0.02 * m + 0.2 * a);
-    MotionEstimate<Space2D> e;
-    e.mean = *d;
-    e.covariance = Eigen::Vector3d(st * st, st * st, sr * sr).asDiagonal();
-    return e;
+    return MotionEstimate<Space2D>::isotropic(*d, st, sr);
   }
 };
 

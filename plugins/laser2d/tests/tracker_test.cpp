@@ -33,10 +33,7 @@ class OdometryIncrement final : public MotionModel<Space2D> {
     if (!d) return std::nullopt;
     const Eigen::Vector2d* sigma = frame.raw.find<Eigen::Vector2d>("odom_sigma");
     const Eigen::Vector2d s = sigma ? *sigma : Eigen::Vector2d(0.05, 0.05);
-    MotionEstimate<Space2D> e;
-    e.mean = *d;
-    e.covariance = Eigen::Vector3d(s.x() * s.x(), s.x() * s.x(), s.y() * s.y()).asDiagonal();
-    return e;
+    return MotionEstimate<Space2D>::isotropic(*d, s.x(), s.y());
   }
 };
 

@@ -55,12 +55,7 @@ std::optional<MotionEstimate<S>> WheelOdometryModel<S>::predict(const Frame& fra
     const double sr =
         std::max(min_sigma_rotation(), sigma_rotation_per_m() * d + sigma_rotation_per_rad() * a) +
         turn_rate * gap;
-    MotionEstimate<S> e;
-    e.mean = lift(delta);
-    e.covariance.setZero();
-    for (int i = 0; i < S::kDim; ++i) e.covariance(i, i) = st * st;
-    for (int i = S::kDim; i < S::kDof; ++i) e.covariance(i, i) = sr * sr;
-    out = e;
+    out = MotionEstimate<S>::isotropic(lift(delta), st, sr);
   }
   last_ = odom->pose;
   last_unseen_ = unseen;

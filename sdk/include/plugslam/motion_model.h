@@ -23,6 +23,16 @@ template <class S>
 struct MotionEstimate {
   typename S::Pose mean = S::Pose::Identity();            ///< the motion
   typename S::Matrix covariance = S::Matrix::Identity();  ///< of its error [m^2, rad^2]
+  /// A motion whose error has standard deviation `sigma_t` [m] on every translation axis and
+  /// `sigma_r` [rad] on every rotation axis, independently.
+  static MotionEstimate isotropic(const typename S::Pose& mean, double sigma_t, double sigma_r) {
+    MotionEstimate e;
+    e.mean = mean;
+    e.covariance.setZero();
+    for (int i = 0; i < S::kDim; ++i) e.covariance(i, i) = sigma_t * sigma_t;
+    for (int i = S::kDim; i < S::kDof; ++i) e.covariance(i, i) = sigma_r * sigma_r;
+    return e;
+  }
 };
 
 /// Predicts the relative motion since the previous frame it saw, with its uncertainty.
@@ -75,8 +85,6 @@ struct MotionPrediction {
         return *model_motion;
       }
     }
-    MotionEstimate<S> e;
-    e.covariance.setZero();
     // A sensor runs at a steady rate, and a log's stamps say when a frame arrived, give or take
     // the logger's buffering (some logs' stamps go backwards): a frame within twice the typical
     // interval of the last one came at the usual rate; only a longer gap (a dropped scan, a
@@ -101,15 +109,13 @@ struct MotionPrediction {
     }
     // The mean is one step at that velocity: over a gap the robot may have gone on, slowed or
     // stopped, which the covariance, not the mean, follows.
-    e.mean = S::normalized(S::boxplus(Pose::Identity(), per_step));
+    const Pose mean = S::normalized(S::boxplus(Pose::Identity(), per_step));
     const double reach = dt * 0.5 * (n * typical + dt);
     const double st =
         known ? std::max(bounds.min_sigma_translation, bounds.acceleration * reach) : kUnknown;
     const double sr =
         known ? std::max(bounds.min_sigma_rotation, bounds.angular_acceleration * reach) : kUnknown;
-    for (int i = 0; i < S::kDim; ++i) e.covariance(i, i) = st * st;
-    for (int i = S::kDim; i < S::kDof; ++i) e.covariance(i, i) = sr * sr;
-    return e;
+    return MotionEstimate<S>::isotropic(mean, st, sr);
   }
   /// Records the motion the frame just predicted really made.
   void solved(const Pose& motion) {
