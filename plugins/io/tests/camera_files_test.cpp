@@ -180,6 +180,33 @@ TEST(EurocFiles, SensorYamlMissingOrBadKeysAreNamed) {
             std::string::npos);
 }
 
+// What the camera-files fuzzer found: 8.8e57 pixels, cast to int, was undefined behaviour.
+TEST(EurocFiles, AResolutionOutsideWholePixelsIsNamedAtItsLine) {
+  const std::string yaml = kSensorYaml;
+  auto with = [&](const std::string& resolution) {
+    std::string s = yaml;
+    return s.replace(s.find("[752, 480]"), 10, resolution);
+  };
+  for (const auto& [res, what] :
+       {std::pair{"[8.77777e57, 480]", "got width 8.77777e+57"},
+        std::pair{"[752, -1e300]", "got height -1e+300"},
+        std::pair{"[752.5, 480]", "got width 752.5"}, std::pair{"[0, 480]", "got width 0"},
+        std::pair{"[752, 65537]", "got height 65537"}}) {
+    try {
+      parseEurocSensor(with(res), "cam0/sensor.yaml");
+      ADD_FAILURE() << res << " read";
+    } catch (const ParseError& e) {
+      EXPECT_EQ(e.file(), "cam0/sensor.yaml");
+      EXPECT_EQ(e.line(), 11) << res;
+      EXPECT_EQ(
+          e.message(),
+          std::string("resolution: expected [width, height] in whole pixels from 1 to 65536, ") +
+              what);
+    }
+  }
+  EXPECT_EQ(parseEurocSensor(with("[65536, 1]"), "s.yaml").intrinsics.width, 65536);
+}
+
 TEST(EurocFiles, ImageListAndGroundTruth) {
   const auto list = parseEurocImageList(
       "#timestamp [ns],filename\n1403715273262142976,1403715273262142976.png\n"

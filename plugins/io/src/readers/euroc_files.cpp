@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <cmath>
+#include <sstream>
 
 #include "plugslam/errors.h"
 #include "readers/text_table.h"
@@ -108,12 +109,19 @@ EurocCamera parseEurocSensor(const std::string& text, const std::string& file) {
     const std::vector<double> res = numberList(root, "resolution", 2, file);
     const std::vector<double> k = numberList(root, "intrinsics", 4, file);
     CameraIntrinsics& in = cam.intrinsics;
+    // Checked as doubles: casting a value outside int's range is undefined behaviour.
+    for (std::size_t i = 0; i < 2; ++i) {
+      if (!(res[i] >= 1 && res[i] <= 65536 && res[i] == std::floor(res[i]))) {
+        std::ostringstream got;
+        got << res[i];
+        throw ParseError(file, lineOf(root["resolution"][i]),
+                         std::string("resolution: expected [width, height] in whole pixels from 1 "
+                                     "to 65536, got ") +
+                             (i == 0 ? "width " : "height ") + got.str());
+      }
+    }
     in.width = static_cast<int>(res[0]);
     in.height = static_cast<int>(res[1]);
-    if (res[0] != in.width || res[1] != in.height || in.width <= 0 || in.height <= 0 ||
-        in.width > 65536 || in.height > 65536)
-      throw ParseError(file, lineOf(root["resolution"]),
-                       "resolution: expected [width, height] in whole pixels");
     in.fx = k[0];
     in.fy = k[1];
     in.cx = k[2];
