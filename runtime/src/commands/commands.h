@@ -19,5 +19,6 @@ void addOptimizeCommand(CLI::App& root, int& exit_code);
 void addShellCommand(CLI::App& root, int& exit_code);
 void addRenderCommand(CLI::App& root, int& exit_code);
 void addViewCommand(CLI::App& root, int& exit_code);
+void addSweepCommand(CLI::App& root, int& exit_code);
 
 }  // namespace plugslam::runtime

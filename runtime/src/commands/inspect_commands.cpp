@@ -43,7 +43,7 @@ void addDescribeCommand(CLI::App& root, int& exit_code) {
   static std::string type;
   cmd->add_option("TYPE", type,
                   std::string("type name, e.g. sdk.Pipeline; `") + kTopLevelName +
-                      "`: the top-level keys of a config file")
+                      "`: the top-level keys of a config file; `sweep`: the keys of a sweep file")
       ->required();
   cmd->callback([&exit_code] {
     PluginManager plugins;

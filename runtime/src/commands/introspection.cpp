@@ -11,6 +11,7 @@
 #include "plugslam/errors.h"
 #include "plugslam/registry.h"
 #include "run_config.h"
+#include "sweep/sweep_file.h"
 
 namespace plugslam::runtime {
 
@@ -137,6 +138,7 @@ std::string referenceBody(const Configurable& obj) {
 }  // namespace
 
 std::string describeType(const std::string& type) {
+  if (type == "sweep") return sweep::describeSweepFile();
   if (type == kTopLevelName) {
     RunConfig top;
     return fmt::format("{} (the top level of a config file)\n  {}\n  {}.\n", kTopLevelName,
@@ -150,7 +152,7 @@ std::string describeType(const std::string& type) {
     std::string near = registry.closest(type);
     if (!near.empty()) msg += "; did you mean '" + near + "'?";
     msg += " (`plugslam plugins` lists the types; `plugslam describe " + std::string(kTopLevelName) +
-           "` the keys of a config file's top level)";
+           "` the keys of a config file's top level, `plugslam describe sweep` those of a sweep file)";
     throw InputError(msg);
   }
   auto obj = registry.create(type);

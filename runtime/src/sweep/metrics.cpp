@@ -1,0 +1,170 @@
+#include "sweep/metrics.h"
+
+#include <fmt/format.h>
+
+#include <boost/filesystem.hpp>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "sweep/process.h"
+#include "sweep/sweep_file.h"
+
+namespace plugslam::runtime::sweep {
+
+namespace fs = boost::filesystem;
+using nlohmann::json;
+
+const std::vector<MetricInfo>& metricTable() {
+  static const std::vector<MetricInfo> table{
+      {"ate", "m",
+       "absolute trajectory error, RMSE: against the dataset's reference, else the run's own "
+       "(run.json)",
+       Better::Lower},
+      {"rpe", "m",
+       "relative pose error over 1 m of travel, RMSE: against the dataset's reference, else the "
+       "run's own",
+       Better::Lower},
+      {"relations", "m",
+       "relation error, mean translation: the dataset's relations file, else relations built "
+       "from its reference or the run's reference.tum",
+       Better::Lower},
+      {"crispness", "m",
+       "map crispness (no ground truth): the dataset's log, else its source.path",
+       Better::Lower},
+      {"coverage", "",
+       "the share of scan points that crispness matched", Better::Higher},
+      {"hz", "Hz", "frames per second of the whole run (run.json)", Better::Higher},
+      {"pipeline_hz", "Hz", "frames per second inside the pipeline (run.json)", Better::Higher},
+      {"memory", "MiB", "peak resident memory of the run", Better::Lower},
+      {"time", "s", "wall time of the run", Better::Lower},
+      {"tracking_failures", "", "frames the tracker lost (run.json)", Better::Lower},
+      {"loops", "", "loop closures accepted (run.json)", Better::Higher},
+  };
+  return table;
+}
+
+const MetricInfo* findMetric(const std::string& name) {
+  for (const auto& m : metricTable())
+    if (m.name == name) return &m;
+  return nullptr;
+}
+
+namespace {
+
+std::optional<double> number(const json& j, std::initializer_list<const char*> path) {
+  const json* at = &j;
+  for (const char* key : path) {
+    if (!at->is_object() || !at->contains(key)) return std::nullopt;
+    at = &(*at)[key];
+  }
+  if (!at->is_number()) return std::nullopt;
+  return at->get<double>();
+}
+
+json readJson(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return json();
+  try {
+    return json::parse(in);
+  } catch (const json::exception&) {
+    return json();
+  }
+}
+
+// Runs `plugslam eval ...` into a JSON file; the parsed result, or the reason there is none.
+struct Eval {
+  json result;
+  std::string error;
+};
+
+Eval evaluate(const std::string& self, std::vector<std::string> args, const std::string& out,
+              const std::string& log, const std::string& cwd) {
+  std::vector<std::string> argv{self, "-q", "eval"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  argv.insert(argv.end(), {"--format", "json", "-o", out});
+  boost::system::error_code ec;
+  fs::remove(out, ec);
+  const ProcessResult p = runProcess(argv, cwd, log, 0);
+  Eval e;
+  if (p.exit_code != 0) {
+    const auto tail = tailLines(log, 1);
+    e.error = fmt::format("plugslam eval {} failed (exit {}){}", args[0], p.exit_code,
+                          tail.empty() ? "" : ": " + tail.back());
+    return e;
+  }
+  e.result = readJson(out);
+  if (e.result.is_null()) e.error = "plugslam eval " + args[0] + " wrote no result";
+  return e;
+}
+
+}  // namespace
+
+MetricValues measure(const std::vector<std::string>& names, const Scoring& scoring,
+                     const RunFacts& run, const std::string& self, const std::string& work_dir,
+                     const std::string& source_path) {
+  MetricValues m;
+  const json report = readJson(run.out_dir + "/run.json");
+  const std::string trajectory = run.out_dir + "/trajectory.tum";
+  const std::string own_reference = run.out_dir + "/reference.tum";
+  const std::string log = work_dir + "/eval.log";
+  const auto set = [&](const std::string& name, std::optional<double> v, const std::string& why) {
+    m.values[name] = v;
+    if (!v) m.errors[name] = why;
+  };
+  std::optional<Eval> crisp;  // crispness and coverage come from one evaluation
+  for (const auto& name : names) {
+    if (name == "ate" || name == "rpe") {
+      if (!scoring.reference.empty()) {
+        std::vector<std::string> args{name, scoring.reference, trajectory};
+        if (name == "rpe") args.insert(args.end(), {"--unit", "m", "--delta", "1"});
+        const Eval e = evaluate(self, args, work_dir + "/" + name + ".json", log, run.cwd);
+        set(name, number(e.result, {"translation_m", "rmse"}), e.error);
+      } else {
+        set(name, number(report, {"reference", name == "ate" ? "ate_rmse_m" : "rpe_1m_rmse_m"}),
+            "the dataset names no reference and the run scored none (run.json has no "
+            "'reference')");
+      }
+    } else if (name == "relations") {
+      std::vector<std::string> args{"relations", trajectory};
+      if (!scoring.relations.empty())
+        args.insert(args.end(), {"--relations", scoring.relations});
+      else if (!scoring.reference.empty())
+        args.insert(args.end(), {"--reference", scoring.reference});
+      else if (fs::exists(own_reference))
+        args.insert(args.end(), {"--reference", own_reference});
+      else {
+        set(name, std::nullopt, "no relations file, no reference, and the run wrote no reference.tum");
+        continue;
+      }
+      const Eval e = evaluate(self, args, work_dir + "/relations.json", log, run.cwd);
+      set(name, number(e.result, {"translation_m", "mean"}), e.error);
+    } else if (name == "crispness" || name == "coverage") {
+      if (!crisp) {
+        const std::string input = !scoring.log.empty() ? scoring.log : source_path;
+        if (input.empty()) {
+          crisp = Eval{json(), "the dataset names no log and sets no source.path"};
+        } else {
+          std::vector<std::string> args{"crispness", input, trajectory};
+          if (!scoring.laser.empty()) args.insert(args.end(), {"--laser", scoring.laser});
+          crisp = evaluate(self, args, work_dir + "/crispness.json", log, run.cwd);
+        }
+      }
+      set(name, number(crisp->result, {name == "crispness" ? "mean_m" : "coverage"}), crisp->error);
+    } else if (name == "hz") {
+      set(name, number(report, {"hz"}), "run.json has no 'hz'");
+    } else if (name == "pipeline_hz") {
+      set(name, number(report, {"pipeline_hz"}), "run.json has no 'pipeline_hz'");
+    } else if (name == "memory") {
+      set(name, run.peak_rss_mib, "");
+    } else if (name == "time") {
+      set(name, run.wall_s, "");
+    } else if (name == "tracking_failures") {
+      set(name, number(report, {"tracking_failures"}), "run.json has no 'tracking_failures'");
+    } else if (name == "loops") {
+      set(name, number(report, {"graph", "loops_accepted"}), "the run has no graph");
+    }
+  }
+  return m;
+}
+
+}  // namespace plugslam::runtime::sweep

@@ -1,0 +1,367 @@
+#include "sweep/report.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <boost/filesystem.hpp>
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <unordered_map>
+
+#include "plugslam/atomic_file.h"
+#include "plugslam/errors.h"
+#include "sweep/engines.h"
+#include "sweep/metrics.h"
+
+namespace plugslam::runtime::sweep {
+
+namespace fs = boost::filesystem;
+using nlohmann::json;
+
+namespace {
+
+Stats statsOf(std::vector<double> v) {
+  Stats s;
+  s.count = static_cast<int>(v.size());
+  std::sort(v.begin(), v.end());
+  s.min = v.front();
+  s.max = v.back();
+  const size_t n = v.size();
+  s.median = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+  return s;
+}
+
+std::string num(double v) {
+  if (v != 0 && (std::fabs(v) >= 1e6 || std::fabs(v) < 1e-4)) return fmt::format("{:.3e}", v);
+  std::string s = fmt::format("{:.4g}", v);
+  return s;
+}
+
+std::string md(const std::string& s) {
+  std::string out;
+  for (char c : s) out += c == '|' ? std::string("\\|") : std::string(1, c);
+  return out;
+}
+
+std::string csvField(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+std::string header(const std::string& metric) {
+  const MetricInfo* m = findMetric(metric);
+  return m && !m->unit.empty() ? metric + " [" + m->unit + "]" : metric;
+}
+
+bool isBetter(const std::string& metric, double a, double b) {
+  const MetricInfo* m = findMetric(metric);
+  return m && m->better == Better::Higher ? a > b : a < b;
+}
+
+std::string paramsText(const Case& c) {
+  std::string s;
+  for (const auto& [k, v] : c.params) s += (s.empty() ? "" : " ") + k + "=" + v;
+  return s;
+}
+
+// The best median of each metric over the rows; a metric with one row has no best to mark.
+std::map<std::string, double> bestOf(const std::vector<Row>& rows,
+                                     const std::vector<std::string>& metrics) {
+  std::map<std::string, double> best;
+  for (const auto& m : metrics) {
+    int with = 0;
+    for (const auto& r : rows) {
+      auto it = r.metrics.find(m);
+      if (it == r.metrics.end()) continue;
+      ++with;
+      if (!best.count(m) || isBetter(m, it->second.median, best[m])) best[m] = it->second.median;
+    }
+    if (with < 2) best.erase(m);
+  }
+  return best;
+}
+
+}  // namespace
+
+SweepTable gatherResults(const std::string& dir) {
+  SweepTable t;
+  t.plan = readPlan(dir);
+  t.results.reserve(t.plan.cases.size());
+  std::unordered_map<std::string, size_t> row_of;
+  for (const auto& c : t.plan.cases) {
+    CaseResult r;
+    r.c = &c;
+    std::ifstream in(caseDir(dir, c.id) + "/result.json");
+    if (in) {
+      try {
+        const json j = json::parse(in);
+        r.present = true;
+        r.status = j.value("status", "");
+        r.error = j.value("error", "");
+        if (j.contains("exit_code") && j["exit_code"].is_number()) r.exit_code = j["exit_code"].get<int>();
+        if (j.contains("metrics"))
+          for (const auto& [k, v] : j["metrics"].items())
+            if (v.is_number()) r.metrics[k] = v.get<double>();
+        if (j.contains("log_tail")) r.log_tail = j["log_tail"].get<std::vector<std::string>>();
+      } catch (const json::exception& e) {
+        // A result is written atomically, so a broken one was damaged later: the case reruns.
+        r.present = false;
+      }
+    }
+    t.results.push_back(std::move(r));
+  }
+  std::vector<std::map<std::string, std::vector<double>>> values;
+  for (const auto& r : t.results) {
+    const std::string key = r.c->groupKey();
+    auto [it, inserted] = row_of.emplace(key, t.rows.size());
+    if (inserted) {
+      Row row;
+      row.first = r.c;
+      t.rows.push_back(std::move(row));
+      values.emplace_back();
+    }
+    Row& at = t.rows[it->second];
+    ++at.runs;
+    if (!r.present) ++at.missing;
+    else if (r.status == "ok") ++at.ok;
+    else ++at.failed;
+    for (const auto& [m, v] : r.metrics) values[it->second][m].push_back(v);
+  }
+  for (size_t i = 0; i < t.rows.size(); ++i)
+    for (auto& [m, v] : values[i]) t.rows[i].metrics[m] = statsOf(std::move(v));
+  return t;
+}
+
+std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& plots) {
+  const Plan& p = t.plan;
+  size_t present = 0, failed = 0;
+  for (const auto& r : t.results) {
+    present += r.present;
+    failed += r.present && r.status != "ok";
+  }
+  int repeats = 1;
+  for (const auto& c : p.cases) repeats = std::max(repeats, c.repeat);
+  std::string out = fmt::format("Sweep `{}`: {} cases ({} configs x {} datasets x {} grid points{}), {} with a result, {} failed or timed out.\n",
+                                p.sweep_file, p.cases.size(), p.config_labels.size(),
+                                p.datasets.size(),
+                                t.rows.size() / std::max<size_t>(1, p.config_labels.size() * p.datasets.size()),
+                                repeats > 1 ? fmt::format(" x {} repeats", repeats) : "", present, failed);
+  out += repeats > 1 ? "Cells: the median of the repeats, (min–max) when they differ; " : "Cells: ";
+  out += "**bold**: the best value of the column.\n\n";
+  // The table.
+  const auto best = bestOf(t.rows, p.metrics);
+  out += "| config | dataset |";
+  std::string rule = "|---|---|";
+  for (const auto& k : p.swept_keys) {
+    out += " " + md(k) + " |";
+    rule += "---|";
+  }
+  out += " runs |";
+  rule += "---|";
+  for (const auto& m : p.metrics) {
+    out += " " + header(m) + " |";
+    rule += "---|";
+  }
+  out += "\n" + rule + "\n";
+  for (const auto& r : t.rows) {
+    out += "| " + md(r.first->config_label) + " | " + md(r.first->dataset) + " |";
+    for (const auto& [k, v] : r.first->params) out += " " + md(v) + " |";
+    std::string runs = fmt::format("{}", r.ok);
+    if (r.runs > 1 || r.failed || r.missing) runs = fmt::format("{}/{}", r.ok, r.runs);
+    if (r.failed) runs += fmt::format(", {} failed", r.failed);
+    if (r.missing) runs += fmt::format(", {} missing", r.missing);
+    out += " " + runs + " |";
+    for (const auto& m : p.metrics) {
+      auto it = r.metrics.find(m);
+      if (it == r.metrics.end()) {
+        out += " – |";
+        continue;
+      }
+      const Stats& s = it->second;
+      std::string cell = num(s.median);
+      auto b = best.find(m);
+      if (b != best.end() && s.median == b->second) cell = "**" + cell + "**";
+      if (s.count > 1 && s.min != s.max) cell += " (" + num(s.min) + "–" + num(s.max) + ")";
+      out += " " + cell + " |";
+    }
+    out += "\n";
+  }
+  // Heat tables: dataset x config, the best grid point's median of each.
+  if (p.config_labels.size() > 1 || p.datasets.size() > 1) {
+    for (const auto& m : p.metrics) {
+      std::map<std::pair<std::string, std::string>, double> cell;
+      for (const auto& r : t.rows) {
+        auto it = r.metrics.find(m);
+        if (it == r.metrics.end()) continue;
+        const auto key = std::make_pair(r.first->dataset, r.first->config_label);
+        auto c = cell.find(key);
+        if (c == cell.end() || isBetter(m, it->second.median, c->second)) cell[key] = it->second.median;
+      }
+      if (cell.empty()) continue;
+      out += fmt::format("\n{} by dataset and config{} (**bold**: the best config of the dataset):\n\n",
+                         header(m), p.swept_keys.empty() ? "" : ", the best grid point of each");
+      out += "| dataset |";
+      rule = "|---|";
+      for (const auto& c : p.config_labels) {
+        out += " " + md(c) + " |";
+        rule += "---|";
+      }
+      out += "\n" + rule + "\n";
+      for (const auto& d : p.datasets) {
+        std::optional<double> row_best;
+        for (const auto& c : p.config_labels)
+          if (auto it = cell.find({d, c}); it != cell.end() && (!row_best || isBetter(m, it->second, *row_best)))
+            row_best = it->second;
+        out += "| " + md(d) + " |";
+        for (const auto& c : p.config_labels) {
+          auto it = cell.find({d, c});
+          if (it == cell.end()) out += " – |";
+          else if (p.config_labels.size() > 1 && row_best && it->second == *row_best) out += " **" + num(it->second) + "** |";
+          else out += " " + num(it->second) + " |";
+        }
+        out += "\n";
+      }
+    }
+  }
+  // Failures, with what the run said last.
+  std::string failures;
+  for (const auto& r : t.results) {
+    if (!r.present || r.status == "ok") continue;
+    failures += fmt::format("- `{}` {}: {}{}{}\n", r.c->id, md(caseLabel(*r.c)), r.status,
+                            r.exit_code ? fmt::format(", exit {}", *r.exit_code) : "",
+                            r.error.empty() ? "" : ", " + r.error);
+    if (!r.log_tail.empty()) {
+      failures += "  ```\n";
+      for (const auto& line : r.log_tail) failures += "  " + line + "\n";
+      failures += "  ```\n";
+    }
+  }
+  if (!failures.empty()) out += "\nFailed or timed out (the log's last lines):\n\n" + failures;
+  std::string missing;
+  size_t n_missing = 0;
+  for (const auto& r : t.results)
+    if (!r.present && n_missing++ < 20) missing += fmt::format("- `{}` {}\n", r.c->id, md(caseLabel(*r.c)));
+  if (n_missing)
+    out += fmt::format("\n{} cases have no result yet (the same `sweep run` runs only those){}:\n\n{}",
+                       n_missing, n_missing > 20 ? ", the first 20" : "", missing);
+  if (!plots.empty()) {
+    out += "\nPlots (each metric against each swept parameter, one line per dataset; the median over the other parameters):\n\n";
+    for (const auto& f : plots) out += "- " + f + "\n";
+  }
+  return out;
+}
+
+std::string tableCsv(const SweepTable& t) {
+  std::string out = "config,dataset";
+  for (const auto& k : t.plan.swept_keys) out += "," + csvField(k);
+  out += ",runs,ok,failed,missing";
+  for (const auto& m : t.plan.metrics) out += fmt::format(",{0}_median,{0}_min,{0}_max", m);
+  out += "\n";
+  for (const auto& r : t.rows) {
+    out += csvField(r.first->config_label) + "," + csvField(r.first->dataset);
+    for (const auto& [k, v] : r.first->params) out += "," + csvField(v);
+    out += fmt::format(",{},{},{},{}", r.runs, r.ok, r.failed, r.missing);
+    for (const auto& m : t.plan.metrics) {
+      auto it = r.metrics.find(m);
+      if (it == r.metrics.end()) out += ",,,";
+      else out += fmt::format(",{},{},{}", it->second.median, it->second.min, it->second.max);
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+std::string casesCsv(const SweepTable& t) {
+  std::string out = "index,id,config,dataset";
+  for (const auto& k : t.plan.swept_keys) out += "," + csvField(k);
+  out += ",repeat,status,exit_code";
+  for (const auto& m : t.plan.metrics) out += "," + m;
+  out += "\n";
+  for (size_t i = 0; i < t.results.size(); ++i) {
+    const CaseResult& r = t.results[i];
+    out += fmt::format("{},{},{},{}", i + 1, r.c->id, csvField(r.c->config_label), csvField(r.c->dataset));
+    for (const auto& [k, v] : r.c->params) out += "," + csvField(v);
+    out += fmt::format(",{},{},{}", r.c->repeat, r.present ? r.status : "missing",
+                       r.exit_code ? std::to_string(*r.exit_code) : "");
+    for (const auto& m : t.plan.metrics) {
+      auto it = r.metrics.find(m);
+      out += it == r.metrics.end() ? "," : fmt::format(",{}", it->second);
+    }
+    out += "\n";
+  }
+  return out;
+}
+
+std::string compareMarkdown(const SweepTable& after, const SweepTable& before,
+                            const std::string& after_name, const std::string& before_name) {
+  std::unordered_map<std::string, const Row*> old_rows;
+  for (const auto& r : before.rows) old_rows[r.first->groupKey()] = &r;
+  std::vector<std::string> metrics;
+  for (const auto& m : after.plan.metrics)
+    if (std::find(before.plan.metrics.begin(), before.plan.metrics.end(), m) != before.plan.metrics.end())
+      metrics.push_back(m);
+  std::string out = fmt::format(
+      "`{}` (after) against `{}` (before), grid point by grid point; cells: before → after "
+      "(change), **bold** where after is better.\n\n| config | dataset | parameters |",
+      after_name, before_name);
+  std::string rule = "|---|---|---|";
+  for (const auto& m : metrics) {
+    out += " " + header(m) + " |";
+    rule += "---|";
+  }
+  out += "\n" + rule + "\n";
+  size_t matched = 0;
+  for (const auto& r : after.rows) {
+    auto it = old_rows.find(r.first->groupKey());
+    if (it == old_rows.end()) continue;
+    ++matched;
+    out += "| " + md(r.first->config_label) + " | " + md(r.first->dataset) + " | " +
+           md(paramsText(*r.first)) + " |";
+    for (const auto& m : metrics) {
+      auto a = r.metrics.find(m), b = it->second->metrics.find(m);
+      if (a == r.metrics.end() || b == it->second->metrics.end()) {
+        out += fmt::format(" {} → {} |", b == it->second->metrics.end() ? "–" : num(b->second.median),
+                           a == r.metrics.end() ? "–" : num(a->second.median));
+        continue;
+      }
+      const double x = b->second.median, y = a->second.median;
+      std::string change = x != 0 ? fmt::format("{:+.1f} %", 100.0 * (y - x) / std::fabs(x))
+                                  : fmt::format("{:+.4g}", y - x);
+      std::string cell = num(x) + " → " + num(y) + " (" + change + ")";
+      if (isBetter(m, y, x)) cell = "**" + cell + "**";
+      out += " " + cell + " |";
+    }
+    out += "\n";
+  }
+  out += fmt::format("\n{} grid points in both; {} only in after, {} only in before.\n", matched,
+                     after.rows.size() - matched, before.rows.size() - matched);
+  return out;
+}
+
+std::string writeReport(const std::string& sweep_dir, const std::string& out_dir,
+                        const std::string& compare_dir, bool plots) {
+  const SweepTable t = gatherResults(sweep_dir);
+  fs::create_directories(out_dir);
+  std::vector<std::string> plot_files;
+  if (plots) {
+    const fs::path pdir = fs::path(out_dir) / "plots";
+    for (const auto& f : drawPlots(t, pdir.string()))
+      plot_files.push_back(fs::relative(f, out_dir).string());
+  }
+  std::string text = reportMarkdown(t, plot_files);
+  writeFileAtomically((fs::path(out_dir) / "table.csv").string(), tableCsv(t));
+  writeFileAtomically((fs::path(out_dir) / "cases.csv").string(), casesCsv(t));
+  if (!compare_dir.empty()) {
+    const SweepTable before = gatherResults(compare_dir);
+    const std::string cmp = compareMarkdown(t, before, sweep_dir, compare_dir);
+    writeFileAtomically((fs::path(out_dir) / "compare.md").string(), cmp);
+    text += "\n" + cmp;
+  }
+  writeFileAtomically((fs::path(out_dir) / "report.md").string(), text);
+  return text;
+}
+
+}  // namespace plugslam::runtime::sweep

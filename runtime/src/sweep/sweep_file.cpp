@@ -1,0 +1,441 @@
+#include "sweep/sweep_file.h"
+
+#include <fmt/format.h>
+
+#include <boost/filesystem.hpp>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "build_paths.h"
+#include "config_builder.h"
+#include "plugslam/errors.h"
+#include "plugslam/registry.h"
+#include "plugslam/yaml_load.h"
+#include "sweep/metrics.h"
+
+namespace plugslam::runtime::sweep {
+
+namespace fs = boost::filesystem;
+
+namespace {
+
+const std::vector<std::string> kTopKeys{"config", "datasets", "set",     "grid",  "zip",
+                                        "repeat", "metrics",  "timeout", "slurm", "hosts"};
+const std::vector<std::string> kDatasetKeys{"set", "reference", "relations", "log", "laser"};
+const std::vector<std::string> kSlurmKeys{"partition", "time",         "mem",  "account",
+                                          "cpus",      "max_parallel", "extra"};
+
+Origin originOf(const YAML::Node& node) {
+  const auto m = node.Mark();
+  return m.line >= 0 ? Origin{m.line + 1, m.column + 1} : Origin{};
+}
+
+// A value as `--set` takes it: scalars as written (0.5 stays 0.5), anything else in flow style.
+std::string valueText(const YAML::Node& node) {
+  if (node.IsScalar()) return node.Scalar();
+  YAML::Emitter out;
+  out << YAML::Flow << node;
+  return out.c_str();
+}
+
+class Reader {
+ public:
+  explicit Reader(std::string name) : name_(std::move(name)) {}
+
+  void error(const YAML::Node& at, const std::string& key, const std::string& message) {
+    const Origin o = originOf(at);
+    errors_.emplace_back(name_, o.line, o.column, key, message);
+  }
+  void throwIfAny() const {
+    if (errors_.size() == 1) throw errors_[0];
+    if (!errors_.empty()) throw ConfigErrorList(errors_);
+  }
+
+  // Reports keys of `map` that are not in `known` (with a near match), returns false if any.
+  bool knownKeys(const YAML::Node& map, const std::vector<std::string>& known,
+                 const std::string& where) {
+    bool ok = true;
+    for (auto it = map.begin(); it != map.end(); ++it) {
+      const std::string key = it->first.as<std::string>("");
+      if (std::find(known.begin(), known.end(), key) != known.end()) continue;
+      std::string msg = "unknown key '" + key + "'" + (where.empty() ? "" : " in " + where);
+      const std::string near = closestMatch(key, known);
+      if (!near.empty()) msg += "; did you mean '" + near + "'?";
+      else {
+        std::string list;
+        for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+        msg += " (known: " + list + ")";
+      }
+      error(it->first, key, msg);
+      ok = false;
+    }
+    return ok;
+  }
+
+  bool scalar(const YAML::Node& node, const std::string& key, std::string& out) {
+    if (!node.IsScalar()) {
+      error(node, key, "expected a single value");
+      return false;
+    }
+    out = node.Scalar();
+    return true;
+  }
+
+  template <typename T>
+  bool number(const YAML::Node& node, const std::string& key, T& out, T min) {
+    try {
+      out = node.as<T>();
+    } catch (const YAML::Exception&) {
+      error(node, key, "expected a number, got '" + valueText(node) + "'");
+      return false;
+    }
+    if (out < min) {
+      error(node, key, fmt::format("must be at least {}", min));
+      return false;
+    }
+    return true;
+  }
+
+  // A key of `--set` form; its syntax is checked now, its meaning when the configs are built.
+  bool overrideKey(const YAML::Node& key_node, const std::string& key) {
+    try {
+      const auto parts = splitPath(key);
+      if (!parts.empty() && parts[0] == "base") {
+        error(key_node, key, "a config's base cannot be swept: list the configs under 'config'");
+        return false;
+      }
+    } catch (const InputError& e) {
+      error(key_node, key, e.what());
+      return false;
+    }
+    return true;
+  }
+
+  std::vector<Override> overrides(const YAML::Node& map, const std::string& where) {
+    std::vector<Override> out;
+    if (!map.IsMap()) {
+      error(map, where, "expected a map of parameter: value (as --set takes them)");
+      return out;
+    }
+    for (auto it = map.begin(); it != map.end(); ++it) {
+      const std::string key = it->first.as<std::string>("");
+      if (!overrideKey(it->first, key)) continue;
+      if (!it->second.IsDefined() || it->second.IsNull()) {
+        error(it->second, key, "has no value");
+        continue;
+      }
+      out.push_back({key, valueText(it->second), originOf(it->first)});
+    }
+    return out;
+  }
+
+  std::vector<std::string> strings(const YAML::Node& node, const std::string& key) {
+    std::vector<std::string> out;
+    if (node.IsScalar()) {
+      out.push_back(node.Scalar());
+    } else if (node.IsSequence()) {
+      for (const auto& item : node) {
+        std::string s;
+        if (scalar(item, key, s)) out.push_back(s);
+      }
+    } else {
+      error(node, key, "expected a value or a list of values");
+    }
+    return out;
+  }
+
+  std::string name_;
+  std::vector<ConfigError> errors_;
+};
+
+std::string findConfig(const std::string& written, const std::string& sweep_file) {
+  const fs::path p(written);
+  if (p.is_absolute()) return fs::exists(p) ? p.string() : "";
+  std::vector<fs::path> places;
+  const fs::path dir = fs::path(sweep_file).parent_path();
+  if (!sweep_file.empty() && sweep_file[0] != '<') places.push_back(dir / p);
+  places.push_back(p);
+  // "configs/x.yaml" also names a shipped config wherever the sweep file is.
+  for (const fs::path& root :
+       {fs::path(build_paths::installDataDir()), fs::path(build_paths::sourceDir())})
+    places.push_back(root / p);
+  for (const auto& candidate : places)
+    if (fs::is_regular_file(candidate)) return fs::absolute(candidate).lexically_normal().string();
+  return "";
+}
+
+}  // namespace
+
+SweepFile parseSweep(const std::string& text, const std::string& name) {
+  Reader r(name);
+  YAML::Node root;
+  try {
+    root = loadYaml(text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError(name, e.mark.line + 1, e.mark.column + 1, "", "invalid YAML: " + e.msg);
+  }
+  if (!root.IsMap()) throw ConfigError(name, 1, 1, "", "a sweep file is a map (`plugslam describe sweep`)");
+  SweepFile s;
+  s.file = name;
+  r.knownKeys(root, kTopKeys, "");
+
+  // config
+  if (!root["config"]) {
+    r.error(root, "config", "missing key 'config': the pipeline config(s) to run");
+  } else {
+    const YAML::Node list = root["config"];
+    std::vector<YAML::Node> items;
+    if (list.IsSequence())
+      for (const auto& item : list) items.push_back(item);
+    else
+      items.push_back(list);
+    if (items.empty()) r.error(list, "config", "lists no config");
+    for (const auto& item : items) {
+      std::string written;
+      if (!r.scalar(item, "config", written)) continue;
+      const std::string found = findConfig(written, name);
+      if (found.empty()) {
+        r.error(item, "config", "no config file '" + written + "' (looked beside the sweep file, in the current folder and among the shipped configs)");
+        continue;
+      }
+      if (std::find(s.configs.begin(), s.configs.end(), found) != s.configs.end()) {
+        r.error(item, "config", "'" + written + "' is listed twice");
+        continue;
+      }
+      s.configs.push_back(found);
+      s.config_origins.push_back(originOf(item));
+    }
+  }
+
+  // set
+  if (root["set"]) s.set = r.overrides(root["set"], "set");
+
+  // datasets
+  if (const YAML::Node ds = root["datasets"]) {
+    if (!ds.IsMap() || ds.size() == 0) {
+      r.error(ds, "datasets", "expected a map: name -> overrides (or {set: ..., reference: ...})");
+    } else {
+      for (auto it = ds.begin(); it != ds.end(); ++it) {
+        Dataset d;
+        d.name = it->first.as<std::string>("");
+        d.origin = originOf(it->first);
+        const std::string where = "datasets." + d.name;
+        if (d.name.empty() || d.name.find_first_of("/\\ \t,|") != std::string::npos) {
+          r.error(it->first, where, "a dataset name is one word (no spaces, '/', ',' or '|')");
+          continue;
+        }
+        const YAML::Node body = it->second;
+        if (body.IsMap() && body["set"]) {
+          // The long form: overrides under `set`, beside what the results are scored against.
+          r.knownKeys(body, kDatasetKeys, where);
+          d.set = r.overrides(body["set"], where + ".set");
+          std::string* fields[] = {&d.scoring.reference, &d.scoring.relations, &d.scoring.log,
+                                   &d.scoring.laser};
+          for (size_t k = 1; k < kDatasetKeys.size(); ++k) {
+            YAML::Node field = body[kDatasetKeys[k]];
+            if (!field) continue;
+            // Scoring files are read here, so ${PLUGSLAM_DATA} is expanded here; overrides reach
+            // the runs as written and each run expands them on the machine it runs on.
+            try {
+              expandVariables(field, name);
+            } catch (const ConfigError& e) {
+              r.error(field, where + "." + kDatasetKeys[k], e.message());
+              continue;
+            }
+            r.scalar(field, where + "." + kDatasetKeys[k], *fields[k - 1]);
+          }
+        } else if (body.IsMap()) {
+          for (const auto& key : kDatasetKeys)
+            if (key != "set" && body[key])
+              r.error(body[key], where + "." + key,
+                      "'" + key + "' belongs with the long form: write the overrides under 'set:'");
+          d.set = r.overrides(body, where);
+        } else if (!body.IsNull()) {
+          r.error(body, where, "expected a map of overrides, e.g. {source.path: log.gz}");
+          continue;
+        }
+        s.datasets.push_back(std::move(d));
+      }
+    }
+  }
+  if (s.datasets.empty()) s.datasets.push_back(Dataset{"default", {}, {}, {}});
+
+  // grid and zip
+  std::map<std::string, Origin> swept;
+  const auto addKey = [&](const YAML::Node& key_node, const std::string& key, Axis& axis) {
+    if (!r.overrideKey(key_node, key)) return false;
+    if (swept.count(key)) {
+      r.error(key_node, key, fmt::format("'{}' is swept twice (also at line {})", key, swept[key].line));
+      return false;
+    }
+    swept[key] = originOf(key_node);
+    axis.keys.push_back(key);
+    axis.origins.push_back(originOf(key_node));
+    return true;
+  };
+  const auto valueList = [&](const YAML::Node& node, const std::string& key) {
+    std::vector<std::string> out;
+    if (!node.IsSequence() || node.size() == 0) {
+      r.error(node, key, "expected a non-empty list of values");
+      return out;
+    }
+    std::set<std::string> seen;
+    for (const auto& v : node) {
+      if (v.IsNull()) {
+        r.error(v, key, "an empty value");
+        continue;
+      }
+      if (!seen.insert(valueText(v)).second) {
+        r.error(v, key, "value '" + valueText(v) + "' is listed twice");
+        continue;
+      }
+      out.push_back(valueText(v));
+    }
+    return out;
+  };
+  if (const YAML::Node grid = root["grid"]) {
+    if (!grid.IsMap()) r.error(grid, "grid", "expected a map: parameter -> list of values");
+    else
+      for (auto it = grid.begin(); it != grid.end(); ++it) {
+        Axis axis;
+        const std::string key = it->first.as<std::string>("");
+        if (!addKey(it->first, key, axis)) continue;
+        for (auto& v : valueList(it->second, key)) axis.values.push_back({v});
+        if (!axis.values.empty()) s.axes.push_back(std::move(axis));
+      }
+  }
+  if (const YAML::Node zip = root["zip"]) {
+    std::vector<YAML::Node> groups;
+    if (zip.IsMap()) groups.push_back(zip);
+    else if (zip.IsSequence())
+      for (const auto& g : zip) groups.push_back(g);
+    if (groups.empty()) r.error(zip, "zip", "expected a map (or a list of maps): parameter -> list of values, lists of one length");
+    for (const auto& g : groups) {
+      if (!g.IsMap() || g.size() == 0) {
+        r.error(g, "zip", "expected a map: parameter -> list of values");
+        continue;
+      }
+      Axis axis;
+      size_t length = 0;
+      bool ok = true;
+      for (auto it = g.begin(); it != g.end(); ++it) {
+        const std::string key = it->first.as<std::string>("");
+        if (!addKey(it->first, key, axis)) {
+          ok = false;
+          continue;
+        }
+        auto values = valueList(it->second, key);
+        if (axis.keys.size() == 1) length = values.size();
+        if (values.size() != length) {
+          r.error(it->second, key,
+                  fmt::format("has {} values, the zip's first key {}: zipped values go together", values.size(), length));
+          ok = false;
+          continue;
+        }
+        if (axis.values.empty()) axis.values.resize(length);
+        for (size_t i = 0; i < length; ++i) axis.values[i].push_back(values[i]);
+      }
+      if (ok && length > 0) s.axes.push_back(std::move(axis));
+    }
+  }
+  const auto clash = [&](const std::vector<Override>& set, const std::string& where) {
+    for (const auto& o : set)
+      if (swept.count(o.key)) {
+        r.errors_.emplace_back(name, o.origin.line, o.origin.column, o.key,
+                               fmt::format("'{}' is also swept (line {}): {} cannot fix it", o.key, swept[o.key].line, where));
+      }
+  };
+  clash(s.set, "'set'");
+  for (const auto& d : s.datasets) clash(d.set, "dataset '" + d.name + "'");
+
+  if (const YAML::Node n = root["repeat"]) r.number(n, "repeat", s.repeat, 1);
+  if (const YAML::Node n = root["timeout"]) r.number(n, "timeout", s.timeout_s, 0.0);
+
+  if (const YAML::Node m = root["metrics"]) {
+    std::vector<std::string> names;
+    for (const auto& item : m.IsSequence() ? m : YAML::Node(YAML::NodeType::Sequence)) {
+      std::string metric;
+      if (!r.scalar(item, "metrics", metric)) continue;
+      if (!findMetric(metric)) {
+        std::vector<std::string> known;
+        for (const auto& info : metricTable()) known.push_back(info.name);
+        std::string msg = "unknown metric '" + metric + "'";
+        const std::string near = closestMatch(metric, known);
+        if (!near.empty()) msg += "; did you mean '" + near + "'?";
+        std::string list;
+        for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+        r.error(item, "metrics", msg + " (known: " + list + ")");
+        continue;
+      }
+      if (std::find(s.metrics.begin(), s.metrics.end(), metric) != s.metrics.end()) {
+        r.error(item, "metrics", "'" + metric + "' is listed twice");
+        continue;
+      }
+      s.metrics.push_back(metric);
+    }
+    if (!m.IsSequence()) r.error(m, "metrics", "expected a list of metric names, e.g. [ate, hz]");
+  } else {
+    s.metrics = {"hz"};
+  }
+
+  if (const YAML::Node sl = root["slurm"]) {
+    if (!sl.IsMap()) r.error(sl, "slurm", "expected a map: partition, time, mem, ...");
+    else {
+      r.knownKeys(sl, kSlurmKeys, "slurm");
+      if (sl["partition"]) r.scalar(sl["partition"], "slurm.partition", s.slurm.partition);
+      if (sl["time"]) r.scalar(sl["time"], "slurm.time", s.slurm.time);
+      if (sl["mem"]) r.scalar(sl["mem"], "slurm.mem", s.slurm.mem);
+      if (sl["account"]) r.scalar(sl["account"], "slurm.account", s.slurm.account);
+      if (sl["cpus"]) r.number(sl["cpus"], "slurm.cpus", s.slurm.cpus, 1);
+      if (sl["max_parallel"]) r.number(sl["max_parallel"], "slurm.max_parallel", s.slurm.max_parallel, 1);
+      if (sl["extra"]) s.slurm.extra = r.strings(sl["extra"], "slurm.extra");
+    }
+  }
+  if (const YAML::Node h = root["hosts"]) s.hosts = r.strings(h, "hosts");
+
+  r.throwIfAny();
+  return s;
+}
+
+SweepFile readSweepFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError("cannot read sweep file '" + path + "'");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parseSweep(text.str(), path);
+}
+
+std::string describeSweepFile() {
+  std::string metrics;
+  for (const auto& m : metricTable())
+    metrics += fmt::format("      {:<18} {}{} ({} is better)\n", m.name, m.doc,
+                           m.unit.empty() ? "" : " [" + m.unit + "]",
+                           m.better == Better::Lower ? "lower" : "higher");
+  return "sweep (the keys of a sweep file: `plugslam sweep plan|run FILE`)\n"
+         "  Runs configs on datasets over a parameter grid; each case is `plugslam run` with\n"
+         "  --set overrides, and its id is a hash of what it runs, so a finished case is never\n"
+         "  run again. Relative paths in values are relative to the folder the sweep runs in.\n\n"
+         "keys:\n"
+         "  config     path or list of paths (required)\n"
+         "      pipeline configs; a relative path is looked up beside the sweep file, in the\n"
+         "      current folder, then among the shipped configs\n"
+         "  datasets   map: name -> {PARAMETER: VALUE, ...}\n"
+         "      the inputs, each a set of overrides (typically source.path); the long form\n"
+         "      {set: {...}, reference: FILE, relations: FILE, log: FILE, laser: NAME} also names\n"
+         "      what the results are scored against (default: what the run itself wrote)\n"
+         "  set        map: PARAMETER -> VALUE, applied to every case\n"
+         "  grid       map: PARAMETER -> [VALUES]; the cases are the full product\n"
+         "  zip        map (or list of maps): PARAMETER -> [VALUES], lists of one length whose\n"
+         "      i-th values go together; one axis of the product\n"
+         "  repeat     runs per case (default 1); the report gives median, min and max\n"
+         "  metrics    list, measured on each result (default [hz]):\n" +
+         metrics +
+         "  timeout    seconds a run may take (default 0: no limit); a run past it is stopped and\n"
+         "      recorded as timed out\n"
+         "  slurm      map: partition, time, mem, account, cpus, max_parallel, extra (list of\n"
+         "      sbatch arguments); the flags of `sweep run --engine slurm` win\n"
+         "  hosts      list of ssh logins for `--engine parallel` (or --hosts)\n";
+}
+
+}  // namespace plugslam::runtime::sweep

@@ -1,0 +1,80 @@
+#pragma once
+// A sweep file: which configs run on which inputs with which parameter values, how often, and
+// what is measured on each result. Read like a config: every error names the file, line, column
+// and key, unknown keys are errors, and one read reports every error it finds.
+#include <yaml-cpp/yaml.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace plugslam::runtime::sweep {
+
+/// Where a value was written: for errors that are found later (a grid key the config rejects).
+struct Origin {
+  int line = 0, column = 0;
+};
+
+/// One `--set` the sweep applies: the key as written, the value as YAML text.
+struct Override {
+  std::string key, value;
+  Origin origin;
+  std::string text() const { return key + "=" + value; }
+};
+
+/// What a dataset's results are scored against (empty: what the run itself wrote).
+struct Scoring {
+  std::string reference;  ///< trajectory file for ate, rpe and relations
+  std::string relations;  ///< relations file for the relations metric
+  std::string log;        ///< log for crispness and coverage (empty: the source.path override)
+  std::string laser;      ///< the log's laser entry for crispness (empty: eval's default)
+};
+
+/// A named input: the overrides that select it and what its results are scored against.
+struct Dataset {
+  std::string name;
+  std::vector<Override> set;
+  Scoring scoring;
+  Origin origin;
+};
+
+/// One swept axis: a single key (grid) or keys whose values go together (zip).
+struct Axis {
+  std::vector<std::string> keys;
+  std::vector<Origin> origins;                    ///< per key
+  std::vector<std::vector<std::string>> values;   ///< values[i][k]: point i, key k (YAML text)
+};
+
+/// Where Slurm runs it (each is also a flag of `sweep run`, which wins).
+struct SlurmOptions {
+  std::string partition, time, mem, account;
+  int cpus = 0;          ///< --cpus-per-task (0: the cluster's default)
+  int max_parallel = 0;  ///< the array's %N throttle (0: none)
+  std::vector<std::string> extra;  ///< more sbatch arguments, verbatim
+};
+
+struct SweepFile {
+  std::string file;                  ///< as given
+  std::vector<std::string> configs;  ///< absolute paths
+  std::vector<Origin> config_origins;
+  std::vector<Dataset> datasets;     ///< at least one (an unnamed one when the file has none)
+  std::vector<Override> set;         ///< applied to every case, before the dataset's
+  std::vector<Axis> axes;            ///< grid keys first (one axis each), then zip groups
+  int repeat = 1;
+  std::vector<std::string> metrics;
+  double timeout_s = 0;  ///< per run (0: none)
+  SlurmOptions slurm;
+  std::vector<std::string> hosts;  ///< for --engine parallel
+};
+
+/// Reads and checks a sweep file; throws ConfigError (one error) or ConfigErrorList. Relative
+/// config paths are looked up beside the sweep file, then in the current folder, then among the
+/// shipped configs.
+SweepFile readSweepFile(const std::string& path);
+/// Parses sweep text; `name` stands for the file in errors and relative paths.
+SweepFile parseSweep(const std::string& text, const std::string& name);
+
+/// `plugslam describe sweep`: the keys of a sweep file.
+std::string describeSweepFile();
+
+}  // namespace plugslam::runtime::sweep
