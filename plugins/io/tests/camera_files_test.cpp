@@ -207,6 +207,19 @@ TEST(EurocFiles, AResolutionOutsideWholePixelsIsNamedAtItsLine) {
   EXPECT_EQ(parseEurocSensor(with("[65536, 1]"), "s.yaml").intrinsics.width, 65536);
 }
 
+// The SDK's YAML loading: an alias inside its own anchor is refused at its line, not walked.
+TEST(EurocFiles, ASensorYamlWithAnAliasCycleIsAParseError) {
+  try {
+    parseEurocSensor(std::string(kSensorYaml) + "extra: &e\n  - [1, *e]\n", "cam0/sensor.yaml");
+    FAIL() << "read";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.file(), "cam0/sensor.yaml");
+    EXPECT_EQ(e.line(), 17);
+    EXPECT_NE(e.message().find("alias *e is inside its own anchor &e"), std::string::npos)
+        << e.message();
+  }
+}
+
 TEST(EurocFiles, ImageListAndGroundTruth) {
   const auto list = parseEurocImageList(
       "#timestamp [ns],filename\n1403715273262142976,1403715273262142976.png\n"

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "plugslam/errors.h"
+#include "plugslam/yaml_load.h"
 #include "readers/text_table.h"
 
 namespace plugslam {
@@ -79,7 +80,7 @@ EurocCamera parseEurocSensor(const std::string& text, const std::string& file) {
   if (yaml.rfind("%YAML:", 0) == 0) yaml[0] = '#';
   YAML::Node root;
   try {
-    root = YAML::Load(yaml);
+    root = loadYaml(yaml);
   } catch (const YAML::Exception& e) {
     throw ParseError(file, e.mark.line >= 0 ? e.mark.line + 1 : 0, "invalid YAML: " + e.msg);
   }

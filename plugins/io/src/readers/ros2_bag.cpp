@@ -10,6 +10,7 @@
 
 #include "plugslam/errors.h"
 #include "plugslam/mcap/reader.h"
+#include "plugslam/yaml_load.h"
 
 namespace plugslam {
 namespace io {
@@ -194,40 +195,40 @@ Ros2Bag::Ros2Bag(std::string path) : path_(std::move(path)) {
   if (fs::is_directory(path_, ec)) {
     const fs::path metadata = fs::path(path_) / "metadata.yaml";
     if (fs::exists(metadata, ec)) {
-      YAML::Node info;
+      // A value of the wrong kind (a map where a name belongs) is the file's fault, at its line.
       try {
-        info = YAML::LoadFile(metadata.string())["rosbag2_bagfile_information"];
+        const YAML::Node info = loadYamlFile(metadata.string())["rosbag2_bagfile_information"];
+        if (!info) {
+          throw ParseError(metadata.string(), 0, "no rosbag2_bagfile_information (not rosbag2's)");
+        }
+        const std::string mode = info["compression_mode"].as<std::string>("");
+        if (!mode.empty() && mode != "NONE") {
+          throw InputError("ROS 2 bag '" + path_ + "' is compressed per " + mode + " (" +
+                           info["compression_format"].as<std::string>("") +
+                           "); only chunk-compressed MCAP is read: `ros2 bag decompress` it first");
+        }
+        storage_ = info["storage_identifier"].as<std::string>("");
+        for (const auto& f : info["relative_file_paths"]) {
+          // Older rosbag2 wrote paths relative to the folder's parent.
+          fs::path p = fs::path(path_) / f.as<std::string>();
+          if (!fs::exists(p, ec)) p = fs::path(path_).parent_path() / f.as<std::string>();
+          if (!fs::exists(p, ec)) {
+            throw InputError(metadata.string() + ": storage file '" + f.as<std::string>() +
+                             "' is not in the bag's folder");
+          }
+          files_.push_back(p.string());
+        }
+        if (info["topics_with_message_count"]) {
+          std::vector<BagTopic> topics;
+          for (const auto& t : info["topics_with_message_count"]) {
+            topics.push_back({t["topic_metadata"]["name"].as<std::string>(""),
+                              t["topic_metadata"]["type"].as<std::string>(""),
+                              t["message_count"].as<std::size_t>(0)});
+          }
+          topics_ = std::move(topics);
+        }
       } catch (const YAML::Exception& e) {
-        throw ParseError(metadata.string(), e.mark.line + 1, e.msg);
-      }
-      if (!info) {
-        throw ParseError(metadata.string(), 0, "no rosbag2_bagfile_information (not rosbag2's)");
-      }
-      const std::string mode = info["compression_mode"] ? info["compression_mode"].as<std::string>("") : "";
-      if (!mode.empty() && mode != "NONE") {
-        throw InputError("ROS 2 bag '" + path_ + "' is compressed per " + mode + " (" +
-                         info["compression_format"].as<std::string>("") +
-                         "); only chunk-compressed MCAP is read: `ros2 bag decompress` it first");
-      }
-      storage_ = info["storage_identifier"].as<std::string>("");
-      for (const auto& f : info["relative_file_paths"]) {
-        // Older rosbag2 wrote paths relative to the folder's parent.
-        fs::path p = fs::path(path_) / f.as<std::string>();
-        if (!fs::exists(p, ec)) p = fs::path(path_).parent_path() / f.as<std::string>();
-        if (!fs::exists(p, ec)) {
-          throw InputError(metadata.string() + ": storage file '" + f.as<std::string>() +
-                           "' is not in the bag's folder");
-        }
-        files_.push_back(p.string());
-      }
-      if (info["topics_with_message_count"]) {
-        std::vector<BagTopic> topics;
-        for (const auto& t : info["topics_with_message_count"]) {
-          topics.push_back({t["topic_metadata"]["name"].as<std::string>(""),
-                            t["topic_metadata"]["type"].as<std::string>(""),
-                            t["message_count"].as<std::size_t>(0)});
-        }
-        topics_ = std::move(topics);
+        throw ParseError(metadata.string(), e.mark.line >= 0 ? e.mark.line + 1 : 0, e.msg);
       }
     } else {
       // No metadata.yaml (the recorder was killed before writing it): its storage files in order.
