@@ -620,11 +620,16 @@ TEST(CarmenReaderRealData, ReadsEveryLog) {
     CarmenReader r(p.string(), opt);
     CarmenRecord rec;
     std::size_t beams_ok = 0;
+    std::optional<plugslam::io::CarmenLaser> first, last;
+    double range_sum = 0;
     while (r.next(rec)) {
       if (rec.kind == CarmenRecord::Kind::kLaser) {
         if (rec.laser.ranges.size() == log.beams) ++beams_ok;
         EXPECT_EQ(rec.laser.sensor, "front");
         EXPECT_NEAR(rec.laser.angle_min, -kPi / 2, 1e-12);
+        for (double range : rec.laser.ranges) range_sum += range;
+        if (!first) first = rec.laser;
+        last = rec.laser;
       }
     }
     double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -638,8 +643,17 @@ TEST(CarmenReaderRealData, ReadsEveryLog) {
     EXPECT_EQ(st.malformed, 0u);
     EXPECT_EQ(st.unknown, st.kinds.count("NEFF") ? st.kinds.at("NEFF") : 0u);
     EXPECT_TRUE(st.compressed);
-    if (std::string(log.file).find("intel-gfs") != std::string::npos) {
-      EXPECT_LT(secs, 1.0) << "the intel log must parse in well under a second";
+    if (std::string(log.file).find("intel-gfs") != std::string::npos && first) {
+      // Values, not only counts (awk over the decompressed log); the time is printed, not
+      // asserted: it measures the machine as much as the reader.
+      EXPECT_DOUBLE_EQ(first->timestamp, 32.9068);
+      EXPECT_DOUBLE_EQ(first->ranges.front(), 1.09);
+      EXPECT_DOUBLE_EQ(first->laser_pose.x, 0.600266);
+      EXPECT_DOUBLE_EQ(last->timestamp, 2683.77);
+      EXPECT_DOUBLE_EQ(last->laser_pose.x, -0.596494);
+      EXPECT_DOUBLE_EQ(last->laser_pose.y, -0.101202);
+      EXPECT_DOUBLE_EQ(last->laser_pose.theta, 0.0119294);
+      EXPECT_NEAR(range_sum, 792927.54, 1e-6);
     }
   }
   if (found == 0) GTEST_SKIP() << "no CARMEN log under " << root << "/laser2d";
