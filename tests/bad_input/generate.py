@@ -720,6 +720,10 @@ case("cam_euroc_sensor_without_intrinsics", dict(good_euroc, **{"mav0/cam1/senso
      EUROC, 2, r"cam1/sensor\.yaml: missing key 'intrinsics'", "sensor.yaml lacks the intrinsics")
 case("cam_euroc_sensor_without_tbs", dict(good_euroc, **{"mav0/cam0/sensor.yaml": euroc_sensor(0.0, "T_BS")}),
      EUROC, 2, r"cam0/sensor\.yaml: missing key 'T_BS'", "sensor.yaml lacks the extrinsics")
+case("cam_euroc_resolution_beyond_int", dict(good_euroc, **{"mav0/cam0/sensor.yaml":
+     euroc_sensor(0.0).replace("resolution: [8, 8]", "resolution: [8.8e57, 8]")}), EUROC, 2,
+     r"cam0/sensor\.yaml:7: resolution: expected \[width, height\] in whole pixels from 1 to 65536, "
+     r"got width 8\.8e\+57", "a resolution beyond int (the camera-files fuzzer's finding)")
 case("cam_euroc_bad_csv", dict(good_euroc, **{"mav0/cam0/data.csv":
      good_euroc["mav0/cam0/data.csv"] + "14037152733x,a.png\n"}), EUROC, 2,
      r"cam0/data\.csv:4: timestamp \[ns\]: '14037152733x' is not an integer", "malformed data.csv row")
