@@ -15,6 +15,7 @@ PACKAGES=(
   libopencv-imgcodecs-dev
   nlohmann-json3-dev libjpeg62-turbo-dev
   libzstd-dev libsqlite3-dev
+  libcairo2-dev fonts-dejavu-core
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -245,7 +245,7 @@ TEST(Png, PicturesAndSequencesAreByteForByteWhatTheirWritersProducedBefore) {
         if (x == y || x % 50 == 0) plot[(static_cast<size_t>(y) * w + x) * 3] = 0x20;
     for (const auto& rgb : {plot, noise(plot.size(), 11)}) {
       PngOptions picture;
-      picture.srgb = true;  // what render's canvas asks for
+      picture.srgb = true;  // what render's pictures ask for
       EXPECT_EQ(encodePng(PngPixels{rgb.data(), w, h, 3, 8, 0}, picture),
                 simplifiedRgbPng(rgb, w, h))
           << w << " x " << h;

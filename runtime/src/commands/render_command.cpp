@@ -1,4 +1,4 @@
-// plugslam render RUN_DIR: PNG and SVG pictures of what a run wrote (map, trajectories, loop
+// plugslam render RUN_DIR: PNG, SVG or PDF pictures of what a run wrote (map, trajectories, loop
 // closures, error plots), for people who would rather look than read.
 #include <CLI/CLI.hpp>
 #include <iostream>
@@ -12,11 +12,11 @@ namespace plugslam::runtime {
 
 void addRenderCommand(CLI::App& root, int& exit_code) {
   auto* cmd = root.add_subcommand(
-      "render", "Draw a run's output folder: map, paths, loops, errors (PNG, SVG)");
+      "render", "Draw a run's output folder: map, paths, loops, errors (PNG, SVG, PDF)");
   cmd->footer(
-      "Writes render_map.png/.svg (map, estimated trajectory, reference aligned onto it, loop\n"
-      "closures) and, with a reference, render_errors.png/.svg (ATE per pose over time and\n"
-      "distance, RPE over distance).");
+      "Writes render_map.EXT (map, estimated trajectory, reference aligned onto it, loop\n"
+      "closures) and, with a reference, render_errors.EXT (ATE per pose over time and distance,\n"
+      "RPE over distance), one file per --format (png, svg, pdf; default png,svg).");
   static std::string dir, out, align = "auto";
   static render::RenderOptions o;
   cmd->add_option("RUN_DIR", dir, "folder written by `plugslam run -o RUN_DIR`")->required();
@@ -32,6 +32,10 @@ void addRenderCommand(CLI::App& root, int& exit_code) {
       ->capture_default_str();
   cmd->add_option("--width", o.width, "picture width [px]")
       ->check(CLI::Range(300, 8000))
+      ->capture_default_str();
+  cmd->add_option("--format", o.formats, "picture formats, comma-separated: png, svg, pdf")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"png", "svg", "pdf"}))
       ->capture_default_str();
   cmd->add_option("--rpe-delta", o.rpe_delta, "RPE segment length [m]")
       ->check(CLI::PositiveNumber)

@@ -1,9 +1,18 @@
 #include "render/figure.h"
 
+#include <cairo-pdf.h>
+#include <cairo-svg.h>
+#include <cairo.h>
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
+#include <memory>
+
+#include "plugslam/atomic_file.h"
+#include "plugslam/errors.h"
 
 namespace plugslam::runtime::render {
 
@@ -12,69 +21,181 @@ namespace {
 const Rgb kInk{40, 40, 40};
 const Rgb kGrid{225, 225, 225};
 const Rgb kFrame{120, 120, 120};
-constexpr int kFont = 2;  // raster text: 2 px per font dot, 14 px tall lines
-constexpr int kSvgFontPx = 14;
+const Rgb kWhite{255, 255, 255};
+constexpr double kFontPx = 13;
+constexpr int kLine = 14;           // the layouts below were made for 14 px lines
+constexpr double kBaseline = 11.5;  // from a line's top: capitals sit in the middle of the line
 
-std::string hex(Rgb c) { return fmt::format("#{:02x}{:02x}{:02x}", c.r, c.g, c.b); }
+enum class Align { Left, Center, Right };
 
-std::string escapeXml(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
+using Surface = std::unique_ptr<cairo_surface_t, decltype(&cairo_surface_destroy)>;
+using Context = std::unique_ptr<cairo_t, decltype(&cairo_destroy)>;
+
+void check(cairo_status_t status, const char* what) {
+  if (status != CAIRO_STATUS_SUCCESS)
+    throw Error(std::string("render: ") + what + ": " + cairo_status_to_string(status));
 }
 
-std::string base64(const std::string& bytes) {
-  static const char* kTable = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  for (size_t i = 0; i < bytes.size(); i += 3) {
-    uint32_t v = static_cast<uint8_t>(bytes[i]) << 16;
-    if (i + 1 < bytes.size()) v |= static_cast<uint8_t>(bytes[i + 1]) << 8;
-    if (i + 2 < bytes.size()) v |= static_cast<uint8_t>(bytes[i + 2]);
-    out += kTable[(v >> 18) & 63];
-    out += kTable[(v >> 12) & 63];
-    out += i + 1 < bytes.size() ? kTable[(v >> 6) & 63] : '=';
-    out += i + 2 < bytes.size() ? kTable[v & 63] : '=';
-  }
-  return out;
+void setColor(cairo_t* cr, Rgb c, double alpha = 1.0) {
+  cairo_set_source_rgba(cr, c.r / 255.0, c.g / 255.0, c.b / 255.0, std::clamp(alpha, 0.0, 1.0));
 }
 
 bool finite(const Eigen::Vector2d& p) { return std::isfinite(p.x()) && std::isfinite(p.y()); }
 
-// The darkest raster cell under each panel pixel, so thin walls survive a downscale.
-void drawRaster(Canvas& c, const Panel& p, const GreyRaster& r) {
-  for (int py = p.y; py < p.y + p.height; ++py) {
-    for (int px = p.x; px < p.x + p.width; ++px) {
-      const Eigen::Vector2d a = p.toData({px, py + 1.0}), b = p.toData({px + 1.0, py});
-      const int c0 = static_cast<int>(std::floor((a.x() - r.x0) / r.resolution));
-      const int c1 = static_cast<int>(std::ceil((b.x() - r.x0) / r.resolution)) - 1;
-      const int r0 = r.height - static_cast<int>(std::ceil((b.y() - r.y0) / r.resolution));
-      const int r1 = r.height - 1 - static_cast<int>(std::floor((a.y() - r.y0) / r.resolution));
-      if (c1 < 0 || r1 < 0 || c0 >= r.width || r0 >= r.height) continue;
-      int v = 255;
-      for (int row = std::max(0, r0); row <= std::min(r.height - 1, std::max(r0, r1)); ++row)
-        for (int col = std::max(0, c0); col <= std::min(r.width - 1, std::max(c0, c1)); ++col)
-          v = std::min<int>(v, r.pixels[static_cast<size_t>(row) * r.width + col]);
-      const uint8_t g = static_cast<uint8_t>(v);
-      c.set(px, py, {g, g, g});
+// The middle of the pixel at v: a 1 px line there covers one pixel column instead of blurring
+// over two.
+double crisp(double v) { return std::floor(v) + 0.5; }
+
+void hairline(cairo_t* cr, double x0, double y0, double x1, double y1, Rgb c) {
+  setColor(cr, c);
+  cairo_set_line_width(cr, 1);
+  cairo_new_path(cr);
+  cairo_move_to(cr, x0, y0);
+  cairo_line_to(cr, x1, y1);
+  cairo_stroke(cr);
+}
+
+void fillRect(cairo_t* cr, double x0, double y0, double x1, double y1, Rgb c) {
+  setColor(cr, c);
+  cairo_rectangle(cr, x0, y0, x1 - x0, y1 - y0);
+  cairo_fill(cr);
+}
+
+// Cairo puts a context into an error state for good on invalid UTF-8 (a folder name in another
+// encoding): such bytes become '?'.
+std::string validUtf8(const std::string& s) {
+  std::string out;
+  for (size_t i = 0; i < s.size();) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    const size_t n = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
+    bool ok = n > 0 && i + n <= s.size();
+    for (size_t k = 1; ok && k < n; ++k) ok = (static_cast<unsigned char>(s[i + k]) >> 6) == 2;
+    if (ok && c >= 0x20) {
+      out.append(s, i, n);
+      i += n;
+    } else {
+      out += '?';
+      ++i;
     }
+  }
+  return out;
+}
+
+double textWidth(cairo_t* cr, const std::string& s) {
+  cairo_text_extents_t e;
+  cairo_text_extents(cr, validUtf8(s).c_str(), &e);
+  return e.x_advance;
+}
+
+// Text with the top of its line at `top`.
+void text(cairo_t* cr, double x, double top, const std::string& s, Rgb c,
+          Align align = Align::Left) {
+  const std::string t = validUtf8(s);
+  const double w = textWidth(cr, t);
+  if (align == Align::Center) x -= w / 2;
+  if (align == Align::Right) x -= w;
+  setColor(cr, c);
+  cairo_new_path(cr);
+  cairo_move_to(cr, x, top + kBaseline);
+  cairo_show_text(cr, t.c_str());
+}
+
+// The raster with each k x k block of cells reduced to its darkest, so walls one cell thin
+// survive when a pixel covers many cells.
+Surface greySurface(const GreyRaster& r, int k) {
+  const int w = (r.width + k - 1) / k, h = (r.height + k - 1) / k;
+  Surface s(cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h), cairo_surface_destroy);
+  check(cairo_surface_status(s.get()), "map image");
+  cairo_surface_flush(s.get());
+  unsigned char* data = cairo_image_surface_get_data(s.get());
+  const int stride = cairo_image_surface_get_stride(s.get());
+  for (int by = 0; by < h; ++by) {
+    auto* row = reinterpret_cast<uint32_t*>(data + static_cast<size_t>(by) * stride);
+    for (int bx = 0; bx < w; ++bx) {
+      uint32_t v = 255;
+      for (int y = by * k; y < std::min(r.height, (by + 1) * k); ++y)
+        for (int x = bx * k; x < std::min(r.width, (bx + 1) * k); ++x)
+          v = std::min<uint32_t>(v, r.pixels[static_cast<size_t>(y) * r.width + x]);
+      row[bx] = 0xff000000u | v << 16 | v << 8 | v;
+    }
+  }
+  cairo_surface_mark_dirty(s.get());
+  return s;
+}
+
+void drawRaster(cairo_t* cr, const Panel& p, const GreyRaster& r) {
+  if (r.width <= 0 || r.height <= 0 || !(r.resolution > 0) ||
+      r.pixels.size() < static_cast<size_t>(r.width) * r.height)
+    return;
+  const Eigen::Vector2d tl = p.toPixel({r.x0, r.y0 + r.height * r.resolution});
+  const Eigen::Vector2d br = p.toPixel({r.x0 + r.width * r.resolution, r.y0});
+  const double sx = (br.x() - tl.x()) / r.width, sy = (br.y() - tl.y()) / r.height;
+  if (!finite(tl) || !finite(br) || !(sx > 0) || !(sy > 0)) return;
+  // Blocks at least a pixel across: each holds a pixel centre, so nearest-neighbour sampling
+  // skips none of them.
+  const double cells_per_px = 1.0 / std::min(sx, sy);
+  const int k = cells_per_px > 1 ? static_cast<int>(std::min<double>(std::ceil(cells_per_px - 1e-9),
+                                                                     std::max(r.width, r.height)))
+                                 : 1;
+  const Surface img = greySurface(r, k);
+  cairo_save(cr);
+  cairo_rectangle(cr, p.x, p.y, p.width, p.height);
+  cairo_clip(cr);
+  cairo_rectangle(cr, tl.x(), tl.y(), br.x() - tl.x(), br.y() - tl.y());
+  cairo_clip(cr);
+  cairo_translate(cr, tl.x(), tl.y());
+  cairo_scale(cr, sx * k, sy * k);
+  cairo_set_source_surface(cr, img.get(), 0, 0);
+  // Cells are cells: a map blurred between them would show walls that are not there.
+  cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
+  cairo_paint(cr);
+  cairo_restore(cr);
+}
+
+void drawSeries(cairo_t* cr, const Panel& p, const Series& s) {
+  setColor(cr, s.color, s.alpha);
+  cairo_set_line_width(cr, s.width);
+  const auto& pts = s.points;
+  if (s.kind == Series::Kind::Line) {
+    // One path per figure: joints are not painted twice under a translucent colour. NaN points
+    // are gaps.
+    cairo_new_path(cr);
+    bool open = false;
+    for (const auto& q : pts) {
+      if (!finite(q)) {
+        open = false;
+        continue;
+      }
+      const Eigen::Vector2d a = p.toPixel(q);
+      if (open) {
+        cairo_line_to(cr, a.x(), a.y());
+      } else {
+        cairo_move_to(cr, a.x(), a.y());
+      }
+      open = true;
+    }
+    cairo_stroke(cr);
+    return;
+  }
+  // Segments and dots are painted one by one, so where many overlap (thousands of loop
+  // closures) the colour deepens with their density.
+  if (s.kind == Series::Kind::Points) {
+    for (const auto& q : pts) {
+      if (!finite(q)) continue;
+      const Eigen::Vector2d a = p.toPixel(q);
+      cairo_new_path(cr);
+      cairo_arc(cr, a.x(), a.y(), s.width / 2, 0, 2 * M_PI);
+      cairo_fill(cr);
+    }
+    return;
+  }
+  for (size_t i = 0; i + 1 < pts.size(); i += 2) {
+    if (!finite(pts[i]) || !finite(pts[i + 1])) continue;
+    const Eigen::Vector2d a = p.toPixel(pts[i]), b = p.toPixel(pts[i + 1]);
+    cairo_new_path(cr);
+    cairo_move_to(cr, a.x(), a.y());
+    cairo_line_to(cr, b.x(), b.y());
+    cairo_stroke(cr);
   }
 }
 
@@ -89,27 +210,11 @@ Ticks ticksOf(const Panel& p) {
 
 double stepOf(const std::vector<double>& t) { return t.size() > 1 ? t[1] - t[0] : 1.0; }
 
-// Legend rows: a line sample and the label, top-left inside the panel.
-struct LegendRow {
-  const Series* series;
-  int y;
-};
-std::vector<LegendRow> legendOf(const Panel& p) {
-  std::vector<LegendRow> rows;
-  int y = p.y + 8;
-  for (const Series& s : p.series)
-    if (!s.label.empty()) {
-      rows.push_back({&s, y});
-      y += Canvas::textHeight(kFont) + 6;
-    }
-  return rows;
-}
-
 // The title in one line, or two (split after "name:") when it is wider than the figure.
-std::vector<std::string> titleLines(const Figure& f) {
+std::vector<std::string> titleLines(cairo_t* cr, const Figure& f) {
   const int room = f.width - 16;
   if (f.title.empty()) return {};
-  if (Canvas::textWidth(f.title, kFont) <= room) return {f.title};
+  if (textWidth(cr, f.title) <= room) return {f.title};
   std::vector<std::string> lines;
   const size_t colon = f.title.find(": ");
   if (colon == std::string::npos) {
@@ -118,9 +223,116 @@ std::vector<std::string> titleLines(const Figure& f) {
     lines = {f.title.substr(0, colon + 1), f.title.substr(colon + 2)};
   }
   for (auto& l : lines) {
-    while (l.size() > 4 && Canvas::textWidth(l, kFont) > room) l.pop_back();
+    while (l.size() > 4 && textWidth(cr, l) > room) l.pop_back();
   }
   return lines;
+}
+
+void drawPanel(cairo_t* cr, const Panel& p) {
+  const Ticks t = ticksOf(p);
+  if (p.background) drawRaster(cr, p, *p.background);
+  if (p.axes && !p.background) {
+    for (double v : t.x) {
+      const double px = crisp(p.toPixel({v, p.y_min}).x());
+      hairline(cr, px, p.y, px, p.y + p.height, kGrid);
+    }
+    for (double v : t.y) {
+      const double py = crisp(p.toPixel({p.x_min, v}).y());
+      hairline(cr, p.x, py, p.x + p.width, py, kGrid);
+    }
+  }
+  cairo_save(cr);
+  cairo_rectangle(cr, p.x, p.y, p.width, p.height);
+  cairo_clip(cr);
+  for (const Series& s : p.series) drawSeries(cr, p, s);
+  cairo_restore(cr);
+  if (p.axes) {
+    // The frame just outside the plot area: it hides no data at the edges.
+    setColor(cr, kFrame);
+    cairo_set_line_width(cr, 1);
+    cairo_new_path(cr);
+    cairo_rectangle(cr, p.x - 0.5, p.y - 0.5, p.width + 1, p.height + 1);
+    cairo_stroke(cr);
+    for (double v : t.x) {
+      const double px = crisp(p.toPixel({v, p.y_min}).x());
+      hairline(cr, px, p.y + p.height, px, p.y + p.height + 5, kFrame);
+      text(cr, px, p.y + p.height + 9, tickLabel(v, stepOf(t.x)), kInk, Align::Center);
+    }
+    for (double v : t.y) {
+      const double py = crisp(p.toPixel({p.x_min, v}).y());
+      hairline(cr, p.x - 5, py, p.x, py, kFrame);
+      text(cr, p.x - 9, py - kLine / 2.0, tickLabel(v, stepOf(t.y)), kInk, Align::Right);
+    }
+    if (!p.x_label.empty())
+      text(cr, p.x + p.width / 2.0, p.y + p.height + 30, p.x_label, kInk, Align::Center);
+    if (!p.y_label.empty()) text(cr, p.x, p.y - kLine - 6, p.y_label, kInk);
+  }
+  if (!p.title.empty())
+    text(cr, p.x + p.width / 2.0, p.y - kLine - 6, p.title, kInk, Align::Center);
+  // Legend rows top-left inside the panel: a sample of the line, then the label.
+  int y = p.y + 8;
+  for (const Series& s : p.series) {
+    if (s.label.empty()) continue;
+    fillRect(cr, p.x + 4, y - 3, p.x + 44 + textWidth(cr, s.label), y + kLine + 3, kWhite);
+    setColor(cr, s.color);
+    cairo_set_line_width(cr, std::max(2.0, s.width));
+    cairo_new_path(cr);
+    cairo_move_to(cr, p.x + 10, y + kLine / 2.0);
+    cairo_line_to(cr, p.x + 32, y + kLine / 2.0);
+    cairo_stroke(cr);
+    text(cr, p.x + 38, y, s.label, kInk);
+    y += kLine + 6;
+  }
+  // Notes top-right, on white so a curve under them does not hide them.
+  y = p.y + 8;
+  for (const std::string& n : p.notes) {
+    const double w = textWidth(cr, n);
+    fillRect(cr, p.x + p.width - w - 12, y - 3, p.x + p.width - 4, y + kLine + 3, kWhite);
+    text(cr, p.x + p.width - 8, y, n, kInk, Align::Right);
+    y += kLine + 6;
+  }
+}
+
+// The one drawing of a figure, whatever surface it goes onto.
+void draw(cairo_surface_t* surface, const Figure& f) {
+  Context owner(cairo_create(surface), cairo_destroy);
+  cairo_t* cr = owner.get();
+  // The toy API's family goes through fontconfig: DejaVu Sans on Debian (fonts-dejavu-core).
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, kFontPx);
+  cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
+  cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
+  setColor(cr, kWhite);
+  cairo_paint(cr);
+  double ty = 6;
+  for (const std::string& line : titleLines(cr, f)) {
+    text(cr, f.width / 2.0, ty, line, kInk, Align::Center);
+    ty += kLine + 4;
+  }
+  for (const Panel& p : f.panels) drawPanel(cr, p);
+  check(cairo_status(cr), "drawing the figure");
+}
+
+void checkSize(const Figure& f) {
+  // Cairo's image surfaces stop at 32767 px a side.
+  if (f.width <= 0 || f.height <= 0 || f.width > 32767 || f.height > 32767)
+    throw InputError(
+        fmt::format("figure size {}x{}: each side must be 1 to 32767 px", f.width, f.height));
+}
+
+cairo_status_t appendBytes(void* closure, const unsigned char* data, unsigned int length) {
+  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+  return CAIRO_STATUS_SUCCESS;
+}
+
+// Draws onto a document surface (owned from here on); the document is complete in its stream
+// once the surface is finished, before this returns.
+void drawDocument(cairo_surface_t* raw, const char* format, const Figure& f) {
+  Surface surface(raw, cairo_surface_destroy);
+  check(cairo_surface_status(surface.get()), format);
+  draw(surface.get(), f);
+  cairo_surface_finish(surface.get());
+  check(cairo_surface_status(surface.get()), format);
 }
 
 }  // namespace
@@ -156,231 +368,76 @@ std::string tickLabel(double value, double step) {
   return fmt::format("{:.{}f}", value, std::clamp(decimals, 0, 6));
 }
 
-Canvas rasterize(const Figure& f) {
-  Canvas c(f.width, f.height, {255, 255, 255});
-  int ty = 6;
-  for (const std::string& line : titleLines(f)) {
-    c.text(f.width / 2, ty, line, kInk, kFont, Align::Center);
-    ty += Canvas::textHeight(kFont) + 4;
-  }
-  for (const Panel& p : f.panels) {
-    const Ticks t = ticksOf(p);
-    if (p.background) drawRaster(c, p, *p.background);
-    if (p.axes && !p.background) {
-      for (double v : t.x) {
-        const double px = p.toPixel({v, p.y_min}).x();
-        c.line(px, p.y, px, p.y + p.height, kGrid, 1);
-      }
-      for (double v : t.y) {
-        const double py = p.toPixel({p.x_min, v}).y();
-        c.line(p.x, py, p.x + p.width, py, kGrid, 1);
-      }
-    }
-    c.clip(p.x, p.y, p.x + p.width, p.y + p.height);
-    for (const Series& s : p.series) {
-      auto px = [&](const Eigen::Vector2d& q) { return p.toPixel(q); };
-      const auto& pts = s.points;
-      if (s.kind == Series::Kind::Points) {
-        for (const auto& q : pts)
-          if (finite(q)) {
-            const Eigen::Vector2d a = px(q);
-            c.disc(a.x(), a.y(), s.width / 2, s.color, s.alpha);
-          }
-        continue;
-      }
-      const size_t step = s.kind == Series::Kind::Segments ? 2 : 1;
-      for (size_t i = 0; i + 1 < pts.size(); i += step) {
-        if (!finite(pts[i]) || !finite(pts[i + 1])) continue;
-        const Eigen::Vector2d a = px(pts[i]), b = px(pts[i + 1]);
-        c.line(a.x(), a.y(), b.x(), b.y(), s.color, s.width, s.alpha);
-      }
-    }
-    c.unclip();
-    if (p.axes) {
-      c.line(p.x, p.y, p.x + p.width, p.y, kFrame, 1);
-      c.line(p.x, p.y + p.height, p.x + p.width, p.y + p.height, kFrame, 1);
-      c.line(p.x, p.y, p.x, p.y + p.height, kFrame, 1);
-      c.line(p.x + p.width, p.y, p.x + p.width, p.y + p.height, kFrame, 1);
-      for (double v : t.x) {
-        const double px = p.toPixel({v, p.y_min}).x();
-        c.line(px, p.y + p.height, px, p.y + p.height + 5, kFrame, 1);
-        c.text(static_cast<int>(px), p.y + p.height + 9, tickLabel(v, stepOf(t.x)), kInk, kFont,
-               Align::Center);
-      }
-      for (double v : t.y) {
-        const double py = p.toPixel({p.x_min, v}).y();
-        c.line(p.x - 5, py, p.x, py, kFrame, 1);
-        c.text(p.x - 9, static_cast<int>(py) - Canvas::textHeight(kFont) / 2,
-               tickLabel(v, stepOf(t.y)), kInk, kFont, Align::Right);
-      }
-      if (!p.x_label.empty())
-        c.text(p.x + p.width / 2, p.y + p.height + 30, p.x_label, kInk, kFont, Align::Center);
-      if (!p.y_label.empty())
-        c.text(p.x, p.y - Canvas::textHeight(kFont) - 6, p.y_label, kInk, kFont, Align::Left);
-    }
-    if (!p.title.empty())
-      c.text(p.x + p.width / 2, p.y - Canvas::textHeight(kFont) - 6, p.title, kInk, kFont,
-             Align::Center);
-    for (const LegendRow& row : legendOf(p)) {
-      const int h = Canvas::textHeight(kFont);
-      const int w = Canvas::textWidth(row.series->label, kFont);
-      c.fill(p.x + 4, row.y - 3, p.x + 44 + w, row.y + h + 3, {255, 255, 255});
-      c.line(p.x + 10, row.y + h / 2.0, p.x + 32, row.y + h / 2.0, row.series->color,
-             std::max(2.0, row.series->width));
-      c.text(p.x + 38, row.y, row.series->label, kInk, kFont);
-    }
-    int ny = p.y + 8;
-    for (const std::string& n : p.notes) {
-      const int w = Canvas::textWidth(n, kFont);
-      c.fill(p.x + p.width - w - 12, ny - 3, p.x + p.width - 4, ny + Canvas::textHeight(kFont) + 3,
-             {255, 255, 255});
-      c.text(p.x + p.width - 8, ny, n, kInk, kFont, Align::Right);
-      ny += Canvas::textHeight(kFont) + 6;
+int textLineHeight() { return kLine; }
+
+RgbImage rasterize(const Figure& f) {
+  checkSize(f);
+  Surface surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, f.width, f.height),
+                  cairo_surface_destroy);
+  check(cairo_surface_status(surface.get()), "image");
+  draw(surface.get(), f);
+  cairo_surface_flush(surface.get());
+  RgbImage image;
+  image.width = f.width;
+  image.height = f.height;
+  image.samples.resize(static_cast<size_t>(f.width) * f.height * 3);
+  const unsigned char* data = cairo_image_surface_get_data(surface.get());
+  const int stride = cairo_image_surface_get_stride(surface.get());
+  for (int y = 0; y < f.height; ++y) {
+    const auto* row = reinterpret_cast<const uint32_t*>(data + static_cast<size_t>(y) * stride);
+    for (int x = 0; x < f.width; ++x) {
+      uint8_t* px = &image.samples[(static_cast<size_t>(y) * f.width + x) * 3];
+      px[0] = static_cast<uint8_t>(row[x] >> 16);
+      px[1] = static_cast<uint8_t>(row[x] >> 8);
+      px[2] = static_cast<uint8_t>(row[x]);
     }
   }
-  return c;
+  return image;
 }
 
 std::string toSvg(const Figure& f) {
-  std::string s = fmt::format(
-      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{0}\" height=\"{1}\" "
-      "viewBox=\"0 0 {0} {1}\" font-family=\"DejaVu Sans, Helvetica, Arial, sans-serif\" "
-      "font-size=\"{2}\">\n<rect width=\"{0}\" height=\"{1}\" fill=\"#ffffff\"/>\n",
-      f.width, f.height, kSvgFontPx);
-  int ty = 6 + kSvgFontPx;
-  for (const std::string& line : titleLines(f)) {
-    s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"{}\">{}</text>\n",
-                     f.width / 2, ty, hex(kInk), escapeXml(line));
-    ty += Canvas::textHeight(kFont) + 4;
+  checkSize(f);
+  std::string out;
+  cairo_surface_t* s = cairo_svg_surface_create_for_stream(appendBytes, &out, f.width, f.height);
+  // Pixels, not points: the SVG opens at the PNG's size.
+  if (cairo_surface_status(s) == CAIRO_STATUS_SUCCESS)
+    cairo_svg_surface_set_document_unit(s, CAIRO_SVG_UNIT_PX);
+  drawDocument(s, "SVG", f);
+  // Cairo 1.16 writes no filter for an SVG image: viewers would blur the map's cells, which
+  // the PNG and PDF show sharp.
+  for (size_t at = out.find("<image "); at != std::string::npos; at = out.find("<image ", at + 1)) {
+    const size_t end = out.find('>', at);
+    if (out.substr(at, end - at).find("style=") != std::string::npos) continue;
+    out.insert(at + 7, "style=\"image-rendering:pixelated\" ");
   }
-  int index = 0;
-  for (const Panel& p : f.panels) {
-    const Ticks t = ticksOf(p);
-    const std::string clip = fmt::format("panel{}", index++);
-    s += fmt::format(
-        "<clipPath id=\"{}\"><rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\"/></clipPath>\n"
-        "<g class=\"panel\">\n",
-        clip, p.x, p.y, p.width, p.height);
-    if (p.background) {
-      const GreyRaster& r = *p.background;
-      Canvas img(r.width, r.height, {});
-      for (int y = 0; y < r.height; ++y)
-        for (int x = 0; x < r.width; ++x) {
-          const uint8_t g = r.pixels[static_cast<size_t>(y) * r.width + x];
-          img.set(x, y, {g, g, g});
-        }
-      const Eigen::Vector2d tl = p.toPixel({r.x0, r.y0 + r.height * r.resolution});
-      const Eigen::Vector2d br = p.toPixel({r.x0 + r.width * r.resolution, r.y0});
-      s += fmt::format(
-          "<image class=\"map\" clip-path=\"url(#{})\" x=\"{:.2f}\" y=\"{:.2f}\" width=\"{:.2f}\" "
-          "height=\"{:.2f}\" preserveAspectRatio=\"none\" style=\"image-rendering:pixelated\" "
-          "href=\"data:image/png;base64,{}\"/>\n",
-          clip, tl.x(), tl.y(), br.x() - tl.x(), br.y() - tl.y(), base64(encodePng(img)));
-    } else if (p.axes) {
-      s += "<g stroke=\"" + hex(kGrid) + "\" stroke-width=\"1\">";
-      for (double v : t.x) {
-        const double px = p.toPixel({v, p.y_min}).x();
-        s += fmt::format("<line x1=\"{0:.2f}\" y1=\"{1}\" x2=\"{0:.2f}\" y2=\"{2}\"/>", px, p.y,
-                         p.y + p.height);
-      }
-      for (double v : t.y) {
-        const double py = p.toPixel({p.x_min, v}).y();
-        s += fmt::format("<line x1=\"{1}\" y1=\"{0:.2f}\" x2=\"{2}\" y2=\"{0:.2f}\"/>", py, p.x,
-                         p.x + p.width);
-      }
-      s += "</g>\n";
-    }
-    for (const Series& se : p.series) {
-      const std::string style = fmt::format(
-          "class=\"{}\" clip-path=\"url(#{})\" fill=\"none\" stroke=\"{}\" stroke-width=\"{:.2f}\" "
-          "stroke-opacity=\"{:.2f}\" stroke-linejoin=\"round\" stroke-linecap=\"round\"",
-          escapeXml(se.css_class), clip, hex(se.color), se.width, se.alpha);
-      if (se.kind == Series::Kind::Line) {
-        // A polyline per finite run: NaN points are gaps.
-        std::string pts;
-        auto flush = [&] {
-          if (!pts.empty()) s += "<polyline " + style + " points=\"" + pts + "\"/>\n";
-          pts.clear();
-        };
-        for (const auto& q : se.points) {
-          if (!finite(q)) {
-            flush();
-            continue;
-          }
-          const Eigen::Vector2d a = p.toPixel(q);
-          pts += fmt::format("{}{:.2f},{:.2f}", pts.empty() ? "" : " ", a.x(), a.y());
-        }
-        flush();
-      } else {
-        std::string d;
-        const bool dots = se.kind == Series::Kind::Points;
-        const size_t step = dots ? 1 : 2;
-        for (size_t i = 0; i + (dots ? 0 : 1) < se.points.size(); i += step) {
-          if (!finite(se.points[i]) || (!dots && !finite(se.points[i + 1]))) continue;
-          const Eigen::Vector2d a = p.toPixel(se.points[i]);
-          if (dots) {
-            d += fmt::format("M{:.2f} {:.2f}h0", a.x(), a.y());
-          } else {
-            const Eigen::Vector2d b = p.toPixel(se.points[i + 1]);
-            d += fmt::format("M{:.2f} {:.2f}L{:.2f} {:.2f}", a.x(), a.y(), b.x(), b.y());
-          }
-        }
-        if (!d.empty()) s += "<path " + style + " d=\"" + d + "\"/>\n";
-      }
-    }
-    if (p.axes) {
-      s += fmt::format(
-          "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"{}\"/>\n", p.x,
-          p.y, p.width, p.height, hex(kFrame));
-      for (double v : t.x) {
-        const double px = p.toPixel({v, p.y_min}).x();
-        s += fmt::format(
-            "<line x1=\"{0:.2f}\" y1=\"{1}\" x2=\"{0:.2f}\" y2=\"{2}\" stroke=\"{3}\"/>"
-            "<text x=\"{0:.2f}\" y=\"{4}\" text-anchor=\"middle\" fill=\"{5}\">{6}</text>\n",
-            px, p.y + p.height, p.y + p.height + 5, hex(kFrame), p.y + p.height + 9 + kSvgFontPx,
-            hex(kInk), tickLabel(v, stepOf(t.x)));
-      }
-      for (double v : t.y) {
-        const double py = p.toPixel({p.x_min, v}).y();
-        s += fmt::format(
-            "<line x1=\"{1}\" y1=\"{0:.2f}\" x2=\"{2}\" y2=\"{0:.2f}\" stroke=\"{3}\"/>"
-            "<text x=\"{4}\" y=\"{5:.2f}\" text-anchor=\"end\" fill=\"{6}\">{7}</text>\n",
-            py, p.x - 5, p.x, hex(kFrame), p.x - 9, py + kSvgFontPx / 2.0 - 2, hex(kInk),
-            tickLabel(v, stepOf(t.y)));
-      }
-      if (!p.x_label.empty())
-        s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"{}\">{}</text>\n",
-                         p.x + p.width / 2, p.y + p.height + 30 + kSvgFontPx, hex(kInk),
-                         escapeXml(p.x_label));
-      if (!p.y_label.empty())
-        s += fmt::format("<text x=\"{}\" y=\"{}\" fill=\"{}\">{}</text>\n", p.x, p.y - 8, hex(kInk),
-                         escapeXml(p.y_label));
-    }
-    if (!p.title.empty())
-      s += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"{}\">{}</text>\n",
-                       p.x + p.width / 2, p.y - 8, hex(kInk), escapeXml(p.title));
-    for (const LegendRow& row : legendOf(p)) {
-      const double mid = row.y + Canvas::textHeight(kFont) / 2.0;
-      s += fmt::format(
-          "<g class=\"legend\"><line x1=\"{0}\" y1=\"{1:.1f}\" x2=\"{2}\" y2=\"{1:.1f}\" "
-          "stroke=\"{3}\" stroke-width=\"{4:.1f}\"/><text x=\"{5}\" y=\"{6:.1f}\" fill=\"{7}\" "
-          "paint-order=\"stroke\" stroke=\"#ffffff\" stroke-width=\"4\">{8}</text></g>\n",
-          p.x + 10, mid, p.x + 32, hex(row.series->color), std::max(2.0, row.series->width),
-          p.x + 38, mid + kSvgFontPx / 2.0 - 2, hex(kInk), escapeXml(row.series->label));
-    }
-    int ny = p.y + 8;
-    for (const std::string& n : p.notes) {
-      s += fmt::format(
-          "<text class=\"note\" x=\"{}\" y=\"{}\" text-anchor=\"end\" fill=\"{}\" "
-          "paint-order=\"stroke\" stroke=\"#ffffff\" stroke-width=\"4\">{}</text>\n",
-          p.x + p.width - 8, ny + kSvgFontPx - 2, hex(kInk), escapeXml(n));
-      ny += Canvas::textHeight(kFont) + 6;
-    }
-    s += "</g>\n";
+  return out;
+}
+
+std::string toPdf(const Figure& f) {
+  checkSize(f);
+  std::string out;
+  cairo_surface_t* s = cairo_pdf_surface_create_for_stream(appendBytes, &out, f.width, f.height);
+  if (cairo_surface_status(s) == CAIRO_STATUS_SUCCESS) {
+    cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_TITLE, validUtf8(f.title).c_str());
+    cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_CREATOR, "plugslam");
   }
-  s += "</svg>\n";
-  return s;
+  drawDocument(s, "PDF", f);
+  return out;
+}
+
+void writeFigure(const Figure& f, const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".png") {
+    writePng(path, rasterize(f));
+  } else if (ext == ".svg") {
+    writeFileAtomically(path, toSvg(f));
+  } else if (ext == ".pdf") {
+    writeFileAtomically(path, toPdf(f));
+  } else {
+    throw InputError("'" + path + "': a picture is .png, .svg or .pdf");
+  }
 }
 
 }  // namespace plugslam::runtime::render

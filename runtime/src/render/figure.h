@@ -1,13 +1,13 @@
 #pragma once
 // A figure as data: panels with axes in data units, series drawn over them, an optional grey
-// raster (an occupancy map) under them. One description, two back-ends (PNG, SVG), so both
-// pictures always show the same thing at the same pixel positions.
+// raster (an occupancy map) under them. One drawing over Cairo makes every format (PNG, SVG,
+// PDF), so all pictures of a figure show the same thing at the same positions.
 #include <Eigen/Core>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "render/canvas.h"
+#include "render/image.h"
 
 namespace plugslam::runtime::render {
 
@@ -25,7 +25,7 @@ struct GreyRaster {
 struct Series {
   enum class Kind { Line, Segments, Points };
   std::string label;      ///< legend text (empty: not in the legend)
-  std::string css_class;  ///< SVG class of the element, so tools and tests can find it
+  std::string css_class;  ///< what the series is ("estimate", "loops"), for code that finds it
   Kind kind = Kind::Line;
   Rgb color;
   double width = 2;                     ///< line width or dot diameter [px]
@@ -61,9 +61,17 @@ std::vector<double> niceTicks(double lo, double hi, int target);
 /// A tick label: as few decimals as the step needs.
 std::string tickLabel(double value, double step);
 
-/// Draws the figure into an RGB raster.
-Canvas rasterize(const Figure& figure);
-/// The figure as a standalone SVG document (the background raster embedded as a PNG).
+/// Height of one line of figure text [px]: what a layout leaves for a note or a label.
+int textLineHeight();
+
+/// Draws the figure into an RGB raster of figure.width x figure.height pixels.
+RgbImage rasterize(const Figure& figure);
+/// The figure as a standalone SVG document, one user unit per pixel (text as glyph outlines).
 std::string toSvg(const Figure& figure);
+/// The figure as a one-page PDF, one point per pixel (fonts embedded).
+std::string toPdf(const Figure& figure);
+/// Writes the figure atomically in the format its extension names: .png, .svg or .pdf. Throws
+/// InputError for another extension or when the file cannot be written.
+void writeFigure(const Figure& figure, const std::string& path);
 
 }  // namespace plugslam::runtime::render

@@ -9,7 +9,6 @@
 #include <filesystem>
 #include <fstream>
 
-#include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
 #include "plugslam/eval/rpe.h"
 #include "plugslam/solver/factor_graph.h"
@@ -98,11 +97,11 @@ std::optional<GreyRaster> readMap(const fs::path& yaml_path) {
   if (image.is_relative()) image = yaml_path.parent_path() / image;
   GreyRaster r;
   if (image.extension() == ".png") {
-    const Canvas c = readPng(image.string());
-    r.width = c.width();
-    r.height = c.height();
-    for (int row = 0; row < c.height(); ++row)
-      for (int col = 0; col < c.width(); ++col) r.pixels.push_back(c.at(col, row).r);
+    const RgbImage c = readPng(image.string());
+    r.width = c.width;
+    r.height = c.height;
+    for (int row = 0; row < c.height; ++row)
+      for (int col = 0; col < c.width; ++col) r.pixels.push_back(c.at(col, row).r);
   } else {
     r = readPgm(image.string());
   }
@@ -336,7 +335,7 @@ Figure errorFigure(const RunData& run, const RenderOptions& o) {
     p.y_label = yl;
     p.notes = std::move(notes);
     // Head room above the largest value for the notes, so they never hide the curve.
-    const double reserved = (p.notes.size() * (Canvas::textHeight() + 6) + 14.0) / h;
+    const double reserved = (p.notes.size() * (textLineHeight() + 6) + 14.0) / h;
     p.y_max /= 1.0 - std::min(reserved, 0.5);
     p.series.push_back({"", cls, Series::Kind::Line, kEstimate, 1.5, 1.0, pts});
     f.panels.push_back(std::move(p));
@@ -385,13 +384,11 @@ std::vector<std::string> renderRun(const std::string& dir, const std::string& ou
   if (ec) throw InputError("cannot create '" + out_dir + "': " + ec.message());
   std::vector<std::string> written;
   auto emit = [&](const Figure& f, const std::string& stem) {
-    const std::string png = (fs::path(out_dir) / (stem + ".png")).string();
-    const std::string svg = (fs::path(out_dir) / (stem + ".svg")).string();
-    writePng(png, rasterize(f));
-    const std::string text = toSvg(f);
-    writeFileAtomically(svg, [&](std::ostream& out) { out << text; });
-    written.push_back(png);
-    written.push_back(svg);
+    for (const std::string& format : options.formats) {
+      const std::string path = (fs::path(out_dir) / (stem + "." + format)).string();
+      writeFigure(f, path);
+      written.push_back(path);
+    }
   };
   emit(mapFigure(run, options), "render_map");
   if (run.reference) {

@@ -32,20 +32,21 @@ struct RenderOptions {
   double rpe_delta = 1.0;              ///< RPE segment length [m]
   std::string estimate_file;           ///< default: DIR/trajectory.tum
   std::string reference_file;          ///< default: DIR/reference.tum or ground_truth.tum
+  std::vector<std::string> formats{"png", "svg"};  ///< file extensions written: png, svg, pdf
 };
 
 /// Reads a run's folder; throws InputError naming the file when something is unreadable, and
 /// when there is no trajectory at all.
 RunData loadRun(const std::string& dir, const RenderOptions& options = {});
 
-/// The map (or a plain x-y plot) with the trajectories and loop closures. Series classes:
-/// "reference", "estimate", "loops", "nodes", "start".
+/// The map (or a plain x-y plot) with the trajectories and loop closures. Series names
+/// (css_class): "reference", "estimate", "loops", "nodes", "start".
 Figure mapFigure(const RunData& run, const RenderOptions& options = {});
 /// ATE over time and distance, RPE over distance; throws InputError without a reference.
 Figure errorFigure(const RunData& run, const RenderOptions& options = {});
 
-/// Loads `dir`, writes render_map.{png,svg} and, with a reference, render_errors.{png,svg} into
-/// out_dir (created if needed); returns the files written.
+/// Loads `dir`, writes render_map.EXT and, with a reference, render_errors.EXT into out_dir
+/// (created if needed), one file per format of options.formats; returns the files written.
 std::vector<std::string> renderRun(const std::string& dir, const std::string& out_dir,
                                    const RenderOptions& options = {});
 
