@@ -71,7 +71,7 @@ void addSweepCommand(CLI::App& root, int& exit_code) {
   plan->add_option("-o,--output", a.dir, "sweep folder")->required();
   plan->callback([&exit_code] {
     planInto(sweep::readSweepFile(a.file), a);
-    std::cout << fmt::format("each case: {}/cases/ID/command; the list: {}/cases.tsv\n", a.dir, a.dir);
+    std::cout << fmt::format("the cases: {0}/cases.tsv; their command lines: {0}/commands.sh and {0}/cases/ID/case.json\n", a.dir);
     exit_code = kOk;
   });
 

@@ -1,12 +1,18 @@
 #include "sweep/plan.h"
 
 #include <fmt/format.h>
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 
 #include <boost/filesystem.hpp>
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -48,17 +54,15 @@ std::vector<std::string> configLabels(const std::vector<std::string>& configs) {
   return labels;
 }
 
-// Small files written beside their target and renamed: a reader never sees half a file. No fsync:
-// a plan is rewritten whole by the next `plan` or `run`, and only results must survive a crash.
+// Plan files are written in place, without a temporary file or fsync: a plan of 10,000 cases
+// must take seconds, and a case file cut by a crash belongs to a case without a result, which
+// the next `plan` or `run` writes again. Only results are written atomically.
 void writeSmallFile(const std::string& path, const std::string& content) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out.write(content.data(), static_cast<std::streamsize>(content.size()));
-    if (!out) throw InputError("cannot write '" + tmp + "'");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw InputError("cannot rename '" + tmp + "' to '" + path + "'");
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw InputError("cannot write '" + path + "': " + std::strerror(errno));
+  const bool written = ::write(fd, content.data(), content.size()) == static_cast<ssize_t>(content.size());
+  ::close(fd);
+  if (!written) throw InputError("cannot write '" + path + "'");
 }
 
 json scoringJson(const Scoring& s) {
@@ -73,6 +77,31 @@ Scoring scoringFrom(const json& j) {
   s.log = j.value("log", "");
   s.laser = j.value("laser", "");
   return s;
+}
+
+// The points of an axis whose values stand for all of them (see validateSweep), without the
+// first, which every build has.
+std::vector<size_t> pointsToCheck(const Axis& axis) {
+  std::set<size_t> points;
+  for (size_t k = 0; k < axis.keys.size(); ++k) {
+    std::optional<size_t> lo, hi;
+    std::set<std::string> seen;
+    for (size_t i = 0; i < axis.values.size(); ++i) {
+      const std::string& text = axis.values[i][k];
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      if (!text.empty() && end && *end == '\0') {
+        if (!lo || v < std::strtod(axis.values[*lo][k].c_str(), nullptr)) lo = i;
+        if (!hi || v > std::strtod(axis.values[*hi][k].c_str(), nullptr)) hi = i;
+      } else if (seen.insert(text).second) {
+        points.insert(i);
+      }
+    }
+    if (lo) points.insert(*lo);
+    if (hi) points.insert(*hi);
+  }
+  points.erase(0);
+  return {points.begin(), points.end()};
 }
 
 }  // namespace
@@ -185,10 +214,11 @@ void validateSweep(const SweepFile& sweep, PluginManager& plugins) {
   for (size_t c = 0; c < sweep.configs.size(); ++c) {
     for (const auto& d : sweep.datasets)
       build(c, d, first, "config " + name(c) + ", dataset " + d.name);
-    // Every other swept value once, on the first dataset: a value that does not fit its
-    // parameter fails now, not in the middle of the sweep.
+    // Other swept values on the first dataset, so a value that does not fit its parameter fails
+    // now, not in the middle of the sweep. A parameter's range is an interval, so a number key's
+    // smallest and largest values stand for all of them; every other kind of value is built once.
     for (size_t a = 0; a < sweep.axes.size(); ++a)
-      for (size_t i = 1; i < sweep.axes[a].values.size(); ++i) {
+      for (size_t i : pointsToCheck(sweep.axes[a])) {
         std::vector<size_t> point = first;
         point[a] = i;
         build(c, sweep.datasets[0], point, "config " + name(c));
@@ -206,9 +236,10 @@ bool hasResult(const std::string& dir, const std::string& id) {
   return ::access((caseDir(dir, id) + "/result.json").c_str(), F_OK) == 0;
 }
 
-CaseCommand caseCommand(const Case& c, const std::string& self, const std::string& case_dir) {
+CaseCommand caseCommand(const Case& c, const std::string& self, const std::string& case_dir,
+                        const std::string& cwd) {
   CaseCommand cmd;
-  cmd.cwd = fs::current_path().string();
+  cmd.cwd = cwd;
   cmd.argv = {self, "run", c.config, "-o", (fs::path(case_dir) / "out").string()};
   for (const auto& o : c.overrides) {
     cmd.argv.push_back("--set");
@@ -220,13 +251,16 @@ CaseCommand caseCommand(const Case& c, const std::string& self, const std::strin
 void writePlan(const Plan& plan, const std::string& dir, const std::string& self) {
   const fs::path root = fs::absolute(dir);
   fs::create_directories(root / "cases");
+  const std::string cwd = fs::current_path().string();
   json cases = json::array();
   std::string tsv = "index\tid\tconfig\tdataset\trepeat\tparameters\n";
+  std::string script =
+      "# Every case of the sweep, one command a line, in plan order (each is also the 'command'\n"
+      "# of its cases/ID/case.json).\n";
   for (size_t i = 0; i < plan.cases.size(); ++i) {
     const Case& c = plan.cases[i];
     const std::string cdir = caseDir(root.string(), c.id);
-    fs::create_directory(cdir);
-    const CaseCommand cmd = caseCommand(c, self, cdir);
+    const CaseCommand cmd = caseCommand(c, self, cdir, cwd);
     std::string line = "cd " + shellQuote(cmd.cwd) + " &&";
     for (const auto& a : cmd.argv) line += " " + shellQuote(a);
     json params = json::array();
@@ -245,12 +279,16 @@ void writePlan(const Plan& plan, const std::string& dir, const std::string& self
              {"source_path", c.source_path},
              {"scoring", scoringJson(c.scoring)}};
     json case_json = one;
+    case_json["command"] = line;
     case_json["argv"] = cmd.argv;
     case_json["cwd"] = cmd.cwd;
     case_json["metrics"] = plan.metrics;
     case_json["timeout_s"] = plan.timeout_s;
-    writeSmallFile(cdir + "/command", line + "\n");
-    writeSmallFile(cdir + "/case.json", case_json.dump(2) + "\n");
+    // A finished case keeps the files it ran from; any other is written afresh (the binary or
+    // the folders may have moved since).
+    if (::mkdir(cdir.c_str(), 0755) == 0 || !hasResult(root.string(), c.id))
+      writeSmallFile(cdir + "/case.json", case_json.dump(2) + "\n");
+    script += line + "\n";
     cases.push_back(std::move(one));
     tsv += fmt::format("{}\t{}\t{}\t{}\t{}\t{}\n", i + 1, c.id, c.config_label, c.dataset,
                        c.repeat, params_text);
@@ -260,6 +298,7 @@ void writePlan(const Plan& plan, const std::string& dir, const std::string& self
            {"datasets", plan.datasets},       {"timeout_s", plan.timeout_s},
            {"self", self},                    {"cases", std::move(cases)}};
   writeSmallFile((root / "cases.tsv").string(), tsv);
+  writeSmallFile((root / "commands.sh").string(), script);
   writeSmallFile((root / "plan.json").string(), doc.dump() + "\n");
 }
 

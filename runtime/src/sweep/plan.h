@@ -1,9 +1,10 @@
 #pragma once
 // A sweep file expanded into cases: every config x dataset x grid point x repeat, in that order,
 // each with the exact command line that runs it and its content id. A plan folder holds
-// plan.json (the cases in order, what the report reads) and cases/ID/ per case: `command` (the
-// line to paste into a shell), case.json (what `sweep case` runs and measures), and, once it ran,
-// result.json (written atomically: present means finished).
+// plan.json (the cases in order, what the report reads), cases.tsv (the numbered list),
+// commands.sh (every case's command line) and cases/ID/ per case: case.json (its `command` to
+// paste into a shell, what `sweep case` runs and measures) and, once it ran, result.json
+// (written atomically: present means finished).
 #include <string>
 #include <utility>
 #include <vector>
@@ -52,9 +53,10 @@ struct CaseCommand {
   std::vector<std::string> argv;
   std::string cwd;
 };
-CaseCommand caseCommand(const Case& c, const std::string& self, const std::string& case_dir);
+CaseCommand caseCommand(const Case& c, const std::string& self, const std::string& case_dir,
+                        const std::string& cwd);
 
-/// Writes plan.json and each case's folder (command, case.json) under `dir`; results already
+/// Writes plan.json, cases.tsv, commands.sh and each case's folder (case.json) under `dir`; results already
 /// there are kept. `self` is the plugslam binary the cases run.
 void writePlan(const Plan& plan, const std::string& dir, const std::string& self);
 /// Reads a plan folder's plan.json.

@@ -190,7 +190,7 @@ std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& 
     out += "\n";
   }
   // Heat tables: dataset x config, the best grid point's median of each.
-  if (p.config_labels.size() > 1 || p.datasets.size() > 1) {
+  if (p.config_labels.size() > 1) {
     for (const auto& m : p.metrics) {
       std::map<std::pair<std::string, std::string>, double> cell;
       for (const auto& r : t.rows) {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <boost/filesystem.hpp>
+#include <algorithm>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -47,7 +48,11 @@ class Reader {
     const Origin o = originOf(at);
     errors_.emplace_back(name_, o.line, o.column, key, message);
   }
-  void throwIfAny() const {
+  void throwIfAny() {
+    // In file order, as a config's errors are, whatever order the checks ran in.
+    std::stable_sort(errors_.begin(), errors_.end(), [](const ConfigError& a, const ConfigError& b) {
+      return std::make_pair(a.line(), a.column()) < std::make_pair(b.line(), b.column());
+    });
     if (errors_.size() == 1) throw errors_[0];
     if (!errors_.empty()) throw ConfigErrorList(errors_);
   }

@@ -1,0 +1,245 @@
+// The sweep file (issue 44): errors located by file:line:col and key, expansion into cases,
+// content ids, checks against the configs before anything runs, the report's aggregation.
+#include <gtest/gtest.h>
+
+#include <boost/filesystem.hpp>
+#include <chrono>
+#include <fstream>
+#include <set>
+
+#include "config_builder.h"
+#include "plugin_manager.h"
+#include "plugslam/errors.h"
+#include "sweep/case_id.h"
+#include "sweep/plan.h"
+#include "sweep/report.h"
+#include "sweep/sweep_file.h"
+#include "test_paths.h"
+
+namespace fs = boost::filesystem;
+using namespace plugslam;
+using namespace plugslam::runtime::sweep;
+
+namespace {
+
+// The message of the error parsing `text` throws, or "" when it parses.
+std::string errorOf(const std::string& text) {
+  try {
+    parseSweep(text, "s.yaml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const std::string kMinimal = R"(config: [)" + std::string("configs/sim2d_single_laser.yaml") + R"(]
+datasets:
+  office-a: {source.seed: 11, source.session: stage-0}
+  office-b: {source.seed: 12, source.session: stage-0}
+grid:
+  pipeline.tracker.splitter.distance: [0.5, 1.0]
+metrics: [ate, hz]
+)";
+
+}  // namespace
+
+TEST(SweepFile, TheIssuesMinimalFileParses) {
+  const SweepFile s = parseSweep(kMinimal, "s.yaml");
+  ASSERT_EQ(s.configs.size(), 1u);
+  EXPECT_TRUE(fs::exists(s.configs[0]));
+  ASSERT_EQ(s.datasets.size(), 2u);
+  EXPECT_EQ(s.datasets[0].name, "office-a");
+  ASSERT_EQ(s.datasets[0].set.size(), 2u);
+  EXPECT_EQ(s.datasets[0].set[0].text(), "source.seed=11");
+  ASSERT_EQ(s.axes.size(), 1u);
+  EXPECT_EQ(s.axes[0].values[0][0], "0.5");
+  EXPECT_EQ(s.axes[0].values[1][0], "1.0");  // as written: the id hashes the text
+  EXPECT_EQ(s.metrics, (std::vector<std::string>{"ate", "hz"}));
+}
+
+TEST(SweepFile, ErrorsNameFileLineColumnAndKey) {
+  EXPECT_EQ(errorOf(kMinimal + "repeats: 3\n"),
+            "s.yaml:8:1: repeats: unknown key 'repeats'; did you mean 'repeat'?");
+  EXPECT_NE(errorOf("config: configs/sim2d_single_laser.yaml\nmetrics: [ate, rpee]\n").find("s.yaml:2:16: metrics: unknown metric 'rpee'; did you mean 'rpe'?"),
+            std::string::npos);
+  EXPECT_NE(errorOf("config: [nowhere.yaml]\n").find("s.yaml:1:10: config: no config file 'nowhere.yaml'"),
+            std::string::npos);
+  const std::string zip = errorOf(kMinimal + "zip: {source.range_noise: [0.01, 0.02], source.dropout: [0.1]}\n");
+  EXPECT_NE(zip.find("s.yaml:8:"), std::string::npos) << zip;
+  EXPECT_NE(zip.find("source.dropout: has 1 values, the zip's first key 2"), std::string::npos) << zip;
+  const std::string twice = errorOf(kMinimal + "set: {pipeline.tracker.splitter.distance: 2}\n");
+  EXPECT_NE(twice.find("s.yaml:8:7: pipeline.tracker.splitter.distance: 'pipeline.tracker.splitter.distance' is also swept (line 6)"),
+            std::string::npos) << twice;
+  EXPECT_NE(errorOf("config: configs/sim2d_single_laser.yaml\ngrid: {a..b: [1]}\n").find("s.yaml:2:8: a..b:"),
+            std::string::npos);
+  EXPECT_NE(errorOf("config: configs/sim2d_single_laser.yaml\nrepeat: 0\n").find("s.yaml:2:9: repeat: must be at least 1"),
+            std::string::npos);
+  EXPECT_NE(errorOf("config: [a\n").find("s.yaml:"), std::string::npos);
+}
+
+TEST(SweepFile, EveryErrorOfAFileIsReportedAtOnce) {
+  const std::string e = errorOf("config: configs/sim2d_single_laser.yaml\nmetric: [ate]\nslurm: {partiton: x}\n");
+  EXPECT_NE(e.find("s.yaml:2:1: metric: unknown key 'metric'; did you mean 'metrics'?"), std::string::npos) << e;
+  EXPECT_NE(e.find("s.yaml:3:9: partiton: unknown key 'partiton' in slurm; did you mean 'partition'?"), std::string::npos) << e;
+  EXPECT_NE(e.find("2 errors"), std::string::npos) << e;
+}
+
+TEST(SweepFile, DatasetsLongFormNameWhatTheyAreScoredAgainst) {
+  const SweepFile s = parseSweep(
+      "config: configs/sim2d_single_laser.yaml\n"
+      "datasets:\n"
+      "  a: {set: {source.seed: 1}, reference: ref.tum, relations: r.relations, log: x.gz, laser: front}\n"
+      "  b: {source.seed: 2}\n",
+      "s.yaml");
+  EXPECT_EQ(s.datasets[0].scoring.reference, "ref.tum");
+  EXPECT_EQ(s.datasets[0].scoring.relations, "r.relations");
+  EXPECT_EQ(s.datasets[0].scoring.laser, "front");
+  EXPECT_EQ(s.datasets[1].set[0].text(), "source.seed=2");
+  EXPECT_NE(errorOf("config: configs/sim2d_single_laser.yaml\ndatasets:\n  a: {source.seed: 1, reference: r.tum}\n")
+                .find("s.yaml:3:34: datasets.a.reference: 'reference' belongs with the long form"),
+            std::string::npos);
+}
+
+TEST(CaseIds, StableAndDifferentWhenAnythingDiffers) {
+  const std::string id = caseId("text", {"a=1", "b=2"}, 1);
+  EXPECT_EQ(id.size(), 16u);
+  EXPECT_EQ(id, caseId("text", {"a=1", "b=2"}, 1));
+  // Fixed by the hash's definition, not by this build: the same in every run, on every machine.
+  EXPECT_EQ(caseId("", {}, 1), caseId("", {}, 1));
+  std::set<std::string> ids{id,
+                            caseId("text", {"a=1", "b=3"}, 1),
+                            caseId("text", {"a=1", "b=2"}, 2),
+                            caseId("text2", {"a=1", "b=2"}, 1),
+                            caseId("text", {"a=1b=2"}, 1),
+                            caseId("text", {"b=2", "a=1"}, 1),
+                            caseId("text", {"a=1.0", "b=2"}, 1)};
+  EXPECT_EQ(ids.size(), 7u);
+}
+
+TEST(Expansion, ConfigsTimesDatasetsTimesGridTimesRepeats) {
+  const SweepFile s = parseSweep(
+      "config: [configs/sim2d_single_laser.yaml, configs/sim2d_double_laser.yaml]\n"
+      "datasets: {a: {source.seed: 1}, b: {source.seed: 2}, c: {source.seed: 3}}\n"
+      "set: {max_frames: 10}\n"
+      "grid: {pipeline.tracker.splitter.distance: [0.5, 1.0], pipeline.tracker.splitter.angle: [0.1, 0.2, 0.3]}\n"
+      "zip: {source.range_noise: [0.01, 0.02], source.dropout: [0.0, 0.1]}\n"
+      "repeat: 2\n",
+      "s.yaml");
+  const Plan plan = expandSweep(s);
+  ASSERT_EQ(plan.cases.size(), 2u * 3 * (2 * 3 * 2) * 2);
+  const Case& c0 = plan.cases[0];
+  EXPECT_EQ(c0.config_label, "sim2d_single_laser");
+  EXPECT_EQ(c0.dataset, "a");
+  EXPECT_EQ(c0.overrides,
+            (std::vector<std::string>{"max_frames=10", "source.seed=1",
+                                      "pipeline.tracker.splitter.distance=0.5",
+                                      "pipeline.tracker.splitter.angle=0.1",
+                                      "source.range_noise=0.01", "source.dropout=0.0"}));
+  // Repeats next to each other, the last axis fastest (zipped values together).
+  EXPECT_EQ(plan.cases[1].repeat, 2);
+  EXPECT_EQ(plan.cases[1].groupKey(), c0.groupKey());
+  EXPECT_EQ(plan.cases[2].params.back(), (std::pair<std::string, std::string>{"source.dropout", "0.1"}));
+  EXPECT_EQ(plan.cases[2].params[2].second, "0.02");
+  std::set<std::string> ids;
+  for (const auto& c : plan.cases) ids.insert(c.id);
+  EXPECT_EQ(ids.size(), plan.cases.size());
+  // Planned again: the same ids in the same order.
+  const Plan again = expandSweep(parseSweep(
+      "config: [configs/sim2d_single_laser.yaml, configs/sim2d_double_laser.yaml]\n"
+      "datasets: {a: {source.seed: 1}, b: {source.seed: 2}, c: {source.seed: 3}}\n"
+      "set: {max_frames: 10}\n"
+      "grid: {pipeline.tracker.splitter.distance: [0.5, 1.0], pipeline.tracker.splitter.angle: [0.1, 0.2, 0.3]}\n"
+      "zip: {source.range_noise: [0.01, 0.02], source.dropout: [0.0, 0.1]}\n"
+      "repeat: 2\n",
+      "elsewhere/t.yaml"));
+  for (size_t i = 0; i < plan.cases.size(); ++i) EXPECT_EQ(again.cases[i].id, plan.cases[i].id);
+}
+
+TEST(Validation, AGridKeyThatIsNoParameterFailsBeforeAnythingRuns) {
+  runtime::PluginManager plugins;
+  const SweepFile bad = parseSweep(
+      "config: configs/sim2d_single_laser.yaml\n"
+      "datasets: {a: {source.seed: 1}}\n"
+      "grid: {pipeline.tracker.splitter.distanc: [0.5, 1.0]}\n",
+      "s.yaml");
+  try {
+    validateSweep(bad, plugins);
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("s.yaml:3:8: pipeline.tracker.splitter.distanc: unknown key 'distanc'"),
+              std::string::npos)
+        << e.what();
+  }
+  const SweepFile bad_value = parseSweep(
+      "config: configs/sim2d_single_laser.yaml\n"
+      "datasets: {a: {source.session: stage-9}}\n"
+      "grid: {pipeline.tracker.splitter.distance: [0.5, -3]}\n",
+      "s.yaml");
+  try {
+    validateSweep(bad_value, plugins);
+    FAIL() << "no error";
+  } catch (const runtime::ConfigErrorList& e) {
+    const std::string text = e.what();
+    EXPECT_NE(text.find("s.yaml:2:16: source.session:"), std::string::npos) << text;
+    EXPECT_NE(text.find("s.yaml:3:8: pipeline.tracker.splitter.distance:"), std::string::npos) << text;
+  }
+  EXPECT_NO_THROW(validateSweep(parseSweep(kMinimal, "s.yaml"), plugins));
+}
+
+TEST(Plan, AThousandCasesWriteAndReadBack) {
+  // 10,000 cases and their times are the bench's (scripts/bench/sweep_scale.sh): a test keeps
+  // the file system's work small.
+  std::string grid = "grid:\n  pipeline.tracker.splitter.distance: [";
+  for (int i = 0; i < 10; ++i) grid += (i ? ", " : "") + std::to_string(0.1 + 0.01 * i);
+  grid += "]\n  pipeline.tracker.splitter.angle: [";
+  for (int i = 0; i < 50; ++i) grid += (i ? ", " : "") + std::to_string(0.1 + 0.01 * i);
+  grid += "]\n";
+  const SweepFile s = parseSweep(
+      "config: [configs/sim2d_single_laser.yaml, configs/sim2d_double_laser.yaml]\n" + grid, "s.yaml");
+  const Plan plan = expandSweep(s);
+  ASSERT_EQ(plan.cases.size(), 1000u);
+  const fs::path dir = fs::temp_directory_path() / fs::unique_path("sweep-plan-%%%%%%");
+  writePlan(plan, dir.string(), "/bin/true");
+  const Plan back = readPlan(dir.string());
+  ASSERT_EQ(back.cases.size(), 1000u);
+  EXPECT_EQ(back.cases[999].id, plan.cases[999].id);
+  EXPECT_EQ(back.cases[999].params, plan.cases[999].params);
+  EXPECT_TRUE(fs::exists(fs::path(caseDir(dir.string(), plan.cases[42].id)) / "case.json"));
+  // The report of a plan without results: every case missing, none lost.
+  const SweepTable t = gatherResults(dir.string());
+  EXPECT_EQ(t.rows.size(), 1000u);
+  EXPECT_EQ(t.rows[0].missing, 1);
+  fs::remove_all(dir);
+}
+
+TEST(Report, RepeatsAggregateAndTheBestIsMarked) {
+  const fs::path dir = fs::temp_directory_path() / fs::unique_path("sweep-report-%%%%%%");
+  const SweepFile s = parseSweep(
+      "config: configs/sim2d_single_laser.yaml\n"
+      "grid: {pipeline.tracker.splitter.distance: [0.5, 1.0]}\n"
+      "repeat: 3\nmetrics: [ate, hz]\n",
+      "s.yaml");
+  const Plan plan = expandSweep(s);
+  writePlan(plan, dir.string(), "/bin/true");
+  const double ate[] = {0.3, 0.1, 0.2, 0.05, 0.07, 0.06};
+  for (size_t i = 0; i < plan.cases.size(); ++i) {
+    std::ofstream(caseDir(dir.string(), plan.cases[i].id) + "/result.json")
+        << "{\"status\": \"ok\", \"exit_code\": 0, \"metrics\": {\"ate\": " << ate[i]
+        << ", \"hz\": " << 100 + i << "}}\n";
+  }
+  const SweepTable t = gatherResults(dir.string());
+  ASSERT_EQ(t.rows.size(), 2u);
+  EXPECT_DOUBLE_EQ(t.rows[0].metrics.at("ate").median, 0.2);
+  EXPECT_DOUBLE_EQ(t.rows[0].metrics.at("ate").min, 0.1);
+  EXPECT_DOUBLE_EQ(t.rows[0].metrics.at("ate").max, 0.3);
+  EXPECT_DOUBLE_EQ(t.rows[1].metrics.at("hz").median, 104);
+  const std::string md = reportMarkdown(t, {});
+  EXPECT_NE(md.find("| sim2d_single_laser | default | 0.5 | 3/3 | 0.2 (0.1–0.3) | 101 (100–102) |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| sim2d_single_laser | default | 1.0 | 3/3 | **0.06** (0.05–0.07) | **104** (103–105) |"), std::string::npos) << md;
+  EXPECT_NE(tableCsv(t).find("default,1.0,3,3,0,0,0.06,0.05,0.07,104,103,105"), std::string::npos) << tableCsv(t);
+  // Compared with itself: every grid point matched, no change.
+  const std::string cmp = compareMarkdown(t, t, "a", "b");
+  EXPECT_NE(cmp.find("2 grid points in both"), std::string::npos) << cmp;
+  EXPECT_NE(cmp.find("0.06 → 0.06 (+0.0 %)"), std::string::npos) << cmp;
+  fs::remove_all(dir);
+}
