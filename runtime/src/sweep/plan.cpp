@@ -65,6 +65,16 @@ void writeSmallFile(const std::string& path, const std::string& content) {
   if (!written) throw InputError("cannot write '" + path + "'");
 }
 
+std::string readSmallFile(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return "";
+  std::string text;
+  char buffer[8192];
+  for (ssize_t n; (n = ::read(fd, buffer, sizeof buffer)) > 0;) text.append(buffer, static_cast<size_t>(n));
+  ::close(fd);
+  return text;
+}
+
 json scoringJson(const Scoring& s) {
   return json{{"reference", s.reference}, {"relations", s.relations}, {"log", s.log},
               {"laser", s.laser}};
@@ -286,8 +296,14 @@ void writePlan(const Plan& plan, const std::string& dir, const std::string& self
     case_json["timeout_s"] = plan.timeout_s;
     // A finished case keeps the files it ran from; any other is written afresh (the binary or
     // the folders may have moved since).
-    if (::mkdir(cdir.c_str(), 0755) == 0 || !hasResult(root.string(), c.id))
+    if (::mkdir(cdir.c_str(), 0755) == 0) {
       writeSmallFile(cdir + "/case.json", case_json.dump(2) + "\n");
+    } else if (!hasResult(root.string(), c.id)) {
+      // Reading is cheaper than truncating and writing again, and a plan run again is the usual
+      // case: a resumed sweep.
+      const std::string text = case_json.dump(2) + "\n";
+      if (readSmallFile(cdir + "/case.json") != text) writeSmallFile(cdir + "/case.json", text);
+    }
     script += line + "\n";
     cases.push_back(std::move(one));
     tsv += fmt::format("{}\t{}\t{}\t{}\t{}\t{}\n", i + 1, c.id, c.config_label, c.dataset,
