@@ -31,7 +31,7 @@ config: [configs/sim2d_single_laser.yaml, configs/sim2d_double_laser.yaml]
 datasets:
   office-a: {source.seed: 11, source.session: stage-0}
   office-b: {source.seed: 12, source.session: stage-0}
-set: {max_frames: 300}
+set: {max_frames: 200}
 grid:
   pipeline.tracker.splitter.distance: [0.5, 1.0]
 metrics: [ate, rpe, loops, tracking_failures, hz]
@@ -83,7 +83,7 @@ datasets:
   good: {source.frames: 20}
   broken: {source.fail_at: 5}
   endless: {source.frames: 1000000000}
-timeout: 1
+timeout: 2
 metrics: [time, memory]
 EOF
   export PLUGSLAM_PLUGIN_PATH="$build/tests/plugins"
@@ -91,7 +91,7 @@ EOF
   "$bin" -q sweep report f --no-plots > f.md || fail "report of failures"
   grep -q "counting broken: failed, exit 1" f.md || fail "failed case not reported: $(cat f.md)"
   grep -q "fixture failure at frame 5" f.md || fail "no log tail: $(cat f.md)"
-  grep -q "counting endless: timeout, stopped after the timeout of 1 s" f.md || fail "timeout not reported: $(cat f.md)"
+  grep -q "counting endless: timeout, stopped after the timeout of 2 s" f.md || fail "timeout not reported: $(cat f.md)"
   grep -q "| counting | good | 1 |" f.md || fail "good case: $(cat f.md)"
   unset PLUGSLAM_PLUGIN_PATH
   echo "ok: a failing and a timed-out case are reported with exit code and log tail; the sweep goes on"
@@ -168,7 +168,6 @@ slurm)
   run_local a
   "$bin" -q sweep run small.sweep.yaml -o s --engine slurm --time 10 > s.log 2>&1 || fail "slurm sweep: $(cat s.log)"
   grep -q "submitted job array .* (8 tasks" s.log || fail "slurm: $(cat s.log)"
-  grep -q -- "--time=10" s/slurm/job-1.sh s/slurm/*.out 2>/dev/null || true
   "$bin" -q sweep report s > /dev/null
   [ "$(figures s)" = "$(figures a)" ] || fail "slurm and local tables differ: $(diff <(figures a) <(figures s))"
   grep -q '"host"' "$(ls s/cases/*/result.json | head -1)" || fail "no host in a result"

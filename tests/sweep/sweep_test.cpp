@@ -186,28 +186,28 @@ TEST(Validation, AGridKeyThatIsNoParameterFailsBeforeAnythingRuns) {
   EXPECT_NO_THROW(validateSweep(parseSweep(kMinimal, "s.yaml"), plugins));
 }
 
-TEST(Plan, AThousandCasesWriteAndReadBack) {
+TEST(Plan, CasesWriteAndReadBack) {
   // 10,000 cases and their times are the bench's (scripts/bench/sweep_scale.sh): a test keeps
   // the file system's work small.
   std::string grid = "grid:\n  pipeline.tracker.splitter.distance: [";
   for (int i = 0; i < 10; ++i) grid += (i ? ", " : "") + std::to_string(0.1 + 0.01 * i);
   grid += "]\n  pipeline.tracker.splitter.angle: [";
-  for (int i = 0; i < 50; ++i) grid += (i ? ", " : "") + std::to_string(0.1 + 0.01 * i);
+  for (int i = 0; i < 10; ++i) grid += (i ? ", " : "") + std::to_string(0.1 + 0.01 * i);
   grid += "]\n";
   const SweepFile s = parseSweep(
       "config: [configs/sim2d_single_laser.yaml, configs/sim2d_double_laser.yaml]\n" + grid, "s.yaml");
   const Plan plan = expandSweep(s);
-  ASSERT_EQ(plan.cases.size(), 1000u);
+  ASSERT_EQ(plan.cases.size(), 200u);
   const fs::path dir = fs::temp_directory_path() / fs::unique_path("sweep-plan-%%%%%%");
   writePlan(plan, dir.string(), "/bin/true");
   const Plan back = readPlan(dir.string());
-  ASSERT_EQ(back.cases.size(), 1000u);
-  EXPECT_EQ(back.cases[999].id, plan.cases[999].id);
-  EXPECT_EQ(back.cases[999].params, plan.cases[999].params);
+  ASSERT_EQ(back.cases.size(), 200u);
+  EXPECT_EQ(back.cases[199].id, plan.cases[199].id);
+  EXPECT_EQ(back.cases[199].params, plan.cases[199].params);
   EXPECT_TRUE(fs::exists(fs::path(caseDir(dir.string(), plan.cases[42].id)) / "case.json"));
   // The report of a plan without results: every case missing, none lost.
   const SweepTable t = gatherResults(dir.string());
-  EXPECT_EQ(t.rows.size(), 1000u);
+  EXPECT_EQ(t.rows.size(), 200u);
   EXPECT_EQ(t.rows[0].missing, 1);
   fs::remove_all(dir);
 }

@@ -60,6 +60,9 @@ CaseOutcome runCase(const std::string& case_dir, const std::function<bool()>& st
   fs::remove(case_dir + "/eval.log", ec);
 
   const ProcessResult p = runProcess(argv, cwd, log, c.value("timeout_s", 0.0), stop);
+  // Nothing ran: no result, so the next sweep tries again (a binary being rebuilt, a host
+  // without the shared folder).
+  if (!p.error.empty()) throw Error(p.error);
   CaseOutcome outcome;
   outcome.exit_code = p.exit_code;
   outcome.wall_s = p.wall_s;
@@ -76,7 +79,6 @@ CaseOutcome runCase(const std::string& case_dir, const std::function<bool()>& st
               {"peak_rss_mib", p.peak_rss_mib},
               {"host", hostName()},
               {"finished_at", utcNow()}};
-  if (!p.error.empty()) result["error"] = p.error;
   if (p.timed_out) result["error"] = fmt::format("stopped after the timeout of {:g} s", c.value("timeout_s", 0.0));
   json metrics = json::object(), errors = json::object();
   if (outcome.status == "ok") {

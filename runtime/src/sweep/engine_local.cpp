@@ -30,7 +30,7 @@ int runLocal(const Plan& plan, const EngineOptions& options) {
   InterruptScope scope;
   std::atomic<size_t> next{0};
   std::mutex print;
-  size_t finished = 0, failed = 0;
+  size_t finished = 0, failed = 0, errors = 0;
   const auto stop = [] { return interruptFlag().load(); };
   const auto worker = [&] {
     for (;;) {
@@ -47,9 +47,10 @@ int runLocal(const Plan& plan, const EngineOptions& options) {
       }
       std::lock_guard<std::mutex> lock(print);
       if (o.status == "interrupted") continue;
-      ++finished;
-      if (o.status != "ok") ++failed;
-      std::cout << fmt::format("[{}/{}] {} {}: {}", finished, pending.size(), c.id, caseLabel(c),
+      if (!error.empty()) ++errors;
+      else ++finished;
+      if (o.status != "ok" && error.empty()) ++failed;
+      std::cout << fmt::format("[{}/{}] {} {}: {}", finished + errors, pending.size(), c.id, caseLabel(c),
                                error.empty() ? o.status : "error: " + error);
       if (o.status == "failed") std::cout << fmt::format(" (exit {})", o.exit_code);
       std::cout << fmt::format(" {:.1f} s\n", o.wall_s) << std::flush;
@@ -67,7 +68,13 @@ int runLocal(const Plan& plan, const EngineOptions& options) {
   }
   std::cout << fmt::format("done: {} cases ran, {} of them failed or timed out (the report lists them)\n",
                            finished, failed);
-  return pendingCases(plan, options.dir).empty() ? kOk : kRuntimeFailure;
+  if (errors > 0) {
+    std::cout << fmt::format("{} cases could not be run and have no result (see above); running "
+                             "the sweep again runs only those\n",
+                             errors);
+    return kRuntimeFailure;
+  }
+  return kOk;
 }
 
 }  // namespace plugslam::runtime::sweep

@@ -86,6 +86,10 @@ Eval evaluate(const std::string& self, std::vector<std::string> args, const std:
   fs::remove(out, ec);
   const ProcessResult p = runProcess(argv, cwd, log, 0);
   Eval e;
+  if (!p.error.empty()) {
+    e.error = p.error;
+    return e;
+  }
   if (p.exit_code != 0) {
     const auto tail = tailLines(log, 1);
     e.error = fmt::format("plugslam eval {} failed (exit {}){}", args[0], p.exit_code,

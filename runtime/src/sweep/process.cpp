@@ -30,6 +30,14 @@ ProcessResult runProcess(const std::vector<std::string>& argv, const std::string
     r.error = "cannot open '" + log + "': " + std::strerror(errno);
     return r;
   }
+  // exec's failure comes back through a pipe that a successful exec closes: a program's own
+  // exit 127 is its result, a binary that could not be started (being relinked, gone) is none.
+  int exec_pipe[2];
+  if (::pipe2(exec_pipe, O_CLOEXEC) != 0) {
+    if (out >= 0) ::close(out);
+    r.error = std::string("pipe failed: ") + std::strerror(errno);
+    return r;
+  }
   const pid_t parent = ::getpid();
   const auto start = std::chrono::steady_clock::now();
   const pid_t pid = ::fork();
@@ -45,13 +53,35 @@ ProcessResult runProcess(const std::vector<std::string>& argv, const std::string
       ::dup2(out, 1);
       ::dup2(out, 2);
     }
-    if (!cwd.empty() && ::chdir(cwd.c_str()) != 0) ::_exit(126);
-    ::execv(args[0], args.data());
+    int failure = 0;
+    if (!cwd.empty() && ::chdir(cwd.c_str()) != 0) {
+      failure = errno;
+    } else {
+      ::execv(args[0], args.data());
+      failure = errno;
+    }
+    ssize_t ignored = ::write(exec_pipe[1], &failure, sizeof failure);
+    (void)ignored;
     ::_exit(127);
   }
   if (out >= 0) ::close(out);
+  ::close(exec_pipe[1]);
   if (pid < 0) {
+    ::close(exec_pipe[0]);
     r.error = std::string("fork failed: ") + std::strerror(errno);
+    return r;
+  }
+  int failure = 0;
+  ssize_t got;
+  do {
+    got = ::read(exec_pipe[0], &failure, sizeof failure);
+  } while (got < 0 && errno == EINTR);
+  ::close(exec_pipe[0]);
+  if (got == static_cast<ssize_t>(sizeof failure)) {
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    r.error = "could not run '" + argv[0] + "'" + (cwd.empty() ? "" : " in '" + cwd + "'") + ": " +
+              std::strerror(failure);
     return r;
   }
   const auto elapsed = [&] {
@@ -85,7 +115,6 @@ ProcessResult runProcess(const std::vector<std::string>& argv, const std::string
   r.peak_rss_mib = usage.ru_maxrss / 1024.0;  // KiB on Linux
   if (WIFEXITED(status)) r.exit_code = WEXITSTATUS(status);
   if (WIFSIGNALED(status)) r.signal = WTERMSIG(status);
-  if (r.exit_code == 127) r.error = "could not run '" + argv[0] + "'";
   return r;
 }
 

@@ -15,7 +15,7 @@ struct ProcessResult {
   bool interrupted = false;  ///< stopped because `stop` said so
   double wall_s = 0;
   double peak_rss_mib = 0;
-  std::string error;  ///< why it could not be started
+  std::string error;  ///< why it could not be started (then nothing ran)
 };
 
 /// Runs argv[0] (a path) with `argv` in `cwd`, stdout and stderr appended to `log`
