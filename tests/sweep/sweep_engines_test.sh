@@ -3,7 +3,8 @@
 #   local     sweep-file errors stop everything before a run; a small simulator sweep (2 configs x
 #             2 datasets x 2 values) through --engine local -j2; a failing and a timed-out case are
 #             recorded and reported, not fatal; a sweep killed midway (SIGKILL) and interrupted
-#             (SIGINT) runs only the missing cases when started again and loses no result
+#             (SIGINT) runs only the missing cases when started again and loses no result; a
+#             second sweep on a folder in use is refused
 #   slurm     the same sweep through a one-node Slurm cluster on localhost (scripts/slurm-local.sh)
 #             gives the same table as --engine local; only missing cases are resubmitted; a
 #             --no-wait job still running blocks a second submission
@@ -127,7 +128,9 @@ EOF
     [ "$(ls i/cases/*/result.json 2>/dev/null | wc -l)" -ge 1 ] && break
     sleep 0.1
   done
-  sleep 0.3
+  # A second sweep on the same folder would run the same cases into the same folders.
+  if out="$("$bin" -q sweep run small.sweep.yaml -o i -j 1 2>&1)"; then fail "two sweeps ran in one folder: $out"; fi
+  grep -q "another \`plugslam sweep run\` is running cases in" <<< "$out" || fail "second sweep: $out"
   kill -INT "$sweep"
   rc=0
   wait "$sweep" || rc=$?

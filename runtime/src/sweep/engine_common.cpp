@@ -1,10 +1,13 @@
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <boost/filesystem.hpp>
 #include <cstdlib>
 #include <sstream>
 
+#include "plugslam/errors.h"
 #include "sweep/engines.h"
 
 namespace plugslam::runtime::sweep {
@@ -43,6 +46,22 @@ InterruptScope::~InterruptScope() {
   ::sigaction(SIGINT, &saved_->interrupt, nullptr);
   ::sigaction(SIGTERM, &saved_->terminate, nullptr);
   delete saved_;
+}
+
+FolderLock::FolderLock(const std::string& dir) {
+  const std::string path = dir + "/.sweep.lock";
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw InputError("cannot open '" + path + "'");
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd_);
+    fd_ = -1;
+    throw InputError("another `plugslam sweep run` is running cases in '" + dir +
+                     "': wait for it, or stop it (its finished cases are kept)");
+  }
+}
+
+FolderLock::~FolderLock() {
+  if (fd_ >= 0) ::close(fd_);
 }
 
 std::string findOnPath(const std::string& program) {

@@ -27,6 +27,7 @@ int runLocal(const Plan& plan, const EngineOptions& options) {
                            plan.cases.size(), done_before, pending.size(), jobs)
             << std::flush;
   if (pending.empty()) return kOk;
+  FolderLock folder_lock(options.dir);
   InterruptScope scope;
   std::atomic<size_t> next{0};
   std::mutex print;

@@ -48,6 +48,7 @@ int runParallel(const Plan& plan, const EngineOptions& options) {
     if (const char* v = std::getenv(var); v && *v) argv.insert(argv.end(), {"--env", var});
   // parallel joins the command's words with spaces and hands them to a shell.
   argv.push_back(shellQuote(options.self) + " sweep case {}");
+  FolderLock folder_lock(options.dir);
   InterruptScope scope;
   const ProcessResult p = runProcess(argv, fs::current_path().string(), "", 0,
                                      [] { return interruptFlag().load(); });

@@ -38,6 +38,19 @@ class InterruptScope {
   Saved* saved_;
 };
 
+/// Holds DIR/.sweep.lock while an engine runs cases here: a second sweep started on the same
+/// folder would run the same missing cases into the same folders. Throws InputError when held.
+class FolderLock {
+ public:
+  explicit FolderLock(const std::string& dir);
+  ~FolderLock();
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
 /// Each returns the exit code of `sweep run`: 0 when every case has a result (failed ones
 /// included), 130 when interrupted, 1 when cases are left without a result.
 int runLocal(const Plan& plan, const EngineOptions& options);
