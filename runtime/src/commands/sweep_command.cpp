@@ -59,8 +59,8 @@ sweep::Plan planInto(const sweep::SweepFile& file, const SweepArgs& a) {
 
 void addSweepCommand(CLI::App& root, int& exit_code) {
   auto* cmd = root.add_subcommand(
-      "sweep", "Run configs x datasets x parameter grids locally, on Slurm or over ssh, and "
-               "gather the results into one table (`plugslam describe sweep`: the file)");
+      "sweep", "Configs x datasets x parameter grids, here, on Slurm or over ssh");
+  cmd->footer("`plugslam describe sweep`: the keys of a sweep file; docs/sweeps.md: the engines.");
   cmd->require_subcommand(1);
   static SweepArgs a;
 
