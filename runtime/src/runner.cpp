@@ -61,6 +61,9 @@ std::string runReportJson(const RunReport& r) {
   j["tracking_failure_reasons"] = reasons;
   j["tracking_searched"] = r.tracking_searched;
   j["tracking_ambiguous"] = r.tracking_ambiguous;
+  j["tracking_hypotheses"] = r.tracking_hypotheses;
+  j["tracking_unchecked"] = r.tracking_unchecked;
+  j["tracking_unchecked_frames"] = r.tracking_unchecked_frames;
   j["tracking_time_s"] = {{"search", r.tracking_search_s},
                           {"refine", r.tracking_refine_s},
                           {"merge", r.tracking_merge_s}};
@@ -310,6 +313,9 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
     report.tracking_failures = stats.failed;
     report.tracking_searched = stats.searched;
     report.tracking_ambiguous = stats.ambiguous;
+    report.tracking_hypotheses = stats.hypotheses;
+    report.tracking_unchecked = stats.unchecked;
+    report.tracking_unchecked_frames = stats.unchecked_frames;
     report.tracking_search_s = stats.search_s;
     report.tracking_refine_s = stats.refine_s;
     report.tracking_merge_s = stats.merge_s;
@@ -328,6 +334,11 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
         report.tracking_failures, report.frames, 100.0 * report.tracking_failures / report.frames,
         why);
   }
+  if (report.tracking_unchecked > 0)
+    spdlog::warn(
+        "{} of {} frames have poses their cues could not check (run.json "
+        "tracking_unchecked_frames lists them): they may be wrong",
+        report.tracking_unchecked, report.frames);
   // In localization a failed frame is one no saved map explains: when that is most of them the
   // poses are mostly predictions, and the session is probably of another place (or sensor).
   if (frozen_frames_ > 0 && 2 * report.tracking_failures > frozen_frames_)

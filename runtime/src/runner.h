@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "playback_clock.h"
 #include "plugslam/errors.h"
@@ -30,6 +31,9 @@ struct RunReport {
   std::vector<std::pair<std::string, uint64_t>> tracking_failure_reasons;
   uint64_t tracking_searched = 0;   ///< frames whose solve started from the correlative search
   uint64_t tracking_ambiguous = 0;  ///< frames whose search found a rival pose nearly as good
+  uint64_t tracking_hypotheses = 0;  ///< frames placed by a hypothesis without the prediction
+  uint64_t tracking_unchecked = 0;   ///< frames whose pose could not be checked
+  std::vector<uint64_t> tracking_unchecked_frames;  ///< their indices (the first 1000)
   double tracking_search_s = 0;     ///< front-end time split [s]: correlative search,
   double tracking_refine_s = 0;     ///< the solve,
   double tracking_merge_s = 0;      ///< and merging into local maps

@@ -48,6 +48,7 @@ TEST(RunReportJson, KeysInOrderAndFiguresWithTheirDecimals) {
                          "frames", "wall_time_s", "hz", "pipeline_time_s", "pipeline_hz",
                          "stopped_by", "error", "tracked_frames", "local_maps", "tracking_failures",
                          "tracking_failure_reasons", "tracking_searched", "tracking_ambiguous",
+                         "tracking_hypotheses", "tracking_unchecked", "tracking_unchecked_frames",
                          "tracking_time_s", "module_errors", "reference", "graph", "modules",
                          "statistics"}));
   // Every reason is a key, in the tracker's order, a zero count included (issue 20).

@@ -14,6 +14,7 @@
 #include "sweep/plan.h"
 #include "sweep/report.h"
 #include "sweep/sweep_file.h"
+#include "temp_dir.h"
 #include "test_paths.h"
 
 namespace fs = boost::filesystem;
@@ -198,7 +199,8 @@ TEST(Plan, CasesWriteAndReadBack) {
       "config: [configs/sim2d_single_laser.yaml, configs/sim2d_double_laser.yaml]\n" + grid, "s.yaml");
   const Plan plan = expandSweep(s);
   ASSERT_EQ(plan.cases.size(), 200u);
-  const fs::path dir = fs::temp_directory_path() / fs::unique_path("sweep-plan-%%%%%%");
+  const plugslam::testing::TempDir temp("sweep-plan");
+  const fs::path dir = temp.path().string();
   writePlan(plan, dir.string(), "/bin/true");
   const Plan back = readPlan(dir.string());
   ASSERT_EQ(back.cases.size(), 200u);
@@ -209,11 +211,11 @@ TEST(Plan, CasesWriteAndReadBack) {
   const SweepTable t = gatherResults(dir.string());
   EXPECT_EQ(t.rows.size(), 200u);
   EXPECT_EQ(t.rows[0].missing, 1);
-  fs::remove_all(dir);
 }
 
 TEST(Report, RepeatsAggregateAndTheBestIsMarked) {
-  const fs::path dir = fs::temp_directory_path() / fs::unique_path("sweep-report-%%%%%%");
+  const plugslam::testing::TempDir temp("sweep-report");
+  const fs::path dir = temp.path().string();
   const SweepFile s = parseSweep(
       "config: configs/sim2d_single_laser.yaml\n"
       "grid: {pipeline.tracker.splitter.distance: [0.5, 1.0]}\n"
@@ -241,5 +243,4 @@ TEST(Report, RepeatsAggregateAndTheBestIsMarked) {
   const std::string cmp = compareMarkdown(t, t, "a", "b");
   EXPECT_NE(cmp.find("2 grid points in both"), std::string::npos) << cmp;
   EXPECT_NE(cmp.find("0.06 → 0.06 (+0.0 %)"), std::string::npos) << cmp;
-  fs::remove_all(dir);
 }

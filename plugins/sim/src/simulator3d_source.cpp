@@ -1,5 +1,7 @@
 #include "simulator3d_source.h"
 
+#include <algorithm>
+
 #include "plugslam/errors.h"
 #include "sim3d/odometry.h"
 #include "sim3d/trajectory.h"
@@ -21,6 +23,9 @@ void Simulator3DSource::configure() {
   o.rate = rate();
   o.duration = duration();
   o.speed = speed();
+  o.acceleration = acceleration();
+  for (int k : drop_frames())
+    if (k < 0) throw ParamError("drop_frames", "frame indices must be >= 0");
   o.seed = static_cast<uint64_t>(seed());
   o.image_noise.enabled = image_noise();
   o.image_noise.sigma = image_sigma();
@@ -80,6 +85,10 @@ int64_t Simulator3DSource::sizeHint() const {
 
 bool Simulator3DSource::next(Frame& frame) {
   if (!sim_) configure();
+  const std::vector<int>& dropped = drop_frames();
+  while (next_ < sim_->frameCount() &&
+         std::find(dropped.begin(), dropped.end(), static_cast<int>(next_)) != dropped.end())
+    ++next_;
   if (next_ >= sim_->frameCount()) return false;
   sim3d::Sim3DFrame f;
   if (!odometry_.empty())

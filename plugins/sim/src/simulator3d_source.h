@@ -48,6 +48,17 @@ class Simulator3DSource : public Source {
   Param<double> duration{
       this, "duration", 0.0, "s", "generated living-room loop length; 0 = 30 s", Range{0.0, 1e6}};
   Param<double> speed{this, "speed", 8.0, "m/s", "generated street drive speed", Range{0.1, 100.0}};
+  Param<double> acceleration{this,
+                             "acceleration",
+                             0.0,
+                             "m/s^2",
+                             "generated street drive: start standing and speed up at this rate "
+                             "to `speed` (0: at speed from the first frame)",
+                             Range{0.0, 100.0}};
+  // A camera driver that loses frames (a full buffer, a busy bus) delivers the next one late:
+  // the motion between two delivered frames is then several steps long.
+  Param<std::vector<int>> drop_frames{this, "drop_frames", {}, "",
+                                          "indices of rendered frames that are not delivered"};
   Param<bool> image_noise{this, "image_noise", true, "",
                           "gaussian image noise and exposure changes"};
   Param<double> image_sigma{this,          "image_sigma",       2.0,

@@ -46,6 +46,9 @@ struct AlignContext {
   /// The covariance of `guess` (tangent space at it, right perturbation); empty when nothing
   /// predicted it (a loop's validation): the aligner then neither searches nor adds a prior.
   std::optional<typename S::Matrix> covariance;
+  /// How many standard deviations of `covariance` a search covers (the aligner's search_sigmas):
+  /// a cue that searches by its own means (projection windows) reaches as far.
+  double search_sigmas = 3.0;
   /// The motion since the previous frame as the tracker's motion model measured it (in the
   /// previous robot frame); empty without a motion model or a reading this frame.
   std::optional<typename S::Pose> motion;
@@ -68,6 +71,9 @@ class AlignerSlice : public Configurable {
   /// containers, scene entries to `scene`, the local map in its own frame), then calls prepare().
   /// Returns false when an entry is absent or prepare() declines (the slice then adds nothing).
   bool bind(const Frame& frame, const PropertyContainer& scene, const AlignContext<S>& context);
+  /// A solve starts from a new pose (the prediction, the search's or a hypothesis): association
+  /// rounds start over (a slice that narrows its windows round by round widens them again).
+  virtual void beginSolve() {}
   /// Data association at estimate T (scene <- robot); called once per outer iteration.
   virtual void associate(const Pose& t) { (void)t; }
   /// Adds the slice's linearised factors at T (NormalEquations::add); sets eq.candidates to the
@@ -85,8 +91,9 @@ class AlignerSlice : public Configurable {
 
 /// Optional second base of an aligner slice that can place the robot without the prediction
 /// (wide-baseline relocalisation, e.g. descriptor matching + RANSAC). The Multi-Aligner asks it,
-/// after bind(), when the solve from the prediction is invalid, then solves again from the pose
-/// it proposes: the cue's own alignment refines it.
+/// after bind(), for a hypothesis when its association cannot cover the prediction's
+/// uncertainty, when the solve from the prediction is invalid, and when that solve cannot vouch
+/// for the motion it found; it solves from the pose proposed and keeps what explains more.
 template <class S>
 class RecoverableSlice {
  public:
@@ -94,6 +101,9 @@ class RecoverableSlice {
   /// A guess of the robot in the scene frame from this frame's bound entries alone; empty when
   /// the slice finds none.
   virtual std::optional<typename S::Pose> recoverPose() = 0;
+  /// Whether this frame's association, started at the prediction, reaches as far as the
+  /// prediction's covariance says it may be off (false: only recoverPose() can place the frame).
+  virtual bool priorCovered() const { return true; }
 };
 
 extern template class AlignerSlice<Space2D>;

@@ -20,6 +20,9 @@ struct FrameEstimate {
   bool frozen = false;
   /// The alignment failed: the pose is the motion model's prediction, not a measured one.
   bool lost = false;
+  /// The alignment converged but could not be checked (its cues barely measured the motion and
+  /// no hypothesis without the prediction could be made): the pose may be wrong.
+  bool unchecked = false;
 };
 
 /// All readings of one time step, then their preprocessed cues and the pose estimate.

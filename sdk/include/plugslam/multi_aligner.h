@@ -61,6 +61,13 @@ struct AlignResult {
   bool ambiguous = false;
   /// With `ambiguous`: the rival pose as a tangent vector at `pose` (robot frame).
   typename S::Vector rival = S::Vector::Zero();
+  /// The pose came from a hypothesis a cue made without the prediction (recoverPose()), which
+  /// explained more than the solve from the prediction.
+  bool hypothesis = false;
+  /// The solve could not vouch for its motion (the data barely measure the step along the
+  /// direction of travel, or the prediction was beyond the cues' reach) and no hypothesis
+  /// without the prediction could be made to check it: the pose may be wrong.
+  bool unchecked = false;
   double search_s = 0;  ///< [s] spent searching
   double refine_s = 0;  ///< [s] spent in the solve
   /// inliers / factors, 0 without factors.
@@ -157,6 +164,19 @@ class MultiAligner : public Configurable {
       "poses farther apart than this (translation or rotation) are distinct peaks of the "
       "search, not one peak's spread; a solve that ends this far from the searched pose slid "
       "off it and is invalid"};
+  // A solve from the prediction that converged is not yet a measurement of the motion: points
+  // that cannot see the step (far ones, along the direction of travel) agree with any nearby
+  // pose. It counts as measured when the data alone know the step to this fraction (3 sigma),
+  // or twice as well as the prediction did.
+  Param<double> step_tolerance{this,
+                               "step_tolerance",
+                               0.05,
+                               "",
+                               "fraction of the step the solve must measure along the direction "
+                               "of travel (3 sigma) unless it beats the prediction's uncertainty "
+                               "by half; a solve that does neither is checked against a "
+                               "hypothesis made without the prediction (cues that can make one)",
+                               Range{0, 10}};
   Param<bool> motion_prior{this, "motion_prior", S::kDim == 2, "",
                            "add the prediction to the solve as a factor with its covariance "
                            "(the motion model's, or constant velocity's)"};
@@ -180,6 +200,12 @@ class MultiAligner : public Configurable {
   // another peak, or left the window without a wider search confirming it.
   void check(const std::vector<ScoringSlice<S>*>& scorers, const Pose& guess, const Pose& start,
              const SearchLattice<S>& lattice, AlignResult<S>& result);
+  // Whether `pose` lies within the window the prediction's covariance sets (search_sigmas).
+  bool withinWindow(const AlignContext<S>& context, const Pose& pose) const;
+  // Whether the data in `result` (without the prediction's factor `prior_information`) measure
+  // the motion from context.previous along the direction of travel (step_tolerance).
+  bool motionMeasured(const AlignContext<S>& context, const AlignResult<S>& result,
+                      const typename S::Matrix* prior_information) const;
   // One solve from `start` with the slices already bound (`prior`: the prediction's factor).
   AlignResult<S> solve(const std::vector<AlignerSlice<S>*>& active, const Pose& start,
                        const Pose* prior_mean, const typename S::Matrix* prior_information);

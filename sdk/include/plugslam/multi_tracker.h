@@ -108,7 +108,7 @@ class MultiTracker : public Tracker {
   // Seeds the map just started at `origin` (in `previous`'s frame) by a split: slices that hand
   // over carry what the frame sees, the others merge the frame.
   void seedAfterSplit(const Frame& frame, const LocalMap& previous, const Pose& origin);
-  void writeEstimate(Frame& frame, bool lost) const;
+  void writeEstimate(Frame& frame, bool lost, bool unchecked = false) const;
   // Closes the current map (if any) and starts the next at the robot's pose, joined to it by
   // `information`.
   void startLocalMap(const Frame& frame, const typename S::Matrix& information,

@@ -22,6 +22,14 @@ struct TrackerStats {
   /// Frames whose search found a distinct pose nearly as good (a corridor, a look-alike): the
   /// prediction chose, and their information along the rival's direction was cut.
   uint64_t ambiguous = 0;
+  /// Frames whose pose came from a hypothesis made without the prediction (descriptor matching
+  /// and RANSAC), which explained more of the frame than the solve from the prediction.
+  uint64_t hypotheses = 0;
+  /// Frames whose converged solve could not be checked (see AlignResult::unchecked).
+  uint64_t unchecked = 0;
+  /// Their indices (the first kMaxListed), for the run's report.
+  std::vector<uint64_t> unchecked_frames;
+  static constexpr std::size_t kMaxListed = 1000;  ///< frames listed at most
   double search_s = 0;          ///< [s] spent in the aligner's correlative search
   double refine_s = 0;          ///< [s] spent in the aligner's solve
   double merge_s = 0;           ///< [s] spent merging frames into local maps

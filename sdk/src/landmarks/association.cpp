@@ -58,7 +58,8 @@ void FeatureGrid::associate(const LandmarkMap& map, const Eigen::Isometry3d& cam
     // Without a pyramid every keypoint is full resolution: scale 1, the plain radius.
     const double expected =
         scaled ? predictedScale(map.reference_distances[j], pc.norm(), f.max_scale) : 1.0;
-    const double radius = o.radius * expected;
+    const double radius =
+        o.radius * expected + (o.spread ? o.spread_scale * (*o.spread)[j] : 0.0);
     const double r2 = radius * radius;
     const double min_scale = o.scale_tolerance > 0 ? expected / o.scale_tolerance : 0.0;
     const double max_scale = o.scale_tolerance > 0 ? expected * o.scale_tolerance : 1e300;

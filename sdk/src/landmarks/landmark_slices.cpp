@@ -67,7 +67,45 @@ void ReprojectionSlice<S>::configure() {
 }
 
 template <class S>
-bool ReprojectionSlice<S>::prepare(const AlignContext<S>&) {
+void ReprojectionSlice<S>::spreadWindows(const AlignContext<S>& context) {
+  const LandmarkMap& map = *scene;
+  const FeatureSet& f = *measurement;
+  prior_covered_ = true;
+  if (!context.covariance) {
+    spread_.assign(map.size(), search_radius() - refine_radius());
+    return;
+  }
+  // The projection's covariance is J Sigma J^T, J the (u, v) rows of the observation's Jacobian
+  // w.r.t. the robot pose at the prediction; the window reaches search_sigmas standard
+  // deviations along its longest axis.
+  spread_.assign(map.size(), 0.0);
+  const Eigen::Isometry3d robot = S::to3D(context.guess);
+  const typename S::Matrix& sigma = *context.covariance;
+  size_t visible = 0, beyond = 0;
+  for (size_t j = 0; j < map.size(); ++j) {
+    Eigen::Vector3d e;
+    Eigen::Matrix<double, 3, 6> jp;
+    if (!observationError(robot, f.mount, f.camera, map.positions[j], Eigen::Vector3d::Zero(), e,
+                          &jp, nullptr))
+      continue;
+    const double u = e.x(), v = e.y();  // the projection (measured is zero)
+    const Eigen::Matrix<double, 2, S::kDof> jr =
+        restrictJacobian<S>(jp).template topRows<2>();
+    const Eigen::Matrix2d projected = jr * sigma * jr.transpose();
+    const double half_trace = 0.5 * (projected(0, 0) + projected(1, 1));
+    const double half_diff = 0.5 * (projected(0, 0) - projected(1, 1));
+    const double largest = half_trace + std::hypot(half_diff, projected(0, 1));
+    const double reach = context.search_sigmas * std::sqrt(std::max(0.0, largest));
+    spread_[j] = std::min(max_search_radius(), reach);
+    if (u < 0 || v < 0 || u > f.width - 1 || v > f.height - 1) continue;
+    ++visible;
+    if (reach > max_search_radius()) ++beyond;
+  }
+  prior_covered_ = visible > 0 && 2 * beyond < visible;
+}
+
+template <class S>
+bool ReprojectionSlice<S>::prepare(const AlignContext<S>& context) {
   if (kernel() != made_kernel_ || kernel_scale() != made_scale_) configure();
   matched_ += matches_.size();  // the previous frame's association at its solution
   matches_.clear();
@@ -77,6 +115,7 @@ bool ReprojectionSlice<S>::prepare(const AlignContext<S>&) {
   measurement->checkConsistent();
   scene->checkConsistent();
   grid_.build(*measurement);
+  spreadWindows(context);
   ++frames_;
   return true;
 }
@@ -87,8 +126,10 @@ void ReprojectionSlice<S>::associate(const Pose& t) {
   if (!measurement.bound() || !scene.bound()) return;
   Stopwatch watch(time_s_);
   AssociationOptions o;
-  // Each round starts nearer the solution: the radius halves down to refine_radius.
-  o.radius = std::max(refine_radius(), search_radius() / static_cast<double>(1 << std::min(round_, 20)));
+  // Each round starts nearer the solution: what the pose's uncertainty adds to the window halves.
+  o.radius = refine_radius();
+  o.spread = &spread_;
+  o.spread_scale = 1.0 / static_cast<double>(1 << std::min(round_, 20));
   o.max_hamming = max_hamming();
   o.ratio = ratio();
   o.scale_tolerance = scale_tolerance();

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -199,13 +200,17 @@ void MultiAligner<S>::check(const std::vector<ScoringSlice<S>*>& scorers, const 
 
 template <class S>
 AlignResult<S> MultiAligner<S>::align(const Frame& frame, const PropertyContainer& scene,
-                                      const AlignContext<S>& context) {
+                                      const AlignContext<S>& given) {
+  AlignContext<S> context = given;
+  context.search_sigmas = search_sigmas();
   std::vector<AlignerSlice<S>*> active;
   std::vector<ScoringSlice<S>*> scorers;
+  std::vector<RecoverableSlice<S>*> recoverable;
   for (auto& slice : slices)
     if (slice->bind(frame, scene, context)) {
       active.push_back(slice.get());
       if (auto* s = dynamic_cast<ScoringSlice<S>*>(slice.get())) scorers.push_back(s);
+      if (auto* r = dynamic_cast<RecoverableSlice<S>*>(slice.get())) recoverable.push_back(r);
     }
   AlignResult<S> result;
   result.pose = context.guess;
@@ -250,16 +255,35 @@ AlignResult<S> MultiAligner<S>::align(const Frame& frame, const PropertyContaine
     result.search_score = found.score;
     if (result.valid) check(scorers, context.guess, start, lattice, result);
   }
-  if (!result.valid && relocalise()) {
-    // Wide-baseline recovery: a slice that can place the robot from its cue alone proposes a
-    // pose, and the ordinary solve (every slice) refines it.
-    for (AlignerSlice<S>* slice : active) {
-      auto* recoverable = dynamic_cast<RecoverableSlice<S>*>(slice);
-      if (!recoverable) continue;
-      const std::optional<Pose> proposed = recoverable->recoverPose();
+  // Hypotheses made without the prediction (descriptor matching + RANSAC): each is refined by
+  // the ordinary solve (every slice), and the result that explains more of the frame wins.
+  const auto hypotheses = [&]() {
+    bool made = false;
+    for (RecoverableSlice<S>* r : recoverable) {
+      const std::optional<Pose> proposed = r->recoverPose();
       if (!proposed) continue;
+      made = true;
       AlignResult<S> retry = solve(active, *proposed, prior, info);
-      if (retry.valid && (!result.valid || retry.inliers > result.inliers)) result = retry;
+      if (retry.valid && (!result.valid || retry.inliers > result.inliers)) {
+        retry.hypothesis = true;
+        result = retry;
+      }
+    }
+    return made;
+  };
+  if (relocalise() && !recoverable.empty()) {
+    const bool covered = std::all_of(recoverable.begin(), recoverable.end(),
+                                     [](const RecoverableSlice<S>* r) { return r->priorCovered(); });
+    // An invalid solve, or one the cues could not reach where the prediction may be off, or
+    // one that ended where the prediction said it could not be (the cues' windows were set for
+    // errors that size: what they paired there may be look-alikes), or one whose cues barely
+    // measure the step: a hypothesis without the prediction competes with it. Whatever wins
+    // must measure its own step, or it is said to be unchecked.
+    if (!result.valid || !covered || !withinWindow(context, result.pose) ||
+        !motionMeasured(context, result, info)) {
+      const bool made = hypotheses();
+      if (result.valid && (!made || !motionMeasured(context, result, info)))
+        result.unchecked = true;
     }
   }
   if (result.valid && found.found && found.ambiguous) {
@@ -282,6 +306,53 @@ AlignResult<S> MultiAligner<S>::align(const Frame& frame, const PropertyContaine
   result.search_s = search_s;
   result.refine_s = since(t_refine);
   return result;
+}
+
+template <class S>
+bool MultiAligner<S>::withinWindow(const AlignContext<S>& context, const Pose& pose) const {
+  if (!context.covariance) return true;
+  const auto [linear, angular] = window(*context.covariance);
+  const typename S::Vector v = S::toVector(S::normalized(context.guess.inverse() * pose));
+  return v.template head<S::kDim>().norm() <= linear &&
+         v.template tail<S::kDof - S::kDim>().norm() <= angular;
+}
+
+template <class S>
+bool MultiAligner<S>::motionMeasured(const AlignContext<S>& context, const AlignResult<S>& result,
+                                     const typename S::Matrix* prior_information) const {
+  using Mat = typename S::Matrix;
+  using Vec = Eigen::Matrix<double, S::kDim, 1>;
+  // The data's information alone: the prediction's factor is not a measurement of the step.
+  Mat h = result.H;
+  if (prior_information) h -= *prior_information;
+  const Eigen::LDLT<Mat> ldlt(h);
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return false;
+  const Mat covariance = ldlt.solve(Mat::Identity());
+  // The direction of travel in the robot's frame (the tangent's translation block): the solved
+  // step's, else the predicted one's; without either, the least measured direction.
+  const auto step_in_robot = [&](const Pose& to) -> Vec {
+    return to.linear().transpose() * (to.translation() - context.previous.translation());
+  };
+  Vec step = step_in_robot(result.pose);
+  if (step.norm() < 1e-9) step = step_in_robot(context.guess);
+  const Eigen::Matrix<double, S::kDim, S::kDim> ctt =
+      covariance.template topLeftCorner<S::kDim, S::kDim>();
+  Vec d;
+  if (step.norm() < 1e-9) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, S::kDim, S::kDim>> eig(ctt);
+    d = eig.eigenvectors().col(S::kDim - 1);
+  } else {
+    d = step.normalized();
+  }
+  const double sigma = std::sqrt(std::max(0.0, d.dot(ctt * d)));
+  const double predicted =
+      context.covariance
+          ? std::sqrt(std::max(
+                0.0, d.dot(context.covariance->template topLeftCorner<S::kDim, S::kDim>() * d)))
+          : 0.0;
+  spdlog::trace("motion check: step {:.3f} m, its sigma {:.4f} m (the prediction's {:.4f} m)",
+                step.norm(), sigma, predicted);
+  return 3 * sigma <= step_tolerance() * step.norm() || sigma <= 0.5 * predicted;
 }
 
 template <class S>
@@ -328,6 +399,7 @@ AlignResult<S> MultiAligner<S>::solve(const std::vector<AlignerSlice<S>*>& activ
     }
   };
   typename S::Pose t = guess;
+  for (auto* slice : active) slice->beginSolve();
   for (int outer = 0; outer < outer_iterations(); ++outer) {
     for (auto* slice : active) slice->associate(t);
     bool step_converged = false;

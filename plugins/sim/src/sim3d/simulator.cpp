@@ -50,7 +50,7 @@ Simulator3D Simulator3D::fromOptions(const ScenarioOptions& o) {
       trajectory = livingRoomLoop(o.duration > 0.0 ? o.duration : 30.0, rate);
     } else {
       road = blockLoop(160.0, 100.0, 12.0, 2.0);
-      trajectory = driveAlong(road, camera_height, o.speed, rate);
+      trajectory = driveAlong(road, camera_height, o.speed, rate, o.acceleration);
     }
   } else {
     trajectory = readTrajectory(o.trajectory_file, parseTrajectoryFormat(o.trajectory_format),

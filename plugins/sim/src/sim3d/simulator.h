@@ -36,6 +36,8 @@ struct ScenarioOptions {
   double rate = 0.0;
   double duration = 0.0;   ///< generated living-room loop length [s]; 0 = 30 s
   double speed = 8.0;      ///< generated street drive speed [m/s]
+  /// Generated street drive: starts standing and speeds up at this rate [m/s^2]; 0 = at speed.
+  double acceleration = 0.0;
   uint64_t seed = 0;       ///< textures, buildings and every noise stream
   DepthNoise depth_noise;  ///< RGB-D depth errors
   ImageNoise image_noise;  ///< image noise and exposure

@@ -43,9 +43,19 @@ Trajectory livingRoomLoop(double duration, double rate) {
   return out;
 }
 
-Trajectory driveAlong(const RoadPath& path, double height, double speed, double rate) {
-  if (path.size() < 2 || !(speed > 0) || !(rate > 0))
-    throw InputError("sim3d driveAlong: expected a path of two points or more, speed, rate > 0");
+Trajectory driveAlong(const RoadPath& path, double height, double speed, double rate,
+                      double acceleration) {
+  if (path.size() < 2 || !(speed > 0) || !(rate > 0) || !(acceleration >= 0))
+    throw InputError(
+        "sim3d driveAlong: expected a path of two points or more, speed, rate > 0, "
+        "acceleration >= 0");
+  // Distance along the path after t seconds: from standing at `acceleration` up to `speed`,
+  // then steady (already at speed without an acceleration).
+  const double ramp = acceleration > 0 ? speed / acceleration : 0.0;
+  auto travelled = [&](double t) {
+    if (t < ramp) return 0.5 * acceleration * t * t;
+    return 0.5 * acceleration * ramp * ramp + speed * (t - ramp);
+  };
   std::vector<double> arc(path.size(), 0.0);
   for (size_t i = 1; i < path.size(); ++i) arc[i] = arc[i - 1] + (path[i] - path[i - 1]).norm();
   auto at = [&](double a) {
@@ -58,7 +68,7 @@ Trajectory driveAlong(const RoadPath& path, double height, double speed, double 
   };
   Trajectory out;
   for (int k = 0;; ++k) {
-    const double a = speed * k / rate;
+    const double a = travelled(k / rate);
     if (a > arc.back()) break;
     Eigen::Vector3d fwd = at(a + 3.0) - at(a - 3.0);
     fwd.z() = 0.0;  // a level camera; the height follows the road

@@ -24,7 +24,8 @@ Trajectory livingRoomLoop(double duration, double rate);
 
 /// A camera driving along `path` at `speed` m/s, `height` metres above the road, sampled at
 /// `rate` Hz until the path ends (heading from the path's tangent over a few metres).
-Trajectory driveAlong(const RoadPath& path, double height, double speed, double rate);
+Trajectory driveAlong(const RoadPath& path, double height, double speed, double rate,
+                      double acceleration = 0.0);
 
 /// The living room's anchor for loaded trajectories: (3.2, 2.6, 1.5) looking at the south wall.
 Eigen::Isometry3d livingRoomStart();

@@ -29,6 +29,11 @@ struct AssociationOptions {
   /// factor (either way) is no match (0: scale not checked). Landmarks of unknown reference
   /// distance are expected at full resolution; predictions are clamped to the scales searched.
   double scale_tolerance = 0.0;
+  /// Per landmark (nullptr: none): how far its projection may be off because the camera's pose
+  /// is uncertain [px], times `spread_scale`, added to the radius (which covers the keypoint's
+  /// own error at its scale).
+  const std::vector<double>* spread = nullptr;
+  double spread_scale = 1.0;  ///< factor on `spread` (an association round narrows it)
 };
 
 /// The pyramid scale at which a landmark of reference distance `reference_distance` is expected

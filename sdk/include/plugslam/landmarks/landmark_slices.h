@@ -47,12 +47,26 @@ class ReprojectionSlice final : public AlignerSlice<S>,
                                 "keypoints to align"};
   Input<LandmarkMap> scene{this, Container::scene, "scene", "landmarks",
                            "local map's landmarks to align to"};
-  Param<double> search_radius{this, "search_radius", 20.0, "px",
-                              "association radius of the first round, at the motion prediction",
-                              Range{0.5, 1000}};
+  // The search window of each landmark is where the prediction's covariance lets its
+  // projection be: a near point moves far in the image for the same uncertain step, a far one
+  // barely. refine_radius covers the keypoint's own error.
   Param<double> refine_radius{this, "refine_radius", 4.0, "px",
-                              "radius of the last rounds: the radius halves each round down to it",
+                              "association radius at a pose known to a pixel: the keypoint's "
+                              "error and the landmark's; each round halves what the pose's "
+                              "uncertainty adds to it",
                               Range{0.5, 1000}};
+  Param<double> search_radius{this, "search_radius", 20.0, "px",
+                              "association radius of the first round when the prediction has no "
+                              "covariance (a loop's validation)",
+                              Range{0.5, 1000}};
+  // A wider window holds a large share of the image: a descriptor meets its look-alikes there
+  // more often than its landmark, and projecting stops being a search.
+  Param<double> max_search_radius{this, "max_search_radius", 100.0, "px",
+                                  "largest window around a landmark's projection; when the "
+                                  "prediction's covariance spreads most visible landmarks wider, "
+                                  "the frame is placed by descriptor matching without the "
+                                  "prediction first",
+                                  Range{0.5, 1e5}};
   Param<int> max_hamming{this, "max_hamming", 50, "bits",
                          "descriptor check: larger Hamming distances are no match", Range{0, 4096}};
   Param<double> ratio{this, "ratio", 1.0, "",
@@ -94,8 +108,12 @@ class ReprojectionSlice final : public AlignerSlice<S>,
   ReprojectionSlice();
   ~ReprojectionSlice() override;
   void configure() override;
+  void beginSolve() override { round_ = 0; }
   void associate(const Pose& t) override;
   void linearize(const Pose& t, NormalEquations<S>& eq) const override;
+  /// False when the prediction's covariance spreads most visible landmarks' projections beyond
+  /// max_search_radius.
+  bool priorCovered() const override { return prior_covered_; }
   /// Wide-baseline recovery: descriptor matching of the keypoints with depth against the whole
   /// landmark map, 3D-3D RANSAC (point_registration.h); the robot pose it implies, or none.
   std::optional<Pose> recoverPose() override;
@@ -110,8 +128,12 @@ class ReprojectionSlice final : public AlignerSlice<S>,
   bool prepare(const AlignContext<S>& context) override;
 
  private:
+  // Each landmark's window beyond refine_radius at the prediction [px].
+  void spreadWindows(const AlignContext<S>& context);
   FeatureGrid grid_;
   std::vector<LandmarkMatch> matches_;
+  std::vector<double> spread_;
+  bool prior_covered_ = true;
   std::unique_ptr<RobustKernel> kernel_;
   std::string made_kernel_;
   double made_scale_ = -1;

@@ -135,7 +135,7 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
     }
   }
   if (frames_in_map_ == 0) merge(frame);  // the frame seeds the new map
-  writeEstimate(frame, lost);
+  writeEstimate(frame, lost, aligned.valid && aligned.unchecked);
   return events;
 }
 
@@ -180,6 +180,21 @@ void MultiTracker<S>::count(const Frame& frame, const AlignResult<S>& aligned) {
   if (aligned.valid) {
     ++stats_.aligned;
     stats_.inlier_ratio_sum += aligned.inlierRatio();
+    if (aligned.hypothesis) {
+      ++stats_.hypotheses;
+      spdlog::debug("frame {}: placed by a hypothesis made without the prediction", frame.seq);
+    }
+    if (aligned.unchecked) {
+      // Never silent: a pose the cues could not vouch for is said, and listed in the report.
+      ++stats_.unchecked;
+      if (stats_.unchecked_frames.size() < TrackerStats::kMaxListed)
+        stats_.unchecked_frames.push_back(frame.seq);
+      const auto level = stats_.unchecked <= 10 ? spdlog::level::warn : spdlog::level::debug;
+      spdlog::log(level,
+                  "frame {}: the pose could not be checked (the cues barely measure the motion "
+                  "and no hypothesis without the prediction was found); it may be wrong",
+                  frame.seq);
+    }
   } else {
     stats_.countFailure(aligned.failure);
     spdlog::debug("frame {}: alignment failed: {}; new local map", frame.seq,
@@ -233,12 +248,13 @@ void MultiTracker<S>::seedAfterSplit(const Frame& frame, const LocalMap& previou
 }
 
 template <class S>
-void MultiTracker<S>::writeEstimate(Frame& frame, bool lost) const {
+void MultiTracker<S>::writeEstimate(Frame& frame, bool lost, bool unchecked) const {
   frame.estimate.valid = true;
   frame.estimate.local_map = map_->id;
   frame.estimate.in_map = S::to3D(pose_);
   frame.estimate.frozen = false;  // the back-end may still move this map
   frame.estimate.lost = lost;
+  frame.estimate.unchecked = unchecked;
 }
 
 template <class S>
