@@ -127,6 +127,7 @@ def f2f(gt, est):
         r.append(math.degrees(angle(err)))
     return {"frames": len(gt), "translation_percent_mean": sum(t) / max(1, len(t)),
             "translation_percent_max": max(t, default=0.0),
+            "steps_over_5_percent": sum(1 for x in t if x > 5.0),
             "rotation_deg_mean": sum(r) / max(1, len(r)), "rotation_deg_max": max(r, default=0.0)}
 
 
