@@ -23,6 +23,12 @@ class RunConfig : public Configurable {
   SlotList<Sink> outputs{this, "outputs", "writers and streams fed each frame and at the end"};
   Param<int64_t> max_frames{this, "max_frames", 0, "", "stop after this many frames (0: all)",
                             Range{0, 1e15}};
+  // Decoding images (PNG, JPEG, bag messages) costs as much as tracking them: done on a thread
+  // of its own, the two overlap. A few frames absorb the jitter of either side.
+  Param<int64_t> read_ahead{this, "read_ahead", 4, "frames",
+                            "frames the source reads and decodes ahead of the pipeline, on a "
+                            "thread of its own (0: read on the pipeline's thread)",
+                            Range{0, 1000}};
   Param<std::string> on_module_error{
       this, "on_module_error", "stop", "",
       "a module that throws during a run: stop (outputs written, session saved in "

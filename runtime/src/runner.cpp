@@ -196,14 +196,23 @@ bool Execution::fetch() {
     return false;
   }
   Source& source = *run_.source;
-  auto frame = std::make_unique<Frame>();
-  frame->seq = seq;
-  bool more;
-  {
+  std::unique_ptr<Frame> frame;
+  if (run_.read_ahead() > 0) {
+    if (!reader_)
+      reader_ = std::make_unique<ReadAhead>(
+          [&source](Frame& f) { return asModule(source, [&] { return source.next(f); }); },
+          static_cast<size_t>(run_.read_ahead()));
+    ReadFrame read = reader_->next();
+    if (read.seconds > 0) io_timings_.add(source.name(), read.seconds);
+    if (read.error) std::rethrow_exception(read.error);
+    frame = std::move(read.frame);
+  } else {
+    frame = std::make_unique<Frame>();
+    frame->seq = seq;
     ScopedTimer t(io_timings_, source.name());
-    more = asModule(source, [&] { return source.next(*frame); });
+    if (!asModule(source, [&] { return source.next(*frame); })) frame.reset();
   }
-  if (!more) {
+  if (!frame) {
     exhausted_ = true;
     return false;
   }
@@ -271,6 +280,7 @@ void Execution::skipped(uint64_t seq, const ModuleError& e) {
 RunReport Execution::finish(const std::string& stopped_by, const std::string& error) {
   if (finished_) throw InputError("this run has already finished");
   finished_ = true;
+  reader_.reset();  // nothing more is read
   RunReport report = report_;
   if (!stopped_by.empty()) report.stopped_by = stopped_by;
   report.error = error;

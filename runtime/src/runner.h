@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "playback_clock.h"
+#include "read_ahead.h"
 #include "plugslam/errors.h"
 #include "plugslam/statistics.h"
 #include "plugslam/timings.h"
@@ -136,6 +137,8 @@ class Execution {
   std::chrono::steady_clock::time_point start_;
   bool exhausted_ = false, finished_ = false;
   uint64_t frozen_frames_ = 0;  // frames tracked in frozen maps (localization)
+  // Reads the source ahead (RunConfig::read_ahead); last, so it stops before the rest goes.
+  std::unique_ptr<ReadAhead> reader_;
 };
 
 /// Runs source -> pipeline -> sinks to the end of the data (or max_frames, or until

@@ -364,3 +364,48 @@ TEST_F(Session, RgbdLivingRoomLocalizationFollowsTheMappedTrajectory) {
   EXPECT_LT(a.translation.rmse, 0.05);
   EXPECT_LE(off, localized.frames / 50);
 }
+
+// Issue 42: a stereo session, as the RGB-D one above. The rendered street (120 frames, 96 m at
+// 8 m/s) mapped with the landmark cue and a 3D graph, saved, loaded, then the same frames
+// localized in the frozen landmark maps.
+TEST_F(Session, StereoStreetLocalizationFollowsTheMappedTrajectory) {
+  const std::string plugin_dir = plugslam::testing::buildDir() + "/plugins";
+  for (const char* p : {"sim", "io", "stereo"})
+    if (!fs::exists(plugin_dir + "/plugslam_" + std::string(p) + ".so"))
+      GTEST_SKIP() << "plugin '" << p << "' is not built in " << plugin_dir;
+  plugins_.addSearchDir(plugin_dir);
+  ConfigDocument doc =
+      loadConfigFile(plugslam::testing::sourceDir() + "/configs/sim3d_stereo.yaml");
+  applyOverride(doc, "max_frames=120");
+  applyOverride(doc, "outputs=[]");
+  applyOverride(doc, "pipeline.graph={type: sdk.GraphSlam3D, deterministic: true}");
+  auto mapping = build(doc);
+  RunReport mapped = run(*mapping, "map");
+  ASSERT_EQ(mapped.frames, 120u);
+  const Trajectory reference = mapping->pipeline->result().trajectory;
+  const SessionSummary saved =
+      saveSession((dir_ / "stereo").string(), YAML::Dump(doc.root) + "\n", *mapping->pipeline);
+  EXPECT_GT(saved.maps, 2u);
+  auto loc = restore((dir_ / "stereo").string(), true);
+  RunReport localized = run(*loc, "loc");
+  EXPECT_EQ(localized.frames, mapped.frames);
+  EXPECT_EQ(loc->pipeline->tracker->stats().local_maps, 0u);
+  EXPECT_LE(localized.tracking_failures, localized.frames / 50);
+  AteOptions ate;
+  ate.alignment = Alignment::None;
+  const AteResult a = computeAte(reference, loc->pipeline->result().trajectory, ate);
+  // Frames the localizer puts more than 20 cm (a quarter of a step) from where mapping put them.
+  size_t off = 0;
+  const Trajectory& lt = loc->pipeline->result().trajectory;
+  for (size_t i = 0; i < std::min(lt.size(), reference.size()); ++i)
+    if ((lt[i].pose.translation() - reference[i].pose.translation()).norm() > 0.2) ++off;
+  std::cout << "stereo street: " << saved.maps << " maps, localization vs mapping ATE rmse "
+            << a.translation.rmse << " m, max " << a.translation.max << " m, "
+            << localized.tracking_failures << " failures; against the truth "
+            << mapped.ate_rmse.value_or(NAN) << " m mapping, "
+            << localized.ate_rmse.value_or(NAN) << " m localizing; " << off
+            << " frames more than 20 cm off\n";
+  // A localizer lost in the frozen maps is off by metres on most frames.
+  EXPECT_LT(a.translation.rmse, 0.2);
+  EXPECT_LE(off, localized.frames / 20);
+}
