@@ -21,6 +21,7 @@
 
 #include "plugslam/errors.h"
 #include "serialization/backends.h"
+#include "serialization/writer_frames.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
@@ -105,88 +106,68 @@ class BinaryOut final : public OutArchive {
   explicit BinaryOut(std::ostream& out) : out_(out) {}
 
   void beginObject() override {
-    beforeValue();
+    frames_.beforeValue();
     buf_.push_back(static_cast<char>(kObject));
-    Frame f;
-    f.object = true;
-    f.count_pos = buf_.size();
-    frames_.push_back(std::move(f));
+    frames_.openObject().patch_pos = buf_.size();
     putLE(buf_, 0, 4);
   }
 
   void endObject() override {
-    Frame& f = top("endObject");
-    if (!f.object) misuse("endObject() closes an array");
-    if (f.key_pending) misuse("key() without a value before endObject()");
-    if (f.count > std::numeric_limits<std::uint32_t>::max()) misuse("more than 2^32 fields");
+    const WriterFrames::Frame f = frames_.closeObject();
+    if (f.count > std::numeric_limits<std::uint32_t>::max()) frames_.misuse("more than 2^32 fields");
     for (int i = 0; i < 4; ++i)
-      buf_[f.count_pos + i] = static_cast<char>((f.count >> (8 * i)) & 0xff);
-    frames_.pop_back();
+      buf_[f.patch_pos + i] = static_cast<char>((f.count >> (8 * i)) & 0xff);
   }
 
   void key(const std::string& name) override {
-    if (frames_.empty() || !frames_.back().object) misuse("key() outside an object");
-    Frame& f = frames_.back();
-    if (f.key_pending) misuse("two key() calls without a value");
-    if (!f.keys.insert(name).second) misuse("duplicate field '" + name + "'");
+    WriterFrames::Frame& f = frames_.acceptKey(name);
     putVarint(buf_, name.size());
     buf_ += name;
     f.key_pending = true;
   }
 
   void beginArray(std::size_t size) override {
-    beforeValue();
+    frames_.beforeValue();
     buf_.push_back(static_cast<char>(kArray));
     putVarint(buf_, size);
-    Frame f;
-    f.object = false;
-    f.expected = size;
-    frames_.push_back(std::move(f));
+    frames_.openArray(size);
   }
 
-  void endArray() override {
-    Frame& f = top("endArray");
-    if (f.object) misuse("endArray() closes an object");
-    if (f.count != f.expected) {
-      misuse("array announced " + std::to_string(f.expected) + " elements, got " +
-             std::to_string(f.count));
-    }
-    frames_.pop_back();
-  }
+  void endArray() override { frames_.closeArray(); }
 
   void writeBool(bool value) override {
-    beforeValue();
+    frames_.beforeValue();
     buf_.push_back(static_cast<char>(value ? kTrue : kFalse));
   }
 
   void writeInt(std::int64_t value) override {
-    beforeValue();
+    frames_.beforeValue();
     buf_.push_back(static_cast<char>(kInt));
     const std::uint64_t u = static_cast<std::uint64_t>(value);
     putVarint(buf_, (u << 1) ^ (value < 0 ? ~std::uint64_t{0} : 0));  // zigzag
   }
 
   void writeUInt(std::uint64_t value) override {
-    beforeValue();
+    frames_.beforeValue();
     buf_.push_back(static_cast<char>(kUInt));
     putVarint(buf_, value);
   }
 
   void writeDouble(double value) override {
-    beforeValue();
+    frames_.beforeValue();
     buf_.push_back(static_cast<char>(kDouble));
     putLE(buf_, doubleBits(value), 8);
   }
 
   void writeString(const std::string& value) override {
-    beforeValue();
+    frames_.beforeValue();
     buf_.push_back(static_cast<char>(kString));
     putVarint(buf_, value.size());
     buf_ += value;
   }
 
   void writeDoubles(const double* data, std::size_t n) override {
-    beforeValue();
+    frames_.beforeValue();
     buf_.push_back(static_cast<char>(kDoubles));
     putVarint(buf_, n);
     if constexpr (kLittleEndianHost) {
@@ -197,9 +178,7 @@ class BinaryOut final : public OutArchive {
   }
 
   void finish() override {
-    if (finished_) misuse("finish() called twice");
-    if (!frames_.empty()) misuse("finish() with an unclosed object or array");
-    if (!root_written_) misuse("finish() before any value was written");
+    frames_.checkFinish();
     std::string header(kBinaryMagic, kBinaryMagic + 4);
     putLE(header, kBinaryVersion, 4);
     putLE(header, buf_.size(), 8);
@@ -207,52 +186,15 @@ class BinaryOut final : public OutArchive {
     out_.write(header.data(), static_cast<std::streamsize>(header.size()));
     out_.write(buf_.data(), static_cast<std::streamsize>(buf_.size()));
     out_.flush();
-    finished_ = true;
+    frames_.markFinished();
     if (!out_) throw Error("cannot write the binary archive: the output stream failed");
     std::string().swap(buf_);
   }
 
  private:
-  struct Frame {
-    bool object = false;
-    bool key_pending = false;
-    std::size_t count = 0;
-    std::size_t expected = 0;
-    std::size_t count_pos = 0;
-    std::unordered_set<std::string> keys;
-  };
-
-  [[noreturn]] static void misuse(const std::string& what) {
-    throw std::logic_error("OutArchive (binary): " + what);
-  }
-
-  Frame& top(const char* call) {
-    if (frames_.empty()) misuse(std::string(call) + "() with nothing open");
-    return frames_.back();
-  }
-
-  void beforeValue() {
-    if (finished_) misuse("write after finish()");
-    if (frames_.empty()) {
-      if (root_written_) misuse("an archive holds one root value; wrap several in an object");
-      root_written_ = true;
-      return;
-    }
-    Frame& f = frames_.back();
-    if (f.object) {
-      if (!f.key_pending) misuse("a value inside an object needs key() first");
-      f.key_pending = false;
-    } else if (f.count >= f.expected) {
-      misuse("more array elements than the " + std::to_string(f.expected) + " announced");
-    }
-    ++f.count;
-  }
-
   std::ostream& out_;
   std::string buf_;
-  std::vector<Frame> frames_;
-  bool root_written_ = false;
-  bool finished_ = false;
+  WriterFrames frames_{"binary"};
 };
 
 // ---------------------------------------------------------------------------------------------

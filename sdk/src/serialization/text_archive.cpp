@@ -18,6 +18,7 @@
 #include "plugslam/errors.h"
 #include "plugslam/yaml_load.h"
 #include "serialization/backends.h"
+#include "serialization/writer_frames.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
@@ -82,25 +83,18 @@ class TextOut final : public OutArchive {
   }
 
   void beginObject() override {
-    beforeValue();
+    frames_.beforeValue();
     em_ << YAML::Block << YAML::BeginMap;
-    Frame f;
-    f.object = true;
-    frames_.push_back(std::move(f));
+    frames_.openObject();
   }
 
   void endObject() override {
-    if (frames_.empty() || !frames_.back().object) misuse("endObject() without beginObject()");
-    if (frames_.back().key_pending) misuse("key() without a value before endObject()");
+    frames_.closeObject();
     em_ << YAML::EndMap;
-    frames_.pop_back();
   }
 
   void key(const std::string& name) override {
-    if (frames_.empty() || !frames_.back().object) misuse("key() outside an object");
-    Frame& f = frames_.back();
-    if (f.key_pending) misuse("two key() calls without a value");
-    if (!f.keys.insert(name).second) misuse("duplicate field '" + name + "'");
+    WriterFrames::Frame& f = frames_.acceptKey(name);
     if (!validUtf8(name)) {
       throw Error("the text archive needs UTF-8 field names; '" + name +
                   "' is not valid UTF-8 (use the binary format)");
@@ -110,46 +104,38 @@ class TextOut final : public OutArchive {
   }
 
   void beginArray(std::size_t size) override {
-    beforeValue();
+    frames_.beforeValue();
     em_ << YAML::Block << YAML::BeginSeq;
-    Frame f;
-    f.expected = size;
-    frames_.push_back(std::move(f));
+    frames_.openArray(size);
   }
 
   void endArray() override {
-    if (frames_.empty() || frames_.back().object) misuse("endArray() without beginArray()");
-    const Frame& f = frames_.back();
-    if (f.count != f.expected) {
-      misuse("array announced " + std::to_string(f.expected) + " elements, got " +
-             std::to_string(f.count));
-    }
+    frames_.closeArray();
     em_ << YAML::EndSeq;
-    frames_.pop_back();
   }
 
   void writeBool(bool value) override {
-    beforeValue();
+    frames_.beforeValue();
     em_ << (value ? "true" : "false");
   }
 
   void writeInt(std::int64_t value) override {
-    beforeValue();
+    frames_.beforeValue();
     em_ << std::to_string(value);
   }
 
   void writeUInt(std::uint64_t value) override {
-    beforeValue();
+    frames_.beforeValue();
     em_ << std::to_string(value);
   }
 
   void writeDouble(double value) override {
-    beforeValue();
+    frames_.beforeValue();
     em_ << formatDouble(value);
   }
 
   void writeString(const std::string& value) override {
-    beforeValue();
+    frames_.beforeValue();
     if (!validUtf8(value)) {
       throw Error(
           "the text archive needs UTF-8 strings; a string value is not valid UTF-8 "
@@ -161,18 +147,16 @@ class TextOut final : public OutArchive {
   }
 
   void writeDoubles(const double* data, std::size_t n) override {
-    beforeValue();
+    frames_.beforeValue();
     em_ << YAML::Flow << YAML::BeginSeq;
     for (std::size_t i = 0; i < n; ++i) em_ << formatDouble(data[i]);
     em_ << YAML::EndSeq;
   }
 
   void finish() override {
-    if (finished_) misuse("finish() called twice");
-    if (!frames_.empty()) misuse("finish() with an unclosed object or array");
-    if (!root_written_) misuse("finish() before any value was written");
+    frames_.checkFinish();
     em_ << YAML::EndMap;
-    finished_ = true;
+    frames_.markFinished();
     if (!em_.good()) throw Error("cannot write the text archive: " + em_.GetLastError());
     out_ << '\n';
     out_.flush();
@@ -180,40 +164,9 @@ class TextOut final : public OutArchive {
   }
 
  private:
-  struct Frame {
-    bool object = false;
-    bool key_pending = false;
-    std::size_t count = 0;
-    std::size_t expected = 0;
-    std::unordered_set<std::string> keys;
-  };
-
-  [[noreturn]] static void misuse(const std::string& what) {
-    throw std::logic_error("OutArchive (text): " + what);
-  }
-
-  void beforeValue() {
-    if (finished_) misuse("write after finish()");
-    if (frames_.empty()) {
-      if (root_written_) misuse("an archive holds one root value; wrap several in an object");
-      root_written_ = true;
-      return;
-    }
-    Frame& f = frames_.back();
-    if (f.object) {
-      if (!f.key_pending) misuse("a value inside an object needs key() first");
-      f.key_pending = false;
-    } else if (f.count >= f.expected) {
-      misuse("more array elements than the " + std::to_string(f.expected) + " announced");
-    }
-    ++f.count;
-  }
-
   std::ostream& out_;
   YAML::Emitter em_;
-  std::vector<Frame> frames_;
-  bool root_written_ = false;
-  bool finished_ = false;
+  WriterFrames frames_{"text"};
 };
 
 // ---------------------------------------------------------------------------------------------
