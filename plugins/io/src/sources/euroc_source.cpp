@@ -64,17 +64,8 @@ std::size_t EurocSource::index() {
                  "(not used)",
                  describe(), unpaired);
 
-  truth_ = Trajectory();
-  std::string gt = ground_truth_file();
-  if (gt.empty()) {
-    const fs::path def = mav / "state_groundtruth_estimate0" / "data.csv";
-    if (fs::is_regular_file(def, ec)) gt = def.string();
-  }
-  if (gt == "none") gt.clear();
-  if (!gt.empty()) {
-    truth_ = parseEurocGroundTruth(readTextFile(gt), gt);
-    spdlog::info("{}: ground truth from '{}' ({} rows)", describe(), gt, truth_.size());
-  }
+  loadTruth(mav / "state_groundtruth_estimate0" / "data.csv",
+            [](const std::string& gt) { return parseEurocGroundTruth(readTextFile(gt), gt); });
   spdlog::info("{}: {} raw stereo pairs ({}x{}, {} distortion, cameras {:.4f} m apart)",
                describe(), pairs_.size(), calibration_.width, calibration_.height,
                distortionModelName(calibration_.distortion.model),
@@ -85,10 +76,6 @@ std::size_t EurocSource::index() {
 void EurocSource::read(std::size_t i, Frame& frame) {
   const Pair& p = pairs_[i];
   readStereoPair(p.left, p.right, static_cast<double>(p.stamp_ns) * 1e-9, frame);
-}
-
-std::optional<Eigen::Isometry3d> EurocSource::groundTruth(std::size_t, double stamp) const {
-  return interpolatePose(truth_, stamp, ground_truth_max_gap());
 }
 
 }  // namespace io

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "plugslam/trajectory.h"
 #include "sources/camera_sequence_source.h"
+#include "sources/ground_truth_file.h"
 
 namespace plugslam {
 namespace io {
@@ -16,29 +16,21 @@ namespace io {
 /// second = cam1's, second_pose = cam1 in cam0, mount = cam0's T_BS: the robot frame is EuRoC's
 /// body frame) and raw[ground_truth] (the body in the world, interpolated at the image time).
 /// Rectification is the stereo preprocessor's job.
-class EurocSource : public StereoSequenceSource {
+class EurocSource : public WithGroundTruthFile<StereoSequenceSource> {
  public:
+  EurocSource()
+      : WithGroundTruthFile("ground truth csv (t [ns], p xyz, q wxyz, ...); empty = "
+                            "mav0/state_groundtruth_estimate0/data.csv when present; none = no "
+                            "ground truth") {}
+
   Param<std::string> left_camera{this, "left_camera", "cam0", "",
                                  "sensor folder under mav0/ of the left camera"};
   Param<std::string> right_camera{this, "right_camera", "cam1", "",
                                   "sensor folder under mav0/ of the right camera"};
-  Param<std::string> ground_truth_file{
-      this, "ground_truth_file", "", "",
-      "ground truth csv (t [ns], p xyz, q wxyz, ...); empty = "
-      "mav0/state_groundtruth_estimate0/data.csv when present; none = no ground truth"};
-  Param<double> ground_truth_max_gap{
-      this,
-      "ground_truth_max_gap",
-      0.05,
-      "s",
-      "longest gap between ground-truth rows to interpolate across (a 50 ms linear "
-      "interpolation errs < 2 mm at 5 m/s^2)",
-      Range{0.0, 10.0}};
 
  protected:
   std::size_t index() override;
   void read(std::size_t i, Frame& frame) override;
-  std::optional<Eigen::Isometry3d> groundTruth(std::size_t i, double stamp) const override;
   std::string describe() const override;
 
  private:
@@ -47,7 +39,6 @@ class EurocSource : public StereoSequenceSource {
     std::string left, right;  // file paths
   };
   std::vector<Pair> pairs_;
-  Trajectory truth_;
 };
 
 }  // namespace io

@@ -33,16 +33,7 @@ std::size_t TumRgbdSource::index() {
                  pairs_.size(), colour.size(), max_difference());
   setCalibration(dir.string(), pairs_.front().rgb, pairs_.front().depth);
 
-  truth_ = Trajectory();
-  std::string gt = ground_truth_file();
-  std::error_code ec;
-  if (gt.empty() && fs::is_regular_file(dir / "groundtruth.txt", ec))
-    gt = (dir / "groundtruth.txt").string();
-  if (gt == "none") gt.clear();
-  if (!gt.empty()) {
-    truth_ = readTumTrajectory(gt);
-    spdlog::info("{}: ground truth from '{}' ({} rows)", describe(), gt, truth_.size());
-  }
+  loadTruth(dir / "groundtruth.txt", [](const std::string& gt) { return readTumTrajectory(gt); });
   return pairs_.size();
 }
 
@@ -51,8 +42,8 @@ void TumRgbdSource::read(std::size_t i, Frame& frame) {
   readPair(pairs_[i].rgb, pairs_[i].depth, pairs_[i].stamp, frame);
 }
 
-std::optional<Eigen::Isometry3d> TumRgbdSource::groundTruth(std::size_t, double stamp) const {
-  auto pose = interpolatePose(truth_, stamp, ground_truth_max_gap());
+std::optional<Eigen::Isometry3d> TumRgbdSource::groundTruth(std::size_t i, double stamp) const {
+  auto pose = WithGroundTruthFile::groundTruth(i, stamp);
   if (pose) return fromDataset(*pose);
   return std::nullopt;
 }

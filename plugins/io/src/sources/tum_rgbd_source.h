@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "plugslam/trajectory.h"
+#include "sources/ground_truth_file.h"
 #include "sources/rgbd_sequence_source.h"
 
 namespace plugslam {
@@ -13,15 +13,16 @@ namespace io {
 /// One frame per colour image with a depth image within max_difference (TUM's associate.py:
 /// closest pairs first, each image once); the frame's time is the colour image's.
 /// raw[ground_truth] is the colour camera in the world, interpolated in groundtruth.txt.
-class TumRgbdSource : public RgbdSequenceSource {
+class TumRgbdSource : public WithGroundTruthFile<RgbdSequenceSource> {
  public:
+  TumRgbdSource()
+      : WithGroundTruthFile(
+            "TUM trajectory; empty = groundtruth.txt when present, none = no ground truth") {}
+
   Param<std::string> rgb_list{this, "rgb_list", "rgb.txt", "",
                               "colour index (timestamp filename), relative to path"};
   Param<std::string> depth_list{this, "depth_list", "depth.txt", "",
                                 "depth index (timestamp filename), relative to path"};
-  Param<std::string> ground_truth_file{this, "ground_truth_file", "", "",
-                                       "TUM trajectory; empty = groundtruth.txt when present, "
-                                       "none = no ground truth"};
   Param<double> max_difference{this,
                                "max_difference",
                                0.02,
@@ -30,14 +31,6 @@ class TumRgbdSource : public RgbdSequenceSource {
                                "associate.py default: the Kinect's streams are unsynchronised "
                                "at 30 Hz, 33 ms apart)",
                                Range{0.0, 10.0}};
-  Param<double> ground_truth_max_gap{
-      this,
-      "ground_truth_max_gap",
-      0.05,
-      "s",
-      "longest gap between ground-truth rows to interpolate across (a 50 ms linear "
-      "interpolation errs < 2 mm at 5 m/s^2)",
-      Range{0.0, 10.0}};
 
  protected:
   std::size_t index() override;
@@ -51,7 +44,6 @@ class TumRgbdSource : public RgbdSequenceSource {
     std::string rgb, depth;  // file paths
   };
   std::vector<Pair> pairs_;
-  Trajectory truth_;
 };
 
 }  // namespace io
