@@ -114,7 +114,8 @@ class BinaryOut final : public OutArchive {
 
   void endObject() override {
     const WriterFrames::Frame f = frames_.closeObject();
-    if (f.count > std::numeric_limits<std::uint32_t>::max()) frames_.misuse("more than 2^32 fields");
+    if (f.count > std::numeric_limits<std::uint32_t>::max())
+      frames_.misuse("more than 2^32 fields");
     for (int i = 0; i < 4; ++i)
       buf_[f.patch_pos + i] = static_cast<char>((f.count >> (8 * i)) & 0xff);
   }
