@@ -1,5 +1,6 @@
 #include "plugslam/entry.h"
 
+#include "core/enum_names.h"
 #include "plugslam/configurable.h"
 #include "plugslam/errors.h"
 #include "plugslam/property.h"
@@ -7,17 +8,12 @@
 namespace plugslam {
 inline namespace abi_v1 {
 
-const char* containerName(Container container) {
-  switch (container) {
-    case Container::raw:
-      return "raw";
-    case Container::measurement:
-      return "measurement";
-    case Container::scene:
-      return "scene";
-  }
-  return "?";
-}
+namespace {
+constexpr EnumName<Container> kContainerNames[] = {
+    {Container::raw, "raw"}, {Container::measurement, "measurement"}, {Container::scene, "scene"}};
+}  // namespace
+
+const char* containerName(Container container) { return enumName(kContainerNames, container, "?"); }
 
 EntryBase::EntryBase(Configurable* owner, Container container, bool writes, std::type_index type,
                      std::string key, std::string default_name, std::string doc)

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 
+#include "core/enum_names.h"
 #include "eval/text_file.h"
 #include "plugslam/errors.h"
 
@@ -16,28 +17,20 @@ constexpr double kRadToDeg = 180.0 / M_PI;
 double rotationAngle(const Eigen::Matrix3d& r) { return Eigen::AngleAxisd(r).angle(); }
 }  // namespace
 
-std::string toString(Alignment alignment) {
-  switch (alignment) {
-    case Alignment::None:
-      return "none";
-    case Alignment::SE2:
-      return "se2";
-    case Alignment::SE3:
-      return "se3";
-    case Alignment::Sim3:
-      return "sim3";
-  }
-  return "none";
-}
+namespace {
+constexpr EnumName<Alignment> kAlignmentNames[] = {{Alignment::None, "none"},
+                                                   {Alignment::SE2, "se2"},
+                                                   {Alignment::SE3, "se3"},
+                                                   {Alignment::Sim3, "sim3"}};
+}  // namespace
+
+std::string toString(Alignment alignment) { return enumName(kAlignmentNames, alignment, "none"); }
 
 Alignment parseAlignment(const std::string& name) {
   std::string n = name;
   std::transform(n.begin(), n.end(), n.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (n == "none") return Alignment::None;
-  if (n == "se2") return Alignment::SE2;
-  if (n == "se3") return Alignment::SE3;
-  if (n == "sim3") return Alignment::Sim3;
+  if (const auto alignment = enumValue(kAlignmentNames, n)) return *alignment;
   throw InputError("unknown alignment '" + name + "': expected none, se2, se3 or sim3");
 }
 

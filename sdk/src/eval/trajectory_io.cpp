@@ -6,6 +6,7 @@
 #include <map>
 #include <string>
 
+#include "core/enum_names.h"
 #include "eval/text_file.h"
 #include "plugslam/atomic_file.h"
 #include "plugslam/errors.h"
@@ -84,28 +85,16 @@ std::string tumLine(const StampedPose& p) {
                 q.y(), q.z(), q.w());
 }
 
+constexpr EnumName<TrajectoryFormat> kFormatNames[] = {{TrajectoryFormat::Auto, "auto"},
+                                                       {TrajectoryFormat::Tum, "tum"},
+                                                       {TrajectoryFormat::Kitti, "kitti"},
+                                                       {TrajectoryFormat::G2o, "g2o"}};
 }  // namespace
 
-std::string toString(TrajectoryFormat format) {
-  switch (format) {
-    case TrajectoryFormat::Auto:
-      return "auto";
-    case TrajectoryFormat::Tum:
-      return "tum";
-    case TrajectoryFormat::Kitti:
-      return "kitti";
-    case TrajectoryFormat::G2o:
-      return "g2o";
-  }
-  return "auto";
-}
+std::string toString(TrajectoryFormat format) { return enumName(kFormatNames, format, "auto"); }
 
 TrajectoryFormat parseTrajectoryFormat(const std::string& name) {
-  const std::string n = lower(name);
-  if (n == "auto") return TrajectoryFormat::Auto;
-  if (n == "tum") return TrajectoryFormat::Tum;
-  if (n == "kitti") return TrajectoryFormat::Kitti;
-  if (n == "g2o") return TrajectoryFormat::G2o;
+  if (const auto format = enumValue(kFormatNames, lower(name))) return *format;
   throw InputError("unknown trajectory format '" + name + "': expected auto, tum, kitti or g2o");
 }
 

@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "block_cholesky.h"
+#include "core/enum_names.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
@@ -47,35 +48,23 @@ bool hasOptimizedBlas() {
   return found;
 }
 
-const char* toString(Factorization f) {
-  switch (f) {
-    case Factorization::kSupernodal:
-      return "supernodal";
-    case Factorization::kSimplicial:
-      return "simplicial";
-    case Factorization::kAuto:
-      return "auto";
-    case Factorization::kBlock:
-      return "block";
-  }
-  return "unknown";
-}
+namespace {
+constexpr EnumName<Factorization> kFactorizationNames[] = {
+    {Factorization::kSupernodal, "supernodal"},
+    {Factorization::kSimplicial, "simplicial"},
+    {Factorization::kAuto, "auto"},
+    {Factorization::kBlock, "block"}};
+constexpr EnumName<StopReason> kStopReasonNames[] = {
+    {StopReason::kConverged, "converged"},
+    {StopReason::kMaxIterations, "max_iterations"},
+    {StopReason::kNoProgress, "no_progress"},
+    {StopReason::kSolverFailure, "solver_failure"},
+    {StopReason::kNothingToOptimize, "nothing_to_optimize"}};
+}  // namespace
 
-const char* toString(StopReason r) {
-  switch (r) {
-    case StopReason::kConverged:
-      return "converged";
-    case StopReason::kMaxIterations:
-      return "max_iterations";
-    case StopReason::kNoProgress:
-      return "no_progress";
-    case StopReason::kSolverFailure:
-      return "solver_failure";
-    case StopReason::kNothingToOptimize:
-      return "nothing_to_optimize";
-  }
-  return "unknown";
-}
+const char* toString(Factorization f) { return enumName(kFactorizationNames, f, "unknown"); }
+
+const char* toString(StopReason r) { return enumName(kStopReasonNames, r, "unknown"); }
 
 struct Optimizer::Impl {
   Impl() {
