@@ -498,6 +498,24 @@ void CarmenReader::parseOldLaser(CarmenRecord& record, bool rear) {
   l.forward_offset = offset_[s];
 }
 
+std::size_t CarmenReader::parseLaserScan(CarmenLaser& l, std::size_t trailing, const char* layout) {
+  l.laser_type = smallInt(1, "the laser type");
+  l.angle_min = number(2, "the start angle");
+  l.fov = number(3, "the field of view");
+  l.angle_increment = number(4, "the angular resolution");
+  l.max_range = number(5, "the maximum range");
+  l.accuracy = number(6, "the accuracy");
+  l.remission_mode = smallInt(7, "the remission mode");
+  std::size_t n = count(8, "the number of readings");
+  std::size_t m = count(9 + n, "the number of remissions");
+  expectTokens(n + m + 10 + trailing, layout);
+  l.ranges.resize(n);
+  for (std::size_t i = 0; i < n; ++i) l.ranges[i] = number(9 + i, "a range reading");
+  l.remissions.resize(m);
+  for (std::size_t i = 0; i < m; ++i) l.remissions[i] = number(10 + n + i, "a remission value");
+  return 10 + n + m;
+}
+
 void CarmenReader::parseRobotLaser(CarmenRecord& record, int index) {
   const char* layout =
       "laser_type start_angle fov resolution max_range accuracy remission_mode n ranges[n] m "
@@ -510,21 +528,7 @@ void CarmenReader::parseRobotLaser(CarmenRecord& record, int index) {
   if (index != 1 && index != 2 && !options_.sensor_names.count(l.message)) {
     l.sensor += std::to_string(index);
   }
-  l.laser_type = smallInt(1, "the laser type");
-  l.angle_min = number(2, "the start angle");
-  l.fov = number(3, "the field of view");
-  l.angle_increment = number(4, "the angular resolution");
-  l.max_range = number(5, "the maximum range");
-  l.accuracy = number(6, "the accuracy");
-  l.remission_mode = smallInt(7, "the remission mode");
-  std::size_t n = count(8, "the number of readings");
-  std::size_t m = count(9 + n, "the number of remissions");
-  expectTokens(n + m + 24, layout);
-  l.ranges.resize(n);
-  for (std::size_t i = 0; i < n; ++i) l.ranges[i] = number(9 + i, "a range reading");
-  l.remissions.resize(m);
-  for (std::size_t i = 0; i < m; ++i) l.remissions[i] = number(10 + n + i, "a remission value");
-  std::size_t k = 10 + n + m;
+  const std::size_t k = parseLaserScan(l, 14, layout);
   l.has_pose = true;
   l.laser_pose = {number(k, "laser x"), number(k + 1, "laser y"), number(k + 2, "laser theta")};
   l.robot_pose = {number(k + 3, "robot x"), number(k + 4, "robot y"), number(k + 5, "robot theta")};
@@ -554,21 +558,7 @@ void CarmenReader::parseRawLaser(CarmenRecord& record, int index) {
   CarmenLaser& l = record.laser;
   l.message = "RAWLASER" + std::to_string(index);
   l.sensor = sensorName(l.message, ("raw" + std::to_string(index)).c_str());
-  l.laser_type = smallInt(1, "the laser type");
-  l.angle_min = number(2, "the start angle");
-  l.fov = number(3, "the field of view");
-  l.angle_increment = number(4, "the angular resolution");
-  l.max_range = number(5, "the maximum range");
-  l.accuracy = number(6, "the accuracy");
-  l.remission_mode = smallInt(7, "the remission mode");
-  std::size_t n = count(8, "the number of readings");
-  std::size_t m = count(9 + n, "the number of remissions");
-  expectTokens(n + m + 13, layout);
-  l.ranges.resize(n);
-  for (std::size_t i = 0; i < n; ++i) l.ranges[i] = number(9 + i, "a range reading");
-  l.remissions.resize(m);
-  for (std::size_t i = 0; i < m; ++i) l.remissions[i] = number(10 + n + i, "a remission value");
-  std::size_t k = 10 + n + m;
+  const std::size_t k = parseLaserScan(l, 3, layout);
   l.timestamp = number(k, "the ipc timestamp");
   l.host = rawToken(k + 1);
   l.logger_timestamp = tokens_.size() > k + 2 ? number(k + 2, "the logger timestamp") : 0.0;

@@ -161,6 +161,9 @@ class CarmenReader {
   void parseOldLaser(CarmenRecord& record, bool rear);
   void parseRobotLaser(CarmenRecord& record, int index);
   void parseRawLaser(CarmenRecord& record, int index);
+  /// Reads the scan both ROBOTLASER and RAWLASER start with (laser type .. remissions), checking
+  /// that `trailing` more tokens follow; returns the index of the first of those.
+  std::size_t parseLaserScan(CarmenLaser& l, std::size_t trailing, const char* layout);
   void parseOdometry(CarmenRecord& record);
   void applyParam(CarmenRecord& record);
   void expectTokens(std::size_t count, const char* layout) const;
