@@ -47,6 +47,15 @@ struct VisualSession {
   RunReport mapped, localized;  // the two runs
   AteResult against_mapping;   // localization's poses against mapping's, not aligned
   size_t off = 0;              // frames farther than the tolerance from mapping's pose
+
+  // The figures the test log keeps, for `name`, with the tolerance as `off` counted it.
+  void print(const std::string& name, const std::string& tolerance) const {
+    std::cout << name << ": " << maps << " maps, localization vs mapping ATE rmse "
+              << against_mapping.translation.rmse << " m, max " << against_mapping.translation.max
+              << " m, " << localized.tracking_failures << " failures; against the truth "
+              << mapped.ate_rmse.value_or(NAN) << " m mapping, " << localized.ate_rmse.value_or(NAN)
+              << " m localizing; " << off << " frames more than " << tolerance << " off\n";
+  }
 };
 
 class Session : public ::testing::Test {
@@ -374,12 +383,7 @@ TEST_F(Session, RgbdLivingRoomLocalizationFollowsTheMappedTrajectory) {
   if (const std::string why = cameraPluginsMissing("rgbd"); !why.empty()) GTEST_SKIP() << why;
   const VisualSession v = mapSaveLocalize("sim3d_rgbd.yaml", "source.duration=10", 0.05);
   ASSERT_GT(v.mapped.frames, 250u);
-  std::cout << "rgbd living room: " << v.maps << " maps, localization vs mapping ATE rmse "
-            << v.against_mapping.translation.rmse << " m, max "
-            << v.against_mapping.translation.max << " m, " << v.localized.tracking_failures
-            << " failures; against the truth " << v.mapped.ate_rmse.value_or(NAN)
-            << " m mapping, " << v.localized.ate_rmse.value_or(NAN) << " m localizing; " << v.off
-            << " frames more than 5 cm off\n";
+  v.print("rgbd living room", "5 cm");
   // Measured (with the dense depth cue of sim3d_rgbd.yaml): rmse 0.012 m, max 0.089 m, 3 of 300
   // frames more than 5 cm off, 0 failures (without it: 0.025 m, one frame 0.40 m off). A localizer lost in the
   // frozen maps is off by decimetres on most frames; these bounds catch that, not the one spike.
@@ -394,12 +398,7 @@ TEST_F(Session, StereoStreetLocalizationFollowsTheMappedTrajectory) {
   // A quarter of a step: a frame localized in the wrong place is off by steps.
   const VisualSession v = mapSaveLocalize("sim3d_stereo.yaml", "max_frames=120", 0.2);
   ASSERT_EQ(v.mapped.frames, 120u);
-  std::cout << "stereo street: " << v.maps << " maps, localization vs mapping ATE rmse "
-            << v.against_mapping.translation.rmse << " m, max "
-            << v.against_mapping.translation.max << " m, " << v.localized.tracking_failures
-            << " failures; against the truth " << v.mapped.ate_rmse.value_or(NAN)
-            << " m mapping, " << v.localized.ate_rmse.value_or(NAN) << " m localizing; " << v.off
-            << " frames more than 20 cm off\n";
+  v.print("stereo street", "20 cm");
   // Measured: rmse 0.046 m, max 0.40 m, 2 of 120 frames more than 20 cm off, 0 failures. A
   // localizer lost in the frozen maps is off by metres on most frames.
   EXPECT_LT(v.against_mapping.translation.rmse, 0.2);
