@@ -23,11 +23,12 @@ std::size_t RgbdFolderSource::index() {
   // naming the file and frame, or skipped with on_error: skip), as a missing image of the other
   // layouts is, and the pose list stays one line per colour image.
   pairs_.clear();
-  const Pair* calibrated = nullptr;
+  const RgbdPair* calibrated = nullptr;
   for (const auto& f : colour) {
     auto it = depth.find(f.number);
     const std::string d = it != depth.end() ? it->second : std::to_string(f.number) + ".png";
-    pairs_.push_back({(cdir / f.name).string(), (ddir / d).string()});
+    pairs_.push_back({static_cast<double>(pairs_.size()) / rate(), (cdir / f.name).string(),
+                      (ddir / d).string()});
   }
   for (const auto& p : pairs_)
     if (!calibrated && fs::is_regular_file(p.depth)) calibrated = &p;
@@ -52,12 +53,6 @@ std::size_t RgbdFolderSource::index() {
     }
   }
   return pairs_.size();
-}
-
-void RgbdFolderSource::read(std::size_t i, Frame& frame) {
-  const double stamp = static_cast<double>(i) / rate();
-  frame.stamp = stamp;
-  readPair(pairs_[i].rgb, pairs_[i].depth, stamp, frame);
 }
 
 std::optional<Eigen::Isometry3d> RgbdFolderSource::groundTruth(std::size_t i, double) const {

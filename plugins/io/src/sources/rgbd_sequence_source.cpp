@@ -89,6 +89,12 @@ void RgbdSequenceSource::setCalibration(const std::string& dir, const std::strin
   }
 }
 
+void RgbdSequenceSource::read(std::size_t i, Frame& frame) {
+  const RgbdPair& p = pairs_[i];
+  frame.stamp = p.stamp;
+  readPair(p.rgb, p.depth, p.stamp, frame);
+}
+
 void RgbdSequenceSource::readPair(const std::string& rgb_file, const std::string& depth_file,
                                   double stamp, Frame& frame) const {
   readImage(rgb_file, rgb(), stamp, calibration_.width, calibration_.height, frame);

@@ -56,9 +56,17 @@ class RgbdSequenceSource : public CameraSequenceSource {
       "identity"};
 
  protected:
+  /// One frame's colour and depth files and its time.
+  struct RgbdPair {
+    double stamp = 0.0;
+    std::string rgb, depth;  // file paths
+  };
+
   std::vector<ProvidedEntry> imageEntries() const override {
     return {{rgb(), typeid(Image)}, {depth(), typeid(DepthImage)}};
   }
+  /// Reads pairs_[i] (index() fills pairs_).
+  void read(std::size_t i, Frame& frame) final;
   /// Sets calibration_ from the parameters; `dir` resolves intrinsics_file; the sizes are the
   /// first colour and depth images'.
   void setCalibration(const std::string& dir, const std::string& first_rgb,
@@ -68,6 +76,8 @@ class RgbdSequenceSource : public CameraSequenceSource {
                 Frame& frame) const;
   /// A dataset pose in the source's right-handed frames (see the class comment).
   Eigen::Isometry3d fromDataset(const Eigen::Isometry3d& pose) const;
+
+  std::vector<RgbdPair> pairs_;
 
  private:
   Eigen::Vector3d mirror_ = Eigen::Vector3d::Ones();

@@ -37,11 +37,6 @@ std::size_t TumRgbdSource::index() {
   return pairs_.size();
 }
 
-void TumRgbdSource::read(std::size_t i, Frame& frame) {
-  frame.stamp = pairs_[i].stamp;
-  readPair(pairs_[i].rgb, pairs_[i].depth, pairs_[i].stamp, frame);
-}
-
 std::optional<Eigen::Isometry3d> TumRgbdSource::groundTruth(std::size_t i, double stamp) const {
   auto pose = WithGroundTruthFile::groundTruth(i, stamp);
   if (pose) return fromDataset(*pose);

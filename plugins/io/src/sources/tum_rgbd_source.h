@@ -34,16 +34,8 @@ class TumRgbdSource : public WithGroundTruthFile<RgbdSequenceSource> {
 
  protected:
   std::size_t index() override;
-  void read(std::size_t i, Frame& frame) override;
   std::optional<Eigen::Isometry3d> groundTruth(std::size_t i, double stamp) const override;
   std::string describe() const override;
-
- private:
-  struct Pair {
-    double stamp;
-    std::string rgb, depth;  // file paths
-  };
-  std::vector<Pair> pairs_;
 };
 
 }  // namespace io
