@@ -311,6 +311,17 @@ PropertyContainer everyBuiltIn() {
 
 void expectEqualContainers(const PropertyContainer& a, const PropertyContainer& b);
 
+void expectEqualIntrinsics(const CameraIntrinsics& x, const CameraIntrinsics& y) {
+  EXPECT_EQ(x.fx, y.fx);
+  EXPECT_EQ(x.fy, y.fy);
+  EXPECT_EQ(x.cx, y.cx);
+  EXPECT_EQ(x.cy, y.cy);
+  EXPECT_EQ(x.width, y.width);
+  EXPECT_EQ(x.height, y.height);
+  EXPECT_EQ(x.distortion.model, y.distortion.model);
+  EXPECT_EQ(x.distortion.coefficients, y.distortion.coefficients);
+}
+
 template <class T>
 bool equalAs(const PropertyContainer& a, const PropertyContainer& b, const std::string& n) {
   if (!a.holds<T>(n)) return false;
@@ -352,26 +363,12 @@ bool equalAs(const PropertyContainer& a, const PropertyContainer& b, const std::
     }
   } else if constexpr (std::is_same_v<T, CameraInfo>) {
     const auto &x = a.get<T>(n), &y = b.get<T>(n);
-    EXPECT_EQ(x.fx, y.fx);
-    EXPECT_EQ(x.fy, y.fy);
-    EXPECT_EQ(x.cx, y.cx);
-    EXPECT_EQ(x.cy, y.cy);
-    EXPECT_EQ(x.width, y.width);
-    EXPECT_EQ(x.height, y.height);
+    expectEqualIntrinsics(x.intrinsics(), y.intrinsics());
     EXPECT_EQ(x.baseline, y.baseline);
     EXPECT_EQ(x.mount.matrix(), y.mount.matrix());
-    EXPECT_EQ(x.distortion.model, y.distortion.model);
-    EXPECT_EQ(x.distortion.coefficients, y.distortion.coefficients);
     EXPECT_EQ(x.second.has_value(), y.second.has_value()) << n;
     if (x.second && y.second) {
-      EXPECT_EQ(x.second->fx, y.second->fx);
-      EXPECT_EQ(x.second->fy, y.second->fy);
-      EXPECT_EQ(x.second->cx, y.second->cx);
-      EXPECT_EQ(x.second->cy, y.second->cy);
-      EXPECT_EQ(x.second->width, y.second->width);
-      EXPECT_EQ(x.second->height, y.second->height);
-      EXPECT_EQ(x.second->distortion.model, y.second->distortion.model);
-      EXPECT_EQ(x.second->distortion.coefficients, y.second->distortion.coefficients);
+      expectEqualIntrinsics(*x.second, *y.second);
       EXPECT_EQ(x.second_pose.matrix(), y.second_pose.matrix());
     }
   } else if constexpr (std::is_same_v<T, FeatureSet>) {
