@@ -84,6 +84,19 @@ std::string odom(double x, double t) {
   return s.str();
 }
 
+// The ParseError reading the rest of `r` ends in; a test failure when it ends without one.
+ParseError readUntilError(CarmenReader& r) {
+  CarmenRecord rec;
+  try {
+    while (r.next(rec)) {
+    }
+  } catch (const ParseError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "expected ParseError";
+  return ParseError("", 0, "");
+}
+
 std::vector<CarmenRecord> readAll(CarmenReader& r) {
   std::vector<CarmenRecord> out;
   CarmenRecord rec;
@@ -224,15 +237,9 @@ TEST_F(CarmenReaderTest, Bzip2ConcatenatedStreamsAndTruncation) {
   const std::string cut = write("cut.clf.bz2", bytes.substr(0, bytes.size() / 2));
   {
     CarmenReader r(cut);
-    CarmenRecord rec;
-    try {
-      while (r.next(rec)) {
-      }
-      FAIL() << "expected ParseError";
-    } catch (const ParseError& e) {
-      EXPECT_NE(e.message().find("bzip2 stream is corrupt or truncated"), std::string::npos)
-          << e.message();
-    }
+    const ParseError e = readUntilError(r);
+    EXPECT_NE(e.message().find("bzip2 stream is corrupt or truncated"), std::string::npos)
+        << e.message();
   }
   CarmenReaderOptions opt;
   opt.policy = ErrorPolicy::kSkip;
@@ -279,14 +286,10 @@ TEST_F(CarmenReaderTest, NonNumericTokenIsAnErrorWithLineInStrictMode) {
   CarmenReader r(write("bad.log", text));
   CarmenRecord rec;
   ASSERT_TRUE(r.next(rec));
-  try {
-    r.next(rec);
-    FAIL() << "expected ParseError";
-  } catch (const ParseError& e) {
-    EXPECT_EQ(e.line(), 2);
-    EXPECT_NE(e.message().find("'abc' is not a number"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("bad.log:2"), std::string::npos) << e.what();
-  }
+  const ParseError e = readUntilError(r);
+  EXPECT_EQ(e.line(), 2);
+  EXPECT_NE(e.message().find("'abc' is not a number"), std::string::npos) << e.what();
+  EXPECT_NE(std::string(e.what()).find("bad.log:2"), std::string::npos) << e.what();
 }
 
 TEST_F(CarmenReaderTest, SkipPolicyWarnsWithLineAndContinues) {
@@ -318,17 +321,13 @@ TEST_F(CarmenReaderTest, HugeAndNegativeCountsNeverAllocate) {
                            "FLASER 99999999999999999999999 1\n", "FLASER -5 1 2 3\n",
                            "ROBOTLASER1 0 0 3 0.1 80 0 0 4000000000 1 2\n",
                            "ROBOTLASER1 0 0 3 0.1 80 0 0 1 5 4000000000 1 2\n"}) {
+    SCOPED_TRACE(line);
     CarmenReader r(write("h.log", line));
-    CarmenRecord rec;
-    try {
-      r.next(rec);
-      FAIL() << "expected ParseError for " << line;
-    } catch (const ParseError& e) {
-      EXPECT_EQ(e.line(), 1);
-      EXPECT_TRUE(e.message().find("only") != std::string::npos ||
-                  e.message().find("non-negative integer") != std::string::npos)
-          << e.message();
-    }
+    const ParseError e = readUntilError(r);
+    EXPECT_EQ(e.line(), 1);
+    EXPECT_TRUE(e.message().find("only") != std::string::npos ||
+                e.message().find("non-negative integer") != std::string::npos)
+        << e.message();
   }
 }
 
@@ -338,13 +337,9 @@ TEST_F(CarmenReaderTest, TruncatedLastLineIsReported) {
   CarmenReader r(write("t.log", text));
   CarmenRecord rec;
   ASSERT_TRUE(r.next(rec));
-  try {
-    r.next(rec);
-    FAIL() << "expected ParseError";
-  } catch (const ParseError& e) {
-    EXPECT_EQ(e.line(), 2);
-    EXPECT_NE(e.message().find("truncated"), std::string::npos) << e.message();
-  }
+  const ParseError e = readUntilError(r);
+  EXPECT_EQ(e.line(), 2);
+  EXPECT_NE(e.message().find("truncated"), std::string::npos) << e.message();
   CarmenReaderOptions opt;
   opt.policy = ErrorPolicy::kSkip;
   CarmenReader s(write("t2.log", text), opt);
@@ -388,13 +383,9 @@ TEST_F(CarmenReaderTest, BackwardsTimestamps) {
     CarmenReader r(write("b.log", text));
     CarmenRecord rec;
     ASSERT_TRUE(r.next(rec));
-    try {
-      r.next(rec);
-      FAIL() << "expected ParseError";
-    } catch (const ParseError& e) {
-      EXPECT_EQ(e.line(), 2);
-      EXPECT_NE(e.message().find("backwards"), std::string::npos);
-    }
+    const ParseError e = readUntilError(r);
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_NE(e.message().find("backwards"), std::string::npos);
   }
   for (bool via_time_policy : {false, true}) {
     CarmenReaderOptions opt;
@@ -499,14 +490,8 @@ TEST_F(CarmenReaderTest, TruncatedGzip) {
   std::string cut = write("cut.log.gz", bytes.substr(0, bytes.size() / 2));
   {
     CarmenReader r(cut);
-    CarmenRecord rec;
-    try {
-      while (r.next(rec)) {
-      }
-      FAIL() << "expected ParseError";
-    } catch (const ParseError& e) {
-      EXPECT_NE(e.message().find("gzip"), std::string::npos) << e.message();
-    }
+    const ParseError e = readUntilError(r);
+    EXPECT_NE(e.message().find("gzip"), std::string::npos) << e.message();
   }
   CarmenReaderOptions opt;
   opt.policy = ErrorPolicy::kSkip;
