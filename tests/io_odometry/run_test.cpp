@@ -26,9 +26,10 @@ using namespace plugslam;
 
 namespace {
 
-const char* kRun = R"(plugins: [sim, io, odometry]
-source: {type: sim.Simulator2D, session: stage-0, lasers: [front_laser], odometry_noise: NOISE}
-pipeline:
+// `head` (plugins and source) followed by a pipeline of wheel odometry alone, its local maps
+// `split_distance` [m] long, writing traj.tum.
+std::string odometryOnly(const std::string& head, const std::string& split_distance) {
+  return head + R"(pipeline:
   tracker:
     type: sdk.MultiTracker2D
     motion: {type: odometry.WheelOdometry}
@@ -36,13 +37,19 @@ pipeline:
       min_inliers: 1
       slices:
         - {type: odometry.PriorSlice}
-    splitter: {type: sdk.DistanceSplitter, distance: 1.0, angle: 0.5}
+    splitter: {type: sdk.DistanceSplitter, distance: )" +
+         split_distance + R"(, angle: 0.5}
 outputs:
   - {type: io.TrajectoryWriter, file: traj.tum, format: tum}
 )";
+}
 
 std::string runText(const std::string& noise) {
-  std::string text = kRun;
+  std::string text = odometryOnly(
+      "plugins: [sim, io, odometry]\n"
+      "source: {type: sim.Simulator2D, session: stage-0, lasers: [front_laser], "
+      "odometry_noise: NOISE}\n",
+      "1.0");
   text.replace(text.find("NOISE"), 5, noise);
   return text;
 }
@@ -116,20 +123,8 @@ TEST(IoOdometryPlugins, CarmenRunKeepsTheLogsStamps) {
                                     "FLASER 3 1 2 3 2 0 0 2 0 0 976052857.437000 h 0.4\n"
                                     "FLASER 3 1 2 3 3 0 0 3 0 0 976052857.737502 h 0.5\n"
                                     "FLASER 3 1 2 3 4 0 0 4 0 0 976052857.837503 h 0.6\n");
-  std::string text = R"(plugins: [io, odometry]
-source: {type: io.CarmenSource, path: LOG}
-pipeline:
-  tracker:
-    type: sdk.MultiTracker2D
-    motion: {type: odometry.WheelOdometry}
-    aligner:
-      min_inliers: 1
-      slices:
-        - {type: odometry.PriorSlice}
-    splitter: {type: sdk.DistanceSplitter, distance: 1.5, angle: 0.5}
-outputs:
-  - {type: io.TrajectoryWriter, file: traj.tum, format: tum}
-)";
+  std::string text =
+      odometryOnly("plugins: [io, odometry]\nsource: {type: io.CarmenSource, path: LOG}\n", "1.5");
   text.replace(text.find("LOG"), 3, log);
   const fs::path out = tmp.path() / "out";
   runtime::PluginManager plugins;
