@@ -43,11 +43,18 @@ void requireColumns(const std::string& file, const TextRow& row, std::size_t n,
                          std::to_string(row.tokens.size()));
 }
 
-double rowNumber(const std::string& file, const TextRow& row, std::size_t column,
-                 const char* what) {
+namespace {
+const std::string& rowToken(const std::string& file, const TextRow& row, std::size_t column,
+                            const char* what) {
   if (column >= row.tokens.size())
     throw ParseError(file, row.line, std::string("missing ") + what);
-  const std::string& token = row.tokens[column];
+  return row.tokens[column];
+}
+}  // namespace
+
+double rowNumber(const std::string& file, const TextRow& row, std::size_t column,
+                 const char* what) {
+  const std::string& token = rowToken(file, row, column, what);
   char* end = nullptr;
   errno = 0;
   const double v = std::strtod(token.c_str(), &end);
@@ -59,9 +66,7 @@ double rowNumber(const std::string& file, const TextRow& row, std::size_t column
 
 std::int64_t rowInteger(const std::string& file, const TextRow& row, std::size_t column,
                         const char* what) {
-  if (column >= row.tokens.size())
-    throw ParseError(file, row.line, std::string("missing ") + what);
-  const std::string& token = row.tokens[column];
+  const std::string& token = rowToken(file, row, column, what);
   char* end = nullptr;
   errno = 0;
   const long long v = std::strtoll(token.c_str(), &end, 10);
