@@ -84,13 +84,7 @@ MixedSimulator::MixedSimulator(const MixedOptions& o)
 }
 
 CameraInfo MixedSimulator::cameraInfo() const {
-  CameraInfo c;
-  c.fx = camera_.fx;
-  c.fy = camera_.fy;
-  c.cx = camera_.cx;
-  c.cy = camera_.cy;
-  c.width = camera_.width;
-  c.height = camera_.height;
+  CameraInfo c = camera_.info();
   c.mount = options_.camera_mount;
   return c;
 }

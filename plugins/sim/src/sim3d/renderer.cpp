@@ -57,6 +57,17 @@ void PinholeCamera::validate() const {
 
 PinholeCamera PinholeCamera::kitti() { return {718.856, 718.856, 607.1928, 185.2157, 1241, 376}; }
 
+CameraInfo PinholeCamera::info() const {
+  CameraInfo c;
+  c.fx = fx;
+  c.fy = fy;
+  c.cx = cx;
+  c.cy = cy;
+  c.width = width;
+  c.height = height;
+  return c;
+}
+
 PinholeCamera PinholeCamera::vga() { return {525.0, 525.0, 319.5, 239.5, 640, 480}; }
 
 void render(const World& world, const PinholeCamera& cam, const Eigen::Isometry3d& T_wc,

@@ -24,6 +24,8 @@ struct PinholeCamera {
 
   /// Throws InputError naming the field when a value is out of range.
   void validate() const;
+  /// The calibration a source reports for this camera (mono, identity mount, no distortion).
+  CameraInfo info() const;
   /// KITTI odometry 00 left camera (1241 x 376).
   static PinholeCamera kitti();
   /// A VGA Kinect-like camera (640 x 480, f = 525).

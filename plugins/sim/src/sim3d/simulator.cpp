@@ -69,13 +69,7 @@ Simulator3D Simulator3D::fromOptions(const ScenarioOptions& o) {
 }
 
 CameraInfo Simulator3D::cameraInfo() const {
-  CameraInfo c;
-  c.fx = camera_.fx;
-  c.fy = camera_.fy;
-  c.cx = camera_.cx;
-  c.cy = camera_.cy;
-  c.width = camera_.width;
-  c.height = camera_.height;
+  CameraInfo c = camera_.info();
   c.baseline = rig_ == Rig::kStereo ? baseline_ : 0.0;
   return c;
 }
