@@ -9,7 +9,6 @@
 // (on_error: skip).
 #include <gtest/gtest.h>
 #include <stdlib.h>
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
@@ -21,6 +20,7 @@
 
 #include "images/png.h"
 #include "plugslam/trajectory.h"
+#include "run_command.h"
 #include "temp_dir.h"
 #include "test_paths.h"
 
@@ -71,14 +71,9 @@ CliRun plugslam(const TempDir& tmp, const std::string& source, const std::vector
   std::string cmd = "'" + plugslam::testing::buildDir() + "/bin/plugslam' run '" + config.string() +
                     "' -o '" + r.out_dir.string() + "'";
   for (const auto& s : sets) cmd += " --set '" + s + "'";
-  cmd += " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  const plugslam::testing::CommandResult ran = plugslam::testing::runCommand(cmd);
+  r.code = ran.code;
+  r.out = ran.out;
   return r;
 }
 
