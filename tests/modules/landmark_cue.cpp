@@ -2,10 +2,21 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include "plugslam/registry.h"
 
 namespace plugslam::testing {
+
+Landmarks jitteredGrid(double step, double extent, unsigned seed) {
+  Landmarks w;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  for (double x = -extent; x <= extent; x += step)
+    for (double y = -extent; y <= extent; y += step)
+      w.emplace_back(x + jitter(rng), y + jitter(rng));
+  return w;
+}
 
 void LandmarkSliceBase::linearize(const Eigen::Isometry2d& t, NormalEquations<Space2D>& eq) const {
   const double w = information();

@@ -12,6 +12,10 @@ namespace plugslam::testing {
 
 using Landmarks = std::vector<Eigen::Vector2d>;
 
+/// A world of landmarks on a grid of `step` over [-extent, extent]^2, each moved by up to 0.3 m
+/// in x and y (random from `seed`, so every run builds the same world).
+Landmarks jitteredGrid(double step, double extent, unsigned seed);
+
 /// Point-to-point factors between measured and mapped landmarks of the same id.
 class LandmarkSliceBase : public AlignerSlice<Space2D> {
  public:

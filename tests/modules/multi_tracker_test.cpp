@@ -20,15 +20,7 @@ using namespace plugslam::testing;
 
 namespace {
 
-Landmarks grid(double step, double extent) {
-  Landmarks w;
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
-  for (double x = -extent; x <= extent; x += step)
-    for (double y = -extent; y <= extent; y += step)
-      w.emplace_back(x + jitter(rng), y + jitter(rng));
-  return w;
-}
+Landmarks grid(double step, double extent) { return jitteredGrid(step, extent, 7); }
 
 std::shared_ptr<MultiTracker<Space2D>> makeTracker(double split_distance) {
   registerLandmarkCue();
