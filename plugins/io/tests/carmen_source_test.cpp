@@ -33,6 +33,16 @@ std::string writeLog(const std::string& name, const std::string& text) {
   return tmp.write(name, text);
 }
 
+std::vector<Frame> readFrames(CarmenSource& source) {
+  std::vector<Frame> frames;
+  Frame f;
+  while (source.next(f)) {
+    frames.push_back(f);
+    f = Frame();
+  }
+  return frames;
+}
+
 void expectPose(const Eigen::Isometry2d& expected, const Eigen::Isometry2d& actual,
                 double tol = 1e-9) {
   EXPECT_NEAR(expected.translation().x(), actual.translation().x(), tol);
@@ -302,12 +312,7 @@ TEST(CarmenSource, RawLogOdometryIsInterpolatedAtTheLaserTime) {
   CarmenSource source;
   source.path = writeLog("raw.log", text);
   source.configure();
-  std::vector<Frame> frames;
-  Frame f;
-  while (source.next(f)) {
-    frames.push_back(f);
-    f = Frame();
-  }
+  const std::vector<Frame> frames = readFrames(source);
   ASSERT_EQ(frames.size(), 4u);
   std::vector<Eigen::Isometry2d> odom;
   for (const auto& fr : frames) odom.push_back(fr.raw.get<Odometry2D>("odom").pose);
@@ -366,12 +371,7 @@ TEST(CarmenSource, LogWithoutOdomLinesUsesItsLaserLinesOdometry) {
   source.configure();
   EXPECT_TRUE(source.odometryFromLaserLines());
   EXPECT_FALSE(source.posesAreCorrected());
-  std::vector<Frame> frames;
-  Frame f;
-  while (source.next(f)) {
-    frames.push_back(f);
-    f = Frame();
-  }
+  const std::vector<Frame> frames = readFrames(source);
   ASSERT_EQ(frames.size(), 4u);
   for (std::size_t i = 0; i < frames.size(); ++i) {
     ASSERT_TRUE(frames[i].raw.has("odom")) << i;
@@ -387,6 +387,7 @@ TEST(CarmenSource, LogWithoutOdomLinesUsesItsLaserLinesOdometry) {
   told.laser_poses = std::string("corrected");
   told.configure();
   EXPECT_FALSE(told.odometryFromLaserLines());  // a corrector's poses are no odometry
+  Frame f;
   ASSERT_TRUE(told.next(f));
   EXPECT_FALSE(f.raw.has("odom"));
   expectPose(se2(0, 0, 0), f.raw.get<Eigen::Isometry2d>("reference"));
