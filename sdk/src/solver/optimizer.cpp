@@ -597,6 +597,12 @@ OptimizeResult Optimizer::optimize(FactorGraph& graph) {
       lambda = options_.lm_initial_tau * std::max(max_diag, 1e-12);
     }
     bool done = false;
+    // Ends the run with this iteration's step rejected.
+    const auto stopRejected = [&](StopReason reason) {
+      result.reason = reason;
+      st.accepted = false;
+      done = true;
+    };
     for (;;) {
       t0 = Clock::now();
       const bool solved = im.solve(lm ? lambda : 0.0);
@@ -605,18 +611,14 @@ OptimizeResult Optimizer::optimize(FactorGraph& graph) {
       if (!solved) {
         ++result.singular_systems;
         if (!lm) {
-          result.reason = StopReason::kSolverFailure;
-          st.accepted = false;
-          done = true;
+          stopRejected(StopReason::kSolverFailure);
           break;
         }
         ++st.rejected_steps;
         lambda *= nu;
         nu *= 2.0;
         if (st.rejected_steps > options_.lm_max_rejections) {
-          result.reason = StopReason::kNoProgress;
-          st.accepted = false;
-          done = true;
+          stopRejected(StopReason::kNoProgress);
           break;
         }
         continue;
@@ -663,19 +665,14 @@ OptimizeResult Optimizer::optimize(FactorGraph& graph) {
       for (Variable* v : im.active) v->restoreEstimate();
       if (!lm) {
         // GN produced a non-finite cost: keep the last good estimate.
-        result.reason = StopReason::kSolverFailure;
-        st.accepted = false;
-        done = true;
+        stopRejected(StopReason::kSolverFailure);
         break;
       }
       ++st.rejected_steps;
       lambda *= nu;
       nu *= 2.0;
       if (st.rejected_steps > options_.lm_max_rejections || step < options_.step_norm) {
-        result.reason =
-            step < options_.step_norm ? StopReason::kConverged : StopReason::kNoProgress;
-        st.accepted = false;
-        done = true;
+        stopRejected(step < options_.step_norm ? StopReason::kConverged : StopReason::kNoProgress);
         break;
       }
     }
