@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <utility>
 
 #include "images/image_file.h"
 #include "images/png.h"
@@ -113,12 +114,19 @@ std::string stereoBag(const plugslam::testing::TempDir& dir) {
   return path;
 }
 
-void stereoConfig(Ros2BagSource& s, const std::string& path) {
+// The source reading `path`'s cameras alone: `images` (topic:entry) and their `camera_info`.
+void camerasConfig(Ros2BagSource& s, const std::string& path, std::vector<std::string> images,
+                   std::vector<std::string> camera_info) {
   s.path = path;
   s.scans = std::vector<std::string>{};
   s.odometry = "";
-  s.images = std::vector<std::string>{"/left/image:left", "/right/image:right"};
-  s.camera_info = std::vector<std::string>{"/left/camera_info", "/right/camera_info"};
+  s.images = std::move(images);
+  s.camera_info = std::move(camera_info);
+}
+
+void stereoConfig(Ros2BagSource& s, const std::string& path) {
+  camerasConfig(s, path, {"/left/image:left", "/right/image:right"},
+                {"/left/camera_info", "/right/camera_info"});
 }
 
 std::vector<Frame> readAll(Source& s) {
@@ -250,11 +258,7 @@ std::string compressedBag(const plugslam::testing::TempDir& dir, const std::vect
 }
 
 void compressedConfig(Ros2BagSource& s, const std::string& path) {
-  s.path = path;
-  s.scans = std::vector<std::string>{};
-  s.odometry = "";
-  s.images = std::vector<std::string>{"/cam/image/compressed:rgb"};
-  s.camera_info = std::vector<std::string>{"/cam/camera_info"};
+  camerasConfig(s, path, {"/cam/image/compressed:rgb"}, {"/cam/camera_info"});
 }
 
 TEST(Ros2Camera, ACompressedImageDecodesAsTheFileWould) {
