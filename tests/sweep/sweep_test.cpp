@@ -118,15 +118,14 @@ TEST(CaseIds, StableAndDifferentWhenAnythingDiffers) {
 }
 
 TEST(Expansion, ConfigsTimesDatasetsTimesGridTimesRepeats) {
-  const SweepFile s = parseSweep(
+  const std::string text =
       "config: [configs/sim2d_single_laser.yaml, configs/sim2d_double_laser.yaml]\n"
       "datasets: {a: {source.seed: 1}, b: {source.seed: 2}, c: {source.seed: 3}}\n"
       "set: {max_frames: 10}\n"
       "grid: {pipeline.tracker.splitter.distance: [0.5, 1.0], pipeline.tracker.splitter.angle: [0.1, 0.2, 0.3]}\n"
       "zip: {source.range_noise: [0.01, 0.02], source.dropout: [0.0, 0.1]}\n"
-      "repeat: 2\n",
-      "s.yaml");
-  const Plan plan = expandSweep(s);
+      "repeat: 2\n";
+  const Plan plan = expandSweep(parseSweep(text, "s.yaml"));
   ASSERT_EQ(plan.cases.size(), 2u * 3 * (2 * 3 * 2) * 2);
   const Case& c0 = plan.cases[0];
   EXPECT_EQ(c0.config_label, "sim2d_single_laser");
@@ -145,14 +144,7 @@ TEST(Expansion, ConfigsTimesDatasetsTimesGridTimesRepeats) {
   for (const auto& c : plan.cases) ids.insert(c.id);
   EXPECT_EQ(ids.size(), plan.cases.size());
   // Planned again: the same ids in the same order.
-  const Plan again = expandSweep(parseSweep(
-      "config: [configs/sim2d_single_laser.yaml, configs/sim2d_double_laser.yaml]\n"
-      "datasets: {a: {source.seed: 1}, b: {source.seed: 2}, c: {source.seed: 3}}\n"
-      "set: {max_frames: 10}\n"
-      "grid: {pipeline.tracker.splitter.distance: [0.5, 1.0], pipeline.tracker.splitter.angle: [0.1, 0.2, 0.3]}\n"
-      "zip: {source.range_noise: [0.01, 0.02], source.dropout: [0.0, 0.1]}\n"
-      "repeat: 2\n",
-      "elsewhere/t.yaml"));
+  const Plan again = expandSweep(parseSweep(text, "elsewhere/t.yaml"));
   for (size_t i = 0; i < plan.cases.size(); ++i) EXPECT_EQ(again.cases[i].id, plan.cases[i].id);
 }
 
