@@ -133,10 +133,11 @@ std::vector<std::string> drawPlots(const SweepTable& t, const std::string& dir) 
       }
       f.panels.push_back(std::move(panel));
       fs::create_directories(dir);
-      const std::string path =
-          (fs::path(dir) / (fileWord(metric) + "-vs-" + fileWord(key) + ".png")).string();
-      render::writePng(path, render::rasterize(f));
-      files.push_back(path);
+      // The PNG for the report page, the SVG for a paper or slides (one drawing, both files).
+      const std::string stem = (fs::path(dir) / (fileWord(metric) + "-vs-" + fileWord(key))).string();
+      render::writeFigure(f, stem + ".png");
+      render::writeFigure(f, stem + ".svg");
+      files.push_back(stem + ".png");
     }
   }
   return files;
