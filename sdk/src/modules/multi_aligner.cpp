@@ -279,11 +279,12 @@ AlignResult<S> MultiAligner<S>::align(const Frame& frame, const PropertyContaine
     // errors that size: what they paired there may be look-alikes), or one whose cues barely
     // measure the step: a hypothesis without the prediction competes with it. Whatever wins
     // must measure its own step, or it is said to be unchecked.
-    if (!result.valid || !covered || !withinWindow(context, result.pose) ||
-        !motionMeasured(context, result, info)) {
+    const bool measured = result.valid && motionMeasured(context, result, info);
+    if (!measured || !covered || !withinWindow(context, result.pose)) {
       const bool made = hypotheses();
-      if (result.valid && (!made || !motionMeasured(context, result, info)))
-        result.unchecked = true;
+      // Only a hypothesis that won changed the pose whose step is judged.
+      const bool vouched = result.hypothesis ? motionMeasured(context, result, info) : measured;
+      if (result.valid && (!made || !vouched)) result.unchecked = true;
     }
   }
   if (result.valid && found.found && found.ambiguous) {

@@ -1,6 +1,7 @@
 #pragma once
-// The ground-truth file a camera dataset may ship beside its images (EuRoC, TUM RGB-D): which
-// file to read, how far apart its rows may be, and the pose at a frame's time.
+// The ground-truth file a camera recording may ship beside its images (motion-capture or
+// GNSS/INS poses, stamped on their own clock): which file to read, how far apart its rows may be,
+// and the pose at a frame's time.
 #include <spdlog/spdlog.h>
 
 #include <filesystem>
