@@ -5,12 +5,8 @@
 # into docs/benchmarks.md (section laser2d) and `plugslam render`'s pictures into docs/img/.
 # Run scripts/build.sh first. Needs /usr/bin/time (Debian package `time`) for peak memory.
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
-bin="$root/build/bin/plugslam"
-[ -x "$bin" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
-data="${PLUGSLAM_DATA:-$root/../shared/data}"
-[ -d "$data/laser2d" ] || { echo "no data at $data/laser2d (set PLUGSLAM_DATA)" >&2; exit 1; }
-out="${PLUGSLAM_BENCH_OUT:-$root/out/bench/laser2d}"
+. "$(dirname "$0")/common.sh" laser2d
+need_data laser2d
 mkdir -p "$out" "$root/docs/img"
 timer=()
 [ -x /usr/bin/time ] && timer=(/usr/bin/time -f "%M" -o)

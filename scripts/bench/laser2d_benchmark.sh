@@ -9,12 +9,7 @@
 # the machine, date and commit, and the front-end's time split (run.json tracking_time_s).
 # PLUGSLAM_BENCH_NO_DOC=1 prints the table instead. Run scripts/build.sh first.
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
-here="$(dirname "$0")"
-bin="${PLUGSLAM_BIN:-$root/build/bin/plugslam}"
-[ -x "$bin" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
-data="${PLUGSLAM_DATA:-$root/../shared/data}"
-out="${PLUGSLAM_BENCH_OUT:-$root/out/bench/laser2d_benchmark}"
+. "$(dirname "$0")/common.sh" laser2d_benchmark
 cfg="$root/configs/laser2d_carmen.yaml"
 mkdir -p "$out"
 shopt -s nullglob

@@ -10,13 +10,8 @@
 # A separate script (called by laser2d.sh) so the front-end figures can be refreshed alone in
 # seconds, without the minutes of full SLAM.
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
-here="$(dirname "$0")"
-bin="$root/build/bin/plugslam"
-[ -x "$bin" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
-data="${PLUGSLAM_DATA:-$root/../shared/data}"
-[ -d "$data/laser2d" ] || { echo "no data at $data/laser2d (set PLUGSLAM_DATA)" >&2; exit 1; }
-out="${PLUGSLAM_BENCH_OUT:-$root/out/bench/laser2d_frontend}"
+. "$(dirname "$0")/common.sh" laser2d_frontend
+need_data laser2d
 mkdir -p "$out"
 
 # Front-end only: no graph back-end, the trajectory writer as the only output.

@@ -14,13 +14,8 @@
 # another build or config (a "before" table; then PLUGSLAM_BENCH_NO_DOC=1 prints the table
 # instead of writing docs/benchmarks.md). Run scripts/build.sh first.
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
-here="$(dirname "$0")"
-bin="${PLUGSLAM_BIN:-$root/build/bin/plugslam}"
-[ -x "$bin" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
-data="${PLUGSLAM_DATA:-$root/../shared/data}"
-[ -d "$data/laser2d" ] || { echo "no data at $data/laser2d (set PLUGSLAM_DATA)" >&2; exit 1; }
-out="${PLUGSLAM_BENCH_OUT:-$root/out/bench/laser2d_robust}"
+. "$(dirname "$0")/common.sh" laser2d_robust
+need_data laser2d
 repeats="${PLUGSLAM_BENCH_REPEATS:-5}"
 variants="${PLUGSLAM_BENCH_VARIANTS:-original no_odom scale_up scale_down drift sparse decimate3 decimate5}"
 cfg="${PLUGSLAM_BENCH_CONFIG:-$root/configs/laser2d_carmen.yaml}"

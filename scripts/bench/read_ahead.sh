@@ -7,11 +7,7 @@
 #   scripts/bench/read_ahead.sh [REPEATS]   (default 3; the median run is kept)
 # Run scripts/build.sh first, and nothing else CPU-heavy at the same time (speed is measured).
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
-bin="$root/build/bin/plugslam"
-[ -x "$bin" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
-data="${PLUGSLAM_DATA:-$root/../shared/data}"
-out="${PLUGSLAM_BENCH_OUT:-$root/out/bench/read_ahead}"
+. "$(dirname "$0")/common.sh" read_ahead
 repeats="${1:-3}"
 mkdir -p "$out"
 CASES=(

@@ -3,10 +3,7 @@
 # double-laser pipeline on sessions stage-0..stage-3, next to the seed's numbers. Writes the
 # table into docs/benchmarks.md (section sim2d). Run scripts/build.sh first.
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
-bin="$root/build/bin/plugslam"
-[ -x "$bin" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
-out="${PLUGSLAM_BENCH_OUT:-$root/out/bench/sim2d}"
+. "$(dirname "$0")/common.sh" sim2d
 mkdir -p "$out"
 declare -A seed_single=([stage-0]="0.037 / 0.059 / 289.5" [stage-1]="0.041 / 0.073 / 278.1" [stage-2]="0.109 / 0.298 / 251.5" [stage-3]="0.110 / 0.245 / 189.6")
 declare -A seed_double=([stage-0]="0.047 / 0.084 / 153.9" [stage-1]="0.032 / 0.077 / 149.9" [stage-2]="0.072 / 0.256 / 144.4" [stage-3]="0.047 / 0.127 / 125.7")

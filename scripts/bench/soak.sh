@@ -13,17 +13,13 @@
 #   PLUGSLAM_SOAK_REPORT_ONLY=1 scripts/bench/soak.sh SECONDS   table from the runs already made
 # Run scripts/build.sh first. On a shared machine wrap it in flock (it keeps the CPU busy).
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
-bin="$root/build/bin/plugslam"
-[ -x "$bin" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
+. "$(dirname "$0")/common.sh" soak
 seconds="${1:-120}"
 finish_s="${PLUGSLAM_SOAK_FINISH_S:-300}"
 shift || true
 modes=("$@")
 [ ${#modes[@]} -eq 0 ] && modes=(localize mapping)
-data="${PLUGSLAM_DATA:-$root/../shared/data}"
-[ -d "$data/laser2d" ] || { echo "no data at $data/laser2d (set PLUGSLAM_DATA)" >&2; exit 1; }
-out="${PLUGSLAM_BENCH_OUT:-$root/out/bench/soak}"
+need_data laser2d
 mkdir -p "$out"
 export TZ=UTC  # the log's clock and the sampler's must agree
 

@@ -14,16 +14,13 @@
 #   PLUGSLAM_VIEWER_CASES="demo intel street live stall" (default all): run only some, in pieces
 #   (each piece keeps its outputs; the table is written from whatever is there)
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
-bin="$root/build/bin/plugslam"
-[ -x "$bin" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
+. "$(dirname "$0")/common.sh" viewer
 command -v node > /dev/null || { echo "viewer.sh needs Node (scripts/install-web-deps.sh)" >&2; exit 1; }
 [ -d "$root/tests/node/node_modules/@foxglove/ws-protocol" ] ||
   { echo "viewer.sh needs tests/node's packages (scripts/install-web-deps.sh)" >&2; exit 1; }
 : "${PLUGSLAM_DATA:=$root/../shared/data}"
 export PLUGSLAM_DATA
 repeats="${1:-3}"
-out="${PLUGSLAM_BENCH_OUT:-$root/out/bench/viewer}"
 mkdir -p "$out"
 client="$root/scripts/bench/viewer_client.js"
 

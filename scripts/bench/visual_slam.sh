@@ -8,11 +8,7 @@
 #   scripts/bench/visual_slam.sh street mixed    only these groups (street, kitti00, rgbd, mixed)
 # Run scripts/build.sh first, and nothing else CPU-heavy at the same time (speed is measured).
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
-bin="$root/build/bin/plugslam"
-[ -x "$bin" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
-data="${PLUGSLAM_DATA:-$root/../shared/data}"
-out="${PLUGSLAM_BENCH_OUT:-$root/out/bench/visual_slam}"
+. "$(dirname "$0")/common.sh" visual_slam
 metrics="$root/scripts/bench/visual_metrics.py"
 mkdir -p "$out"
 k00="$data/stereo/kitti00-trajectories-evo"

@@ -1,0 +1,14 @@
+# Sourced by the bench scripts after `set -euo pipefail`, with the bench's name:
+#   . "$(dirname "$0")/common.sh" NAME
+# so that every bench finds the checkout (root), the host (bin, PLUGSLAM_BIN), the data (data,
+# PLUGSLAM_DATA) and its output folder (out, PLUGSLAM_BENCH_OUT, default out/bench/NAME) the same
+# way, and stops before it runs anything when the host is not built.
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+here="$(dirname "$0")"
+bin="${PLUGSLAM_BIN:-$root/build/bin/plugslam}"
+[ -x "$bin" ] || { echo "build first: scripts/build.sh" >&2; exit 1; }
+data="${PLUGSLAM_DATA:-$root/../shared/data}"
+out="${PLUGSLAM_BENCH_OUT:-$root/out/bench/$1}"
+
+# Stops unless the data folder holds SUBDIR (a bench that cannot run says so at once).
+need_data() { [ -d "$data/$1" ] || { echo "no data at $data/$1 (set PLUGSLAM_DATA)" >&2; exit 1; }; }
