@@ -1,5 +1,5 @@
 #pragma once
-// What the landmark cue's camera preprocessors (stereo here, RGB-D in its plugin) share: the
+// What the landmark cue's camera preprocessors (the stereo and rgbd plugins') share: the
 // keypoint parameters and the extractor they configure, so every camera describes its images
 // the same way, and views of the SDK's images as OpenCV matrices.
 #include <cstdint>

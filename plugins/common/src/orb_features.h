@@ -1,6 +1,6 @@
 #pragma once
 // Grid-bucketed FAST corners with ORB descriptors (OpenCV features2d) over an image pyramid: the
-// keypoints of the landmark cue's camera preprocessors (stereo here, RGB-D in its plugin).
+// keypoints of the landmark cue's camera preprocessors (the stereo and rgbd plugins').
 // Bucketing spreads the keypoints over the whole image, so the pose is constrained by every part
 // of the view, not only by its most textured corner. The pyramid makes them scale-invariant: a
 // corner seen from twice as near looks twice as large, and is found and described again at the
