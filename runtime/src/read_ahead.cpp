@@ -5,8 +5,11 @@
 
 namespace plugslam::runtime {
 
-ReadAhead::ReadAhead(Reader read, size_t depth)
-    : read_(std::move(read)), depth_(depth > 0 ? depth : 1), thread_([this] { run(); }) {}
+ReadAhead::ReadAhead(Reader read, size_t depth, FullHook on_full)
+    : read_(std::move(read)),
+      depth_(depth > 0 ? depth : 1),
+      on_full_(std::move(on_full)),
+      thread_([this] { run(); }) {}
 
 ReadAhead::~ReadAhead() {
   {
@@ -21,6 +24,11 @@ void ReadAhead::run() {
   for (;;) {
     {
       std::unique_lock<std::mutex> lock(mutex_);
+      if (on_full_ && !stop_ && queue_.size() >= depth_) {
+        lock.unlock();  // so the hook may lock what a caller of next() holds
+        on_full_();
+        lock.lock();
+      }
       changed_.wait(lock, [this] { return stop_ || queue_.size() < depth_; });
       if (stop_) return;
     }

@@ -29,8 +29,11 @@ class ReadAhead {
   /// `read(frame)` fills a fresh frame whose seq is set; false at the end of the data. It runs on
   /// the reader thread only, one frame at a time.
   using Reader = std::function<bool(Frame&)>;
+  /// Called on the reader thread each time it waits for room, `depth` frames queued: the event
+  /// by which a test sees the bound hold without waiting for a reader that might overshoot.
+  using FullHook = std::function<void()>;
   /// Starts reading: at most `depth` (>= 1) frames wait.
-  ReadAhead(Reader read, size_t depth);
+  ReadAhead(Reader read, size_t depth, FullHook on_full = {});
   /// Stops the reader (after the read in progress) and joins it.
   ~ReadAhead();
   ReadAhead(const ReadAhead&) = delete;
@@ -43,6 +46,7 @@ class ReadAhead {
   void run();
   Reader read_;
   size_t depth_;
+  FullHook on_full_;
   std::mutex mutex_;
   std::condition_variable changed_;
   std::deque<ReadFrame> queue_;

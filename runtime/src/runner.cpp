@@ -385,10 +385,15 @@ RunReport runPipeline(RunConfig& run, const RunOptions& options) {
       // Paced (--rate): wait for the next frame's time, a Ctrl-C still ending the wait.
       if (!stop) {
         const auto due = execution.nextDue();
-        for (auto now = PlaybackClock::Clock::now(); now < due && !stop;
-             now = PlaybackClock::Clock::now()) {
-          std::this_thread::sleep_until(std::min(due, now + std::chrono::milliseconds(50)));
+        if (options.wait_until) {
+          options.wait_until(due);
           stop = interrupted();
+        } else {
+          for (auto now = PlaybackClock::Clock::now(); now < due && !stop;
+               now = PlaybackClock::Clock::now()) {
+            std::this_thread::sleep_until(std::min(due, now + std::chrono::milliseconds(50)));
+            stop = interrupted();
+          }
         }
       }
       if (!stop && !execution.step()) break;

@@ -88,6 +88,9 @@ struct RunOptions {
   /// Playback rate (--rate): 0 = as fast as possible; R > 0 = frames paced by their stamps at R
   /// times the data's own speed (1 = as recorded), e.g. to watch a log in the viewer.
   double rate = 0;
+  /// Waits until a paced frame is due, instead of the clock (a test records the schedule); may be
+  /// empty. runPipeline checks `interrupted` once more after it returns.
+  std::function<void(PlaybackClock::Clock::time_point due)> wait_until;
 };
 
 /// One run driven frame by frame (the shell steps it; runPipeline loops it). Not thread-safe:

@@ -3,9 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <chrono>
+#include <condition_variable>
+#include <mutex>
 #include <stdexcept>
-#include <thread>
 
 #include "read_ahead.h"
 
@@ -38,19 +38,33 @@ TEST(ReadAhead, FramesComeInOrderThenTheEnd) {
 
 TEST(ReadAhead, AtMostDepthFramesWait) {
   std::atomic<int> reads{0};
+  std::mutex mutex;
+  std::condition_variable changed;
+  int fulls = 0;  // times the reader waited for room
   ReadAhead reader(
       [&reads](Frame&) {
         ++reads;
         return true;
       },
-      4);
-  // Nobody takes a frame: the reader fills the queue and waits (one more may be in flight).
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  EXPECT_LE(reads.load(), 5);
-  EXPECT_GE(reads.load(), 4);
+      4,
+      [&] {
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          ++fulls;
+        }
+        changed.notify_all();
+      });
+  const auto waitForFull = [&](int n) {
+    std::unique_lock<std::mutex> lock(mutex);
+    changed.wait(lock, [&] { return fulls >= n; });
+  };
+  // Nobody takes a frame: the reader fills the queue and waits, reading nothing more.
+  waitForFull(1);
+  EXPECT_EQ(reads.load(), 4);
+  // One frame taken: one more read fills the queue again.
   reader.next();
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  EXPECT_LE(reads.load(), 6);
+  waitForFull(2);
+  EXPECT_EQ(reads.load(), 5);
 }
 
 TEST(ReadAhead, AnErrorComesWhereItsFrameWouldHave) {
@@ -79,19 +93,20 @@ TEST(ReadAhead, AnErrorComesWhereItsFrameWouldHave) {
 TEST(ReadAhead, StoppingEarlyJoinsTheReader) {
   // An endless source, abandoned after two frames (max_frames, Ctrl-C): the destructor returns
   // (a reader left running would hang the test) and no read happens after it.
-  std::atomic<int> reads{0};
+  std::atomic<int> reads{0}, reads_after{0};
+  std::atomic<bool> gone{false};
   {
     ReadAhead reader(
-        [&reads](Frame&) {
+        [&](Frame&) {
           ++reads;
+          if (gone) ++reads_after;
           return true;
         },
         2);
     reader.next();
     reader.next();
   }
-  const int after = reads.load();
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  EXPECT_EQ(reads.load(), after);
-  EXPECT_LE(after, 2 + 2 + 1);
+  gone = true;
+  EXPECT_EQ(reads_after.load(), 0);
+  EXPECT_LE(reads.load(), 2 + 2 + 1);
 }

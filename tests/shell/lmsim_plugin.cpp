@@ -1,6 +1,9 @@
 // A test plugin that needs no sensor: a robot driving circles through a field of landmarks with
 // known identities (tests/modules/landmark_cue.h), with ground truth. It lets the shell and
 // session tests run whole SLAM pipelines (tracker, loop closing, graph) through the host.
+#include <signal.h>
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -29,6 +32,9 @@ class LandmarkSource : public Source {
   Param<int> seed{this, "seed", 3, "", "random seed", Range{0, 1e9}};
   Param<double> delay{this,        "delay", 0.0, "s", "wait before each frame, like a live sensor",
                       Range{0, 10}};
+  Param<int> interrupt_at{this, "interrupt_at", -1, "",
+                          "SIGINT to the process before this frame, as a Ctrl-C (-1: never)",
+                          Range{-1, 1e9}};
 
   void configure() override {
     std::mt19937 rng(static_cast<unsigned>(seed()));
@@ -42,6 +48,8 @@ class LandmarkSource : public Source {
   }
   bool next(Frame& frame) override {
     if (emitted_ >= frames_) return false;
+    // The interrupt at a known frame, whatever the machine's speed: a test needs no timing.
+    if (emitted_ == interrupt_at()) ::kill(::getpid(), SIGINT);
     if (delay() > 0) std::this_thread::sleep_for(std::chrono::duration<double>(delay()));
     const double phi = emitted_ * step() / radius();
     const Eigen::Isometry2d pose =

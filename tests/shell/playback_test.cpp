@@ -1,8 +1,8 @@
 // Paced playback (`plugslam run --rate R`): the clock's schedule on made-up times (due times,
 // catch-up of a short hiccup, a restart after a long lag or a stamp going back), then real runs
-// of the lmsim pipeline (10 Hz stamps): a paced one lasts at least its data's span / R (a lower
-// bound, which no machine's speed or load can break), frames stepped by hand are due on the
-// schedule, and Ctrl-C ends a long wait.
+// of the lmsim pipeline (10 Hz stamps): a paced run waits for each frame at its stamp / R (the
+// waits recorded, not timed), frames stepped by hand are due on the schedule, and Ctrl-C ends a
+// long wait.
 #include "playback_clock.h"
 
 #include <gtest/gtest.h>
@@ -12,7 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <thread>
+#include <vector>
 
 #include "config_builder.h"
 #include "plugin_manager.h"
@@ -95,20 +95,24 @@ class Playback : public ::testing::Test {
   PluginManager plugins_;
 };
 
-TEST_F(Playback, APacedRunLastsItsDataSpanOverTheRate) {
-  // 21 frames = 2.0 s of data; at rate 4 the run cannot end before 0.5 s (the clock only waits,
-  // so this lower bound holds on any machine, however slow or busy).
+TEST_F(Playback, APacedRunWaitsForEachFrameAtItsStampOverTheRate) {
+  // 21 frames = 2.0 s of data; at rate 0.01 frame k is due 10 k s after the first. The run's
+  // waits are recorded instead of slept, so the run takes no longer for it, and no machine is
+  // slow enough to be 0.5 s late on a 10 s schedule (which would restart it).
   auto run = build(21);
-  const auto start = Clock::now();
-  const RunReport report = runPipeline(*run, options(4.0));
-  const double wall = std::chrono::duration<double>(Clock::now() - start).count();
+  RunOptions o = options(0.01);
+  std::vector<Clock::time_point> waits;
+  o.wait_until = [&](Clock::time_point due) { waits.push_back(due); };
+  const RunReport report = runPipeline(*run, o);
   EXPECT_EQ(report.frames, 21u);
   EXPECT_EQ(report.stopped_by, "max_frames");
-  EXPECT_GE(wall, 0.5);
-  EXPECT_GE(report.wall_s, 0.5);
+  ASSERT_EQ(waits.size(), 22u);  // and once more for the end of the data (max_frames), at once
+  for (size_t k = 1; k < 21; ++k)
+    EXPECT_NEAR(std::chrono::duration<double>(waits[k] - waits[0]).count(), 10.0 * k, 1e-6)
+        << "frame " << k;
 }
 
-TEST_F(Playback, SteppingByHandWaitsForEachFramesTime) {
+TEST_F(Playback, FramesSteppedByHandAreDueOnTheSchedule) {
   auto run = build(6);
   Execution execution(*run, options(10.0));  // 0.1 s of data = 10 ms
   const auto first = execution.nextDue();
@@ -119,14 +123,15 @@ TEST_F(Playback, SteppingByHandWaitsForEachFramesTime) {
   const auto lag = [](Clock::time_point now, Clock::time_point due) {
     return std::chrono::duration<double>(now - due).count();
   };
+  // Each frame is stepped at once, not at its time: on time or a short lag keeps the schedule.
   for (int k = 1; k < 6; ++k) {
     const auto before = Clock::now();
     const auto due = execution.nextDue();
     const auto after = Clock::now();
     const auto scheduled = anchor + std::chrono::duration_cast<Clock::duration>(
                                         std::chrono::duration<double>(0.01 * (k - anchor_k)));
-    // The clock read "now" between `before` and `after`: on time or a short lag keeps the
-    // schedule; a longer one (this test descheduled on a loaded machine) restarts it at once.
+    // The clock read "now" between `before` and `after`: a lag longer than kMaxLagSeconds (this
+    // test descheduled on a loaded machine) restarts the schedule at once.
     const bool on_schedule = std::abs(lag(due, scheduled)) < 1e-6;
     if (lag(after, scheduled) <= PlaybackClock::kMaxLagSeconds) {
       EXPECT_TRUE(on_schedule) << "frame " << k << " due " << lag(due, scheduled) << " s off";
@@ -137,7 +142,6 @@ TEST_F(Playback, SteppingByHandWaitsForEachFramesTime) {
       anchor = due;
       anchor_k = k;
     }
-    std::this_thread::sleep_until(due);
     ASSERT_TRUE(execution.step());
   }
   EXPECT_FALSE(execution.step());

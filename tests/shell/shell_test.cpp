@@ -6,14 +6,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <string>
-#include <thread>
 #include <optional>
+#include <string>
 
 #include "run_command.h"
 #include "test_paths.h"
@@ -48,6 +46,69 @@ size_t count(const std::string& s, const std::string& part) {
 void expectHas(const std::string& s, const std::string& part) {
   EXPECT_NE(s.find(part), std::string::npos) << "'" << part << "' not in:\n" << s;
 }
+
+// A command with its input and its output (stdout and stderr) on pipes: the test reads what it
+// prints as it prints it, so it acts when the command has done something, not after a while.
+class Process {
+ public:
+  explicit Process(const std::string& cmd) {
+    ::signal(SIGPIPE, SIG_IGN);  // a command that died fails the test, not kills it
+    int in[2], out[2];
+    if (pipe(in) != 0 || pipe(out) != 0) return;
+    pid_ = fork();
+    if (pid_ == 0) {
+      dup2(in[0], 0);
+      dup2(out[1], 1);
+      dup2(out[1], 2);
+      for (int fd : {in[0], in[1], out[0], out[1]}) close(fd);
+      execl("/bin/sh", "sh", "-c", cmd.c_str(), nullptr);
+      _exit(127);
+    }
+    close(in[0]);
+    close(out[1]);
+    in_ = in[1];
+    out_ = out[0];
+  }
+  ~Process() { finish(); }
+  void send(const std::string& text) {
+    for (size_t at = 0; at < text.size();) {
+      const ssize_t n = write(in_, text.data() + at, text.size() - at);
+      if (n <= 0) return;
+      at += static_cast<size_t>(n);
+    }
+  }
+  /// Reads until the output holds `text` (true) or the command closed it (false).
+  bool readUntil(const std::string& text) {
+    char buf[4096];
+    while (output_.find(text) == std::string::npos) {
+      const ssize_t n = read(out_, buf, sizeof buf);
+      if (n <= 0) return false;
+      output_.append(buf, static_cast<size_t>(n));
+    }
+    return true;
+  }
+  /// Closes the command's input, reads the rest of its output and returns its exit code (-1 when
+  /// it did not exit normally).
+  int finish() {
+    if (pid_ <= 0) return -1;
+    close(in_);
+    char buf[4096];
+    for (ssize_t n; (n = read(out_, buf, sizeof buf)) > 0;)
+      output_.append(buf, static_cast<size_t>(n));
+    close(out_);
+    int status = 0;
+    waitpid(pid_, &status, 0);
+    pid_ = -1;
+    code_ = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return code_;
+  }
+  const std::string& output() const { return output_; }
+
+ private:
+  pid_t pid_ = -1;
+  int in_ = -1, out_ = -1, code_ = -1;
+  std::string output_;
+};
 
 class ShellTest : public ::testing::Test {
  protected:
@@ -98,7 +159,7 @@ TEST_F(ShellTest, EveryCommandThroughStdin) {
       "get " +
       slice +
       ".sigma\n"
-      "set source.delay 0.001\n"  // 0.4 s per run: pause lands mid-run
+      "set source.delay 0.02\n"  // 8 s per run: pause lands mid-run however busy the machine
       "step 5\n"
       "status\n"
       "step 10\n"
@@ -107,6 +168,7 @@ TEST_F(ShellTest, EveryCommandThroughStdin) {
       "pause\n"
       "status\n"
       "stop\n"
+      "set source.delay 0\n"
       "run\n"
       "wait\n"
       "status\n"
@@ -188,13 +250,12 @@ TEST_F(ShellTest, EveryCommandThroughStdin) {
   EXPECT_EQ(r.out.find("> status", r.out.find("> quit")), std::string::npos);
 }
 
-// `rate R` paces the shell's runs by the frames' stamps (lmsim: 10 Hz): 11 frames are 1.0 s of
-// data, so at rate 2 `step 11` takes at least 0.5 s (a lower bound: the pacing only waits).
-TEST_F(ShellTest, RatePacesTheRunByItsStamps) {
+// `rate R` paces the shell's runs by the frames' stamps (lmsim: 10 Hz; at rate 2 `step 11` is
+// 0.5 s of waits). What is asserted is what the shell says: the schedule itself is
+// playback_test's, which records the waits instead of timing a run.
+TEST_F(ShellTest, RateSetsThePlaybackRate) {
   const std::string cfg = lmsimConfig(0.3);
-  const auto start = std::chrono::steady_clock::now();
   Result r = shell("load " + cfg + "\nrate\nrate 2\nrate\nstep 11\nrate -1\nrate fast\nrate 0\nstop\n");
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_EQ(r.code, 1) << r.out;  // two bad rates
   expectHas(r.out, "rate 0 (as fast as possible)");
   expectHas(r.out, "> rate\nrate 2\n");
@@ -202,7 +263,6 @@ TEST_F(ShellTest, RatePacesTheRunByItsStamps) {
   expectHas(r.out, "error: rate: expected a number >= 0");
   expectHas(r.out, "got 'fast'");
   EXPECT_EQ(count(r.out, "error:"), 2u) << r.out;
-  EXPECT_GE(wall, 0.5) << r.out;
 }
 
 TEST_F(ShellTest, ErrorsLeaveTheShellAliveAndTheStateIntact) {
@@ -290,23 +350,17 @@ TEST_F(ShellTest, ReloadPicksUpARebuiltPluginFromTheShell) {
                           "source: {type: fixture.CountingSource, frames: 20}\n"
                           "pipeline:\n  preprocessors:\n    - {type: fixture.Scale, factor: 0.5}\n"
                           "outputs: [fixture.SumWriter]\n");
-  const std::string log = path("shell.log");
-  FILE* in = popen((bin() + " shell -o " + path("out") + " > " + log + " 2>&1").c_str(), "w");
-  ASSERT_NE(in, nullptr);
-  std::fputs(("load " + cfg + "\ndo pipeline.preprocessors[0].behaviour\nrun\nwait\n").c_str(), in);
-  std::fflush(in);
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-  while (readFile(log).find("run finished") == std::string::npos &&
-         std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  Process proc("PLUGSLAM_PLUGIN_PATH=" + pluginDir() + " " + bin() + " shell -o " + path("out"));
+  proc.send("load " + cfg + "\ndo pipeline.preprocessors[0].behaviour\nrun\nwait\n");
+  // The first run is over (and wrote its sum) before the library is replaced.
+  ASSERT_TRUE(proc.readUntil("run finished")) << proc.output();
   const std::string first_sum = readFile(path("out/sum.txt"));
   fs::copy_file(pluginDir() + "/v2/plugslam_fixture.so", path("new.so"));
   fs::rename(path("new.so"), so);
-  std::fputs("reload fixture\ndo pipeline.preprocessors[0].behaviour\nrun\nwait\nplugins\nquit\n",
-             in);
-  const int status = pclose(in);
-  const std::string out = readFile(log);
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << out;
+  proc.send("reload fixture\ndo pipeline.preprocessors[0].behaviour\nrun\nwait\nplugins\nquit\n");
+  const int code = proc.finish();
+  const std::string out = proc.output();
+  EXPECT_EQ(code, 0) << out;
   EXPECT_EQ(first_sum, "20 95\n");
   EXPECT_EQ(readFile(path("out/sum.txt")), "20 190\n") << out;
   const auto one = out.find("> do pipeline.preprocessors[0].behaviour\n1\n");
@@ -359,35 +413,17 @@ TEST_F(ShellTest, RunDoesActionsAfterTheRun) {
 TEST_F(ShellTest, InterruptedRunLeavesALoadableSession) {
   const std::string cfg = lmsimConfig(100);
   const std::string out = path("out");
-  // 1 ms per frame: the run lasts 20 s unless interrupted.
+  // 100 laps, interrupted when the source reads frame 200, as a Ctrl-C there would: the same
+  // run on any machine, where a Ctrl-C sent after a while lands wherever the run got to.
   {
     std::string text = readFile(cfg);
-    text.replace(text.find("laps: "), 6, "delay: 0.001, laps: ");
+    text.replace(text.find("laps: "), 6, "interrupt_at: 200, laps: ");
     std::ofstream(cfg) << text;
   }
-  const pid_t pid = fork();
-  ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    setenv("PLUGSLAM_PLUGIN_PATH", pluginDir().c_str(), 1);
-    const std::string log = path("run.log");
-    FILE* f = std::freopen(log.c_str(), "w", stdout);
-    (void)f;
-    dup2(fileno(stdout), 2);
-    execl(bin().c_str(), "plugslam", "run", cfg.c_str(), "-o", out.c_str(), nullptr);
-    _exit(127);
-  }
-  // Wait until the run is under way (its log says so), then Ctrl-C.
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-  while (readFile(path("run.log")).find("running ") == std::string::npos &&
-         std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  kill(pid, SIGINT);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  const std::string log = readFile(path("run.log"));
-  ASSERT_TRUE(WIFEXITED(status)) << log;
-  EXPECT_EQ(WEXITSTATUS(status), 130) << log;
+  const Result run =
+      sh("PLUGSLAM_PLUGIN_PATH=" + pluginDir() + " " + bin() + " run " + cfg + " -o " + out);
+  const std::string& log = run.out;
+  EXPECT_EQ(run.code, 130) << log;
   // Saved once before the run finishes (a second Ctrl-C during a long final optimization keeps
   // it), then again with the final optimization.
   expectHas(log, "interrupted: session saved in " + out + "/session");
@@ -402,7 +438,7 @@ TEST_F(ShellTest, InterruptedRunLeavesALoadableSession) {
   EXPECT_NE(readFile(out + "/run.json").find("\"stopped_by\": \"interrupted\""), std::string::npos);
   // The session loads and a run extends it.
   Result r = sh("PLUGSLAM_PLUGIN_PATH=" + pluginDir() + " " + bin() + " run --session " + out +
-                "/session --set source.laps=0.5 -o " + path("out2"));
+                "/session --set source.laps=0.5 --set source.interrupt_at=-1 -o " + path("out2"));
   EXPECT_EQ(r.code, 0) << r.out;
   expectHas(r.out, "frames in");
   r = shell("load-session " + out + "/session\nstatus\n");

@@ -266,9 +266,6 @@ TEST(Sim3DRender, FrameIsItsTimedStagesAndTheirCostIsPrinted) {
     EXPECT_NE(left.data, right.data);  // the two cameras do not see the same image
     EXPECT_TRUE(f.depth.data.empty());
   }
-  for (double ms : {rgbd_ms, stereo_ms, vis, inoise, dnoise}) {
-    EXPECT_TRUE(std::isfinite(ms) && ms > 0.0) << ms;
-  }
   std::printf("[timing] VGA RGB-D frame (render + shading + noise + depth): %.2f ms\n", rgbd_ms);
   std::printf(
       "[timing]   visibility %.2f ms, shading %.2f ms, image noise %.2f ms, depth noise %.2f ms\n",
