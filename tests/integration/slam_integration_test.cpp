@@ -253,32 +253,43 @@ TEST(Slam, FreiburgCampusStaysInOnePiece) {
 TEST(Slam, AKilledRunLeavesALoadableCheckpoint) {
   fs::path out = tempDir("killed");
   const std::string bin = plugslam::testing::buildDir() + "/bin/plugslam";
+  int log_pipe[2];
+  ASSERT_EQ(pipe(log_pipe), 0);
   const pid_t pid = fork();
   ASSERT_GE(pid, 0);
   if (pid == 0) {
     if (chdir(plugslam::testing::sourceDir().c_str()) != 0) _exit(126);
+    dup2(log_pipe[1], 1);
+    dup2(log_pipe[1], 2);
+    close(log_pipe[0]);
+    close(log_pipe[1]);
+    // -v: the debug log says when each checkpoint is in place.
     execl(bin.c_str(), "plugslam", "run", "configs/sim2d_single_laser.yaml", "-o",
-          out.c_str(), "--set", "source.session=stage-3", "--checkpoint-every", "0.2", "-q",
+          out.c_str(), "--set", "source.session=stage-3", "--checkpoint-every", "0.2", "-v",
           static_cast<char*>(nullptr));
     _exit(127);
   }
-  // Kill it (no chance to clean up) once a checkpoint exists and it has run a little longer.
-  const fs::path manifest = out / "checkpoint" / "session.yaml";
-  int status = 0;
-  bool exited = false;
-  for (int i = 0; i < 600 && !fs::exists(manifest); ++i) {
-    if (waitpid(pid, &status, WNOHANG) == pid) {
-      exited = true;
-      break;
-    }
-    usleep(50 * 1000);
+  close(log_pipe[1]);
+  // Kill it (no chance to clean up) once its log says the second checkpoint is in place: the run
+  // has a checkpoint and goes on writing the next, which the kill may cut short.
+  const std::string written = "checkpoint written to";
+  std::string log;
+  size_t seen = 0, from = 0;
+  char buf[4096];
+  while (seen < 2) {
+    const ssize_t n = read(log_pipe[0], buf, sizeof buf);
+    if (n <= 0) break;  // the run ended
+    log.append(buf, static_cast<size_t>(n));
+    for (size_t at; (at = log.find(written, from)) != std::string::npos; from = at + 1) ++seen;
   }
-  ASSERT_FALSE(exited) << "the run ended before it could be killed";
-  usleep(300 * 1000);
-  ASSERT_EQ(waitpid(pid, &status, WNOHANG), 0) << "the run ended before it could be killed";
   kill(pid, SIGKILL);
+  close(log_pipe[0]);
+  int status = 0;
   waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL)
+      << "the run ended before it could be killed:\n"
+      << log.substr(log.size() > 2000 ? log.size() - 2000 : 0);
+  const fs::path manifest = out / "checkpoint" / "session.yaml";
   // The last checkpoint loads and a second run extends it.
   ASSERT_TRUE(fs::exists(manifest) || fs::exists(out / "checkpoint.old" / "session.yaml"));
   const fs::path session = fs::exists(manifest) ? out / "checkpoint" : out / "checkpoint.old";
