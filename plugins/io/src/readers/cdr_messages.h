@@ -48,19 +48,6 @@ struct CameraInfoMsg {
   bool do_rectify{false};           ///< roi.do_rectify
 };
 
-/// geometry_msgs/msg/TransformStamped.
-struct TransformMsg {
-  RosHeader header;                     ///< parent frame and stamp
-  std::string child_frame_id;           ///< child frame
-  std::array<double, 3> translation{};  ///< child origin in the parent frame [m]
-  std::array<double, 4> rotation{};     ///< x y z w
-};
-
-/// tf2_msgs/msg/TFMessage.
-struct TfMsg {
-  std::vector<TransformMsg> transforms;  ///< one per parent -> child edge
-};
-
 /// ROS 2 type names as rosbag2 and MCAP's ros2 profile write them.
 inline constexpr const char* kRos2LaserScan = "sensor_msgs/msg/LaserScan";
 /// nav_msgs/msg/Odometry.

@@ -83,10 +83,11 @@ class Cursor {
   std::size_t pos_{0};
 };
 
-void checkType(const RosbagReader& bag, const RosbagMessage& m, const char* type, const char* md5) {
+void checkType(const RosbagReader& bag, const RosbagMessage& m, const char* type, const char* md5,
+               const char* other_name = nullptr) {
   if (!m.connection) throw ParseError(bag.path(), 0, "message without a connection");
   const RosbagConnection& c = *m.connection;
-  if (c.type != type) {
+  if (c.type != type && !(other_name && c.type == other_name)) {
     throw ParseError(bag.path(), 0,
                      "topic " + c.topic + " has type " + c.type + "; expected " + type);
   }
@@ -115,6 +116,23 @@ double OdometryMsg::yaw() const {
   return std::atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z));
 }
 
+void decodeTf(const std::uint8_t* data, std::size_t size, TfMsg& out) {
+  Cursor c(data, size);
+  const std::uint32_t n = c.u32("transforms");
+  // A transform is at least its header (3 x 4 bytes + the frame's length), the child's length
+  // and 7 doubles: the count is checked against the bytes present before anything is allocated.
+  constexpr std::size_t kMinTransform = 12 + 4 + 4 + 7 * 8;
+  c.need(std::size_t{n} * kMinTransform, "transforms");
+  out.transforms.resize(n);
+  for (TransformMsg& t : out.transforms) {
+    c.header(t.header);
+    t.child_frame_id = c.str("child_frame_id");
+    for (double& v : t.translation) v = c.f64("transform.translation");
+    for (double& v : t.rotation) v = c.f64("transform.rotation");
+  }
+  c.finish();
+}
+
 void decodeLaserScan(const std::uint8_t* data, std::size_t size, LaserScanMsg& out) {
   Cursor c(data, size);
   layout::laserScan(c, out);
@@ -139,6 +157,12 @@ void decodeOdometry(const RosbagReader& bag, const RosbagMessage& message, Odome
   decodeWithContext(bag, message, out, [](const std::uint8_t* d, std::size_t n, OdometryMsg& o) {
     decodeOdometry(d, n, o);
   });
+}
+
+void decodeTf(const RosbagReader& bag, const RosbagMessage& message, TfMsg& out) {
+  checkType(bag, message, kTfMessageType, kTfMessageMd5, kTfMessageOldType);
+  decodeWithContext(bag, message, out,
+                    [](const std::uint8_t* d, std::size_t n, TfMsg& o) { decodeTf(d, n, o); });
 }
 
 }  // namespace io

@@ -46,6 +46,19 @@ struct OdometryMsg {
   double yaw() const;
 };
 
+/// geometry_msgs/TransformStamped.
+struct TransformMsg {
+  RosHeader header;                     ///< parent frame and stamp
+  std::string child_frame_id;           ///< child frame
+  std::array<double, 3> translation{};  ///< child origin in the parent frame [m]
+  std::array<double, 4> rotation{};     ///< x y z w
+};
+
+/// tf2_msgs/TFMessage (and ROS 1's older tf/tfMessage, the same definition).
+struct TfMsg {
+  std::vector<TransformMsg> transforms;  ///< one per parent -> child edge
+};
+
 /// The type name and md5sum ROS uses for LaserScan.
 inline constexpr const char* kLaserScanType = "sensor_msgs/LaserScan";
 /// md5sum of sensor_msgs/LaserScan's definition.
@@ -55,15 +68,28 @@ inline constexpr const char* kOdometryType = "nav_msgs/Odometry";
 /// md5sum of nav_msgs/Odometry's definition.
 inline constexpr const char* kOdometryMd5 = "cd5e73d190d741a2f92e81eda573aca7";
 
+/// The type name ROS uses for TFMessage (/tf, /tf_static).
+inline constexpr const char* kTfMessageType = "tf2_msgs/TFMessage";
+/// The same message as the older tf package names it.
+inline constexpr const char* kTfMessageOldType = "tf/tfMessage";
+/// md5sum of TFMessage's definition (both names).
+inline constexpr const char* kTfMessageMd5 = "94810edda583a504dfda3829e70d7eec";
+
 /// Deserializes a LaserScan; ParseError (no file, line 0, byte offset in the message) if short.
 void decodeLaserScan(const std::uint8_t* data, std::size_t size, LaserScanMsg& out);
 /// Deserializes an Odometry; ParseError (no file, line 0, byte offset in the message) if short.
 void decodeOdometry(const std::uint8_t* data, std::size_t size, OdometryMsg& out);
 
+/// Deserializes a TFMessage; ParseError (no file, line 0, byte offset in the message) if short.
+void decodeTf(const std::uint8_t* data, std::size_t size, TfMsg& out);
+
 /// Checks the connection's type and md5sum, then decodes; ParseError names the bag and offsets.
 void decodeLaserScan(const RosbagReader& bag, const RosbagMessage& message, LaserScanMsg& out);
 /// Checks the connection's type and md5sum, then decodes; ParseError names the bag and offsets.
 void decodeOdometry(const RosbagReader& bag, const RosbagMessage& message, OdometryMsg& out);
+/// Checks the connection's type (either name) and md5sum, then decodes; ParseError names the bag
+/// and offsets.
+void decodeTf(const RosbagReader& bag, const RosbagMessage& message, TfMsg& out);
 
 }  // namespace io
 }  // namespace plugslam

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <set>
 #include <type_traits>
 
@@ -19,7 +20,21 @@ namespace {
 // up on; covers messages of one stream arriving late relative to another.
 constexpr double kRecordSlack = 1.0;
 
+// A scanner whose z axis leans more than this from the robot's [rad] is warned about: its scan is
+// used as if level, so points far away land off by the sine of the lean times their range.
+constexpr double kMaxTilt = 0.05;
+
+std::string describe(const Eigen::Isometry2d& m) {
+  return "(" + fmt::format("{:.4f}, {:.4f}, {:.4f}", m.translation().x(), m.translation().y(),
+                           angleOf(m.linear())) +
+         ")";
+}
+
 }  // namespace
+
+std::string tfFrameName(const std::string& frame) {
+  return !frame.empty() && frame[0] == '/' ? frame.substr(1) : frame;
+}
 
 std::pair<std::string, std::string> splitTopicEntry(const std::string& param,
                                                     const std::string& text) {
@@ -74,10 +89,12 @@ void BagSource::configure() {
                                    std::to_string(3 * scan_topics_.size()) + ", got " +
                                    std::to_string(m.size()));
   }
-  scan_mounts_.assign(scan_topics_.size(), std::nullopt);
+  config_mounts_.assign(scan_topics_.size(), std::nullopt);
   for (size_t i = 0; !m.empty() && i < scan_topics_.size(); ++i) {
-    scan_mounts_[i] = se2(m[3 * i], m[3 * i + 1], m[3 * i + 2]);
+    config_mounts_[i] = se2(m[3 * i], m[3 * i + 1], m[3 * i + 2]);
   }
+  scan_mounts_.assign(scan_topics_.size(), std::nullopt);
+  static_loaded_ = false;  // `path` may have changed since the last configure()
   open();
 }
 
@@ -185,7 +202,7 @@ bool BagSource::readOne() {
     s.value = std::move(r.depth);
   } else {
     LaserScanMsg& msg = r.scan;
-    if (!scan_mounts_[i]) scan_mounts_[i] = defaultMount(i, msg.header.frame_id);
+    if (!scan_mounts_[i]) scan_mounts_[i] = resolveMount(i, msg.header.frame_id);
     LaserScan scan;
     s.t = stampOf(msg.header);
     scan.stamp = s.t;
@@ -324,6 +341,129 @@ bool BagSource::emit(Frame& frame) {
     while (!q.empty() && q.front().t < keep - sync_tolerance()) q.pop_front();
   }
   return complete;
+}
+
+void BagSource::loadStatic() {
+  if (static_loaded_) return;
+  static_loaded_ = true;
+  static_edges_.clear();
+  static_parent_.clear();
+  for (const BagTransform& t : rigidTransforms()) {
+    static_edges_.emplace(t.parent, t);
+    static_edges_.emplace(t.child, BagTransform{t.child, t.parent, t.pose.inverse(), t.topic});
+    static_parent_[t.child] = t.parent;
+  }
+}
+
+std::string BagSource::robotFrame(const std::string& sensor) {
+  loadStatic();
+  // The robot: `base_frame`, else the odometry's child frame when the static tree has it, else
+  // the root of the static tree the sensor hangs from (static transforms describe the rigid
+  // robot; its root is the body odometry moves).
+  std::string robot = tfFrameName(base_frame());
+  if (robot.empty()) {
+    robot = tfFrameName(odometryChildFrame());
+    if (robot.empty() || !static_edges_.count(robot)) {
+      robot = sensor;
+      for (size_t hops = 0; static_parent_.count(robot) && hops < static_parent_.size(); ++hops)
+        robot = static_parent_[robot];
+    }
+  }
+  return robot;
+}
+
+std::optional<Eigen::Isometry3d> BagSource::staticPose(const std::string& from,
+                                                       const std::string& frame,
+                                                       std::string* path) {
+  loadStatic();
+  // Breadth first from `from`; each frame reached keeps its pose and the edge it was reached by.
+  std::map<std::string, Eigen::Isometry3d> pose{{from, Eigen::Isometry3d::Identity()}};
+  std::map<std::string, const BagTransform*> via;
+  std::deque<std::string> todo{from};
+  while (!todo.empty() && !pose.count(frame)) {
+    const std::string f = todo.front();
+    todo.pop_front();
+    for (auto [it, end] = static_edges_.equal_range(f); it != end; ++it) {
+      if (pose.count(it->second.child)) continue;
+      pose[it->second.child] = pose[f] * it->second.pose;
+      via[it->second.child] = &it->second;
+      todo.push_back(it->second.child);
+    }
+  }
+  const auto found = pose.find(frame);
+  if (found == pose.end()) return std::nullopt;
+  if (path) {
+    std::string text;
+    for (std::string f = frame; via.count(f); f = via[f]->parent)
+      text = " -> " + f + " (" + via[f]->topic + ")" + text;
+    *path = from + text;
+  }
+  return found->second;
+}
+
+std::optional<Eigen::Isometry2d> BagSource::bagMount(const std::string& frame_id,
+                                                     std::string& how, double& tilt) {
+  const std::string laser = tfFrameName(frame_id);
+  loadStatic();
+  if (static_edges_.empty()) {
+    how = transformTopics().empty()
+              ? "no transform topic is read"
+              : "the bag has no rigid transforms (" + transformTopics() + ")";
+    return std::nullopt;
+  }
+  const std::string robot = robotFrame(laser);
+  std::string path;
+  // A scanner frame the tree does not hold is linked to nothing (not its own robot frame).
+  const bool known = static_edges_.count(laser) > 0 || laser == robot;
+  const auto found = known ? staticPose(robot, laser, &path) : std::nullopt;
+  if (!found) {
+    how = "the bag's rigid transforms (" + transformTopics() + ") link no frame '" + laser +
+          "' to the robot frame '" + robot + "' (`base_frame` names another)";
+    return std::nullopt;
+  }
+  const Eigen::Isometry3d& T = *found;
+  // The scan plane is the sensor's x-y plane: its heading is where its x axis points.
+  const Eigen::Vector3d x = T.linear().col(0);
+  const Eigen::Vector3d z = T.linear().col(2);
+  tilt = std::acos(std::min(1.0, std::abs(z.z())));
+  if (z.z() < 0) tilt = M_PI - tilt;  // upside down: a mirrored scan
+  how = path;
+  return se2(T.translation().x(), T.translation().y(), std::atan2(x.y(), x.x()));
+}
+
+Eigen::Isometry2d BagSource::resolveMount(std::size_t i, const std::string& frame_id) {
+  const std::string& topic = scan_topics_[i];
+  std::string how;
+  double tilt = 0;
+  const std::optional<Eigen::Isometry2d> from_bag = bagMount(frame_id, how, tilt);
+  if (config_mounts_[i]) {
+    const Eigen::Isometry2d& m = *config_mounts_[i];
+    if (from_bag) {
+      const Eigen::Isometry2d d = from_bag->inverse() * m;
+      if (d.translation().norm() > kMountTolerance ||
+          std::abs(angleOf(d.linear())) > kMountTolerance) {
+        spdlog::warn("{}: scan topic {}: `mounts` {} is used; the bag's transforms say {} ({})",
+                     bagName(), topic, describe(m), describe(*from_bag), how);
+      } else {
+        spdlog::debug("{}: scan topic {}: `mounts` {} agrees with the bag's transforms ({})",
+                      bagName(), topic, describe(m), how);
+      }
+    }
+    return m;
+  }
+  if (from_bag) {
+    if (tilt > kMaxTilt) {
+      spdlog::warn("{}: frame '{}' is tilted {:.1f} deg from the robot's plane; the scan is used "
+                   "as if level",
+                   bagName(), tfFrameName(frame_id), tilt * 180.0 / M_PI);
+    }
+    spdlog::info("{}: scan topic {} mounted at {} from the bag's transforms: {}", bagName(), topic,
+                 describe(*from_bag), how);
+    return *from_bag;
+  }
+  spdlog::warn("{}: no `mounts` and {}: scan topic {} is mounted at the robot's origin",
+               bagName(), how, topic);
+  return Eigen::Isometry2d::Identity();
 }
 
 }  // namespace io

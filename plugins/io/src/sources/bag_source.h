@@ -1,11 +1,12 @@
 #pragma once
 // The part of the ROS bag sources that does not depend on the bag's format: the topic -> entry
 // mapping, the synchronisation of scans and odometry into one frame per primary scan, the mounts
-// and the replays. io.RosbagSource (ROS 1) and io.Ros2BagSource (rosbag2, MCAP) read messages
-// and hand them over decoded.
+// (from the config or the bag's transform tree) and the replays. io.RosbagSource (ROS 1) and
+// io.Ros2BagSource (rosbag2, MCAP) read messages and hand them over decoded.
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <deque>
+#include <map>
 #include <optional>
 #include <string>
 #include <utility>
@@ -36,6 +37,17 @@ struct BagStream {
   std::string entry;        ///< raw entry name
 };
 
+/// One rigid transform of a bag: an edge of its transform tree that does not move.
+struct BagTransform {
+  std::string parent;  ///< parent frame, without ROS 1's leading slash
+  std::string child;   ///< child frame, likewise
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< the child frame in the parent's
+  std::string topic;  ///< the topic it was read from, for messages
+};
+
+/// A tf frame name without ROS 1's leading slash: "/base_link" and "base_link" are one frame.
+std::string tfFrameName(const std::string& frame);
+
 /// One decoded message of a mapped topic.
 struct BagReading {
   /// Which stream it belongs to.
@@ -57,6 +69,11 @@ struct BagReading {
 /// message nearest in time within sync_tolerance; a frame that lacks an image stream's message is
 /// dropped (a stereo pair or an RGB-D pair is useless in halves) and counted. A bag with no
 /// message on the first stream is an InputError listing the bag's topics.
+///
+/// Each scan topic's mount is, when `mounts` is empty, the pose of its first message's frame in
+/// the robot frame, composed along the bag's rigid transforms (rigidTransforms()); the mount used
+/// is logged once. `mounts` wins when given, with a warning when the bag's transforms say
+/// otherwise; without either the scanner is at the robot's origin, with a warning.
 class BagSource : public Source {
  public:
   Param<std::string> path;
@@ -90,6 +107,15 @@ class BagSource : public Source {
                         "times to play the bag (0: endlessly, until max_frames or Ctrl-C); "
                         "stamps keep increasing across replays",
                         Range{0, 1e9}};
+  Param<std::string> tf_static{this, "tf_static", "/tf_static", "",
+                               "topic of the static transforms the mounts come from when "
+                               "`mounts` is empty; empty = none"};
+  Param<std::string> base_frame{this, "base_frame", "", "",
+                                "robot frame of the mounts; empty = the odometry's "
+                                "child_frame_id, else the root of the scanner's static tree"};
+
+  /// A mount in `mounts` and the bag's differ by more than this (m, and rad) before it is said.
+  static constexpr double kMountTolerance = 0.005;
 
   ~BagSource() override;
 
@@ -120,12 +146,21 @@ class BagSource : public Source {
   virtual std::string bagName() const = 0;
   /// At the end of the first pass: the format's own warnings.
   virtual void endOfPass() {}
-  /// The mount of scan topic `index` when `mounts` is empty, from the first scan's frame.
-  virtual Eigen::Isometry2d defaultMount(std::size_t index, const std::string& frame_id) {
-    (void)index;
-    (void)frame_id;
-    return Eigen::Isometry2d::Identity();
-  }
+  /// The bag's rigid transforms (the static tree the mounts come from), read once when a mount
+  /// or a sensor's pose is first needed; empty when the bag has none.
+  virtual std::vector<BagTransform> rigidTransforms() { return {}; }
+  /// Where rigidTransforms() looks, for messages: "/tf_static".
+  virtual std::string transformTopics() const { return tf_static(); }
+  /// The child_frame_id of the first odometry message ("" = none): the frame odometry moves.
+  virtual std::string odometryChildFrame() { return ""; }
+
+  /// The robot frame for a sensor frame: `base_frame`, else the odometry's child frame when the
+  /// static tree has it, else the root of the static tree the sensor hangs from.
+  std::string robotFrame(const std::string& sensor);
+  /// The pose of `frame` in `from` through the static tree, if linked; `path` (when given) gets
+  /// the frames crossed with the topic of each edge ("base -> laser (/tf_static)").
+  std::optional<Eigen::Isometry3d> staticPose(const std::string& from, const std::string& frame,
+                                              std::string* path = nullptr);
 
   /// Image streams beyond the scans (a source with cameras), checked and appended to the
   /// streams by configure(); may be called before `scans` is read.
@@ -157,11 +192,25 @@ class BagSource : public Source {
   // nearest reading's own stamp (so a motion model can tell a reading taken again from a new one).
   std::optional<Pose> odometryAt(double t) const;
   [[noreturn]] void noFramesError() const;
+  // The static tree as undirected edges (a breadth-first search from the robot frame) and each
+  // frame's parent, from rigidTransforms(), once per configure().
+  void loadStatic();
+  // The mount of scan stream i, whose first message is in frame_id: `mounts`, the bag's, or the
+  // identity; says which once.
+  Eigen::Isometry2d resolveMount(std::size_t i, const std::string& frame_id);
+  // The bag's mount of a scanner in frame_id, projected onto the robot's plane; nullopt with the
+  // reason in `how`, else the frames used in `how` and the tilt from level in `tilt` [rad].
+  std::optional<Eigen::Isometry2d> bagMount(const std::string& frame_id, std::string& how,
+                                            double& tilt);
 
   bool summarized_ = false;  // the end-of-bag warnings were given
   std::vector<std::string> scan_topics_, scan_entries_;
   std::vector<BagStream> streams_;
-  std::vector<std::optional<Eigen::Isometry2d>> scan_mounts_;  // unset: defaultMount() on use
+  std::vector<std::optional<Eigen::Isometry2d>> config_mounts_;  // from `mounts`, if given
+  std::vector<std::optional<Eigen::Isometry2d>> scan_mounts_;    // unset: resolveMount() on use
+  bool static_loaded_ = false;
+  std::multimap<std::string, BagTransform> static_edges_;  // by the frame it leaves, both ways
+  std::map<std::string, std::string> static_parent_;
   std::string odom_topic_, odom_entry_;
   bool finished_ = false;
   double latest_stamp_ = 0;  // newest stamp read on any stream

@@ -15,9 +15,6 @@ namespace io {
 
 namespace {
 
-// tf frame names with and without ROS 1's leading slash are one frame.
-std::string frameName(const std::string& f) { return !f.empty() && f[0] == '/' ? f.substr(1) : f; }
-
 bool endsWithDb3(const std::string& f) {
   return f.size() >= 4 && f.compare(f.size() - 4, 4, ".db3") == 0;
 }
@@ -238,7 +235,6 @@ void Ros2BagSource::configure() {
   skipped_images_ = 0;
   skips_summarized_ = false;
   bag_.reset();  // `path` may have changed since the last configure()
-  static_loaded_ = false;
   if (images().empty() && !depth().empty())
     throw ParamError("depth", "needs the colour topic in `images`");
   if (images().size() > 2)
@@ -317,7 +313,7 @@ void Ros2BagSource::setCalibration() {
   };
   const bool stereo = images().size() == 2;
   calibration_.setIntrinsics(intrinsics(0));
-  const std::string first_frame = frameName(infos[0].header.frame_id);
+  const std::string first_frame = tfFrameName(infos[0].header.frame_id);
   // Where the first camera sits on the robot. The rectified frame is rotated by R from the raw
   // camera's (x_rect = R x_raw).
   const Eigen::Matrix3d R1 = rowMajor3(infos[0].r);
@@ -373,12 +369,12 @@ void Ros2BagSource::setCalibration() {
       const Eigen::Matrix3d R2 = rowMajor3(right.r);
       calibration_.second_pose.linear() = R1.transpose() * R2;
       calibration_.second_pose.translation() = R1.transpose() * Eigen::Vector3d(B, 0, 0);
-    } else if (auto pose = staticPose(first_frame, frameName(right.header.frame_id))) {
+    } else if (auto pose = staticPose(first_frame, tfFrameName(right.header.frame_id))) {
       calibration_.second_pose = *pose;
     } else {
       throw InputError(bagName() + ": the stereo pair's relative pose is unknown: " +
                        camera_info()[1] + " has no baseline in P and " + tf_static() +
-                       " links no '" + frameName(right.header.frame_id) + "' to '" + first_frame +
+                       " links no '" + tfFrameName(right.header.frame_id) + "' to '" + first_frame +
                        "' (set `second_pose`)");
     }
     return;
@@ -386,7 +382,7 @@ void Ros2BagSource::setCalibration() {
   // RGB-D: a depth camera of its own, or depth registered to colour (the colour pinhole).
   if (infos.size() > 1) {
     calibration_.second = intrinsics(1);
-    const std::string depth_frame = frameName(infos[1].header.frame_id);
+    const std::string depth_frame = tfFrameName(infos[1].header.frame_id);
     if (!second_pose().empty()) {
       calibration_.second_pose = poseParam("second_pose", second_pose());
     } else if (depth_frame != first_frame) {
@@ -403,7 +399,7 @@ void Ros2BagSource::setCalibration() {
   }
 }
 
-std::string Ros2BagSource::odometryFrame() {
+std::string Ros2BagSource::odometryChildFrame() {
   if (odometryTopic().empty()) return "";
   // The pose of an Odometry message is that of its child frame: the robot.
   Ros2Bag bag(path());
@@ -412,20 +408,15 @@ std::string Ros2BagSource::odometryFrame() {
   if (!bag.next(m)) return "";
   OdometryMsg odom;
   decode(m, odom);
-  return frameName(odom.child_frame_id);
+  return tfFrameName(odom.child_frame_id);
 }
 
-void Ros2BagSource::loadStatic() {
-  if (static_loaded_) return;
-  static_loaded_ = true;
-  static_edges_.clear();
-  static_parent_.clear();
-  if (tf_static().empty()) return;
+std::vector<BagTransform> Ros2BagSource::rigidTransforms() {
+  std::vector<BagTransform> out;
+  if (tf_static().empty()) return out;
   bool has_tf = false;
   for (const auto& t : bag_->topics()) has_tf = has_tf || t.topic == tf_static();
-  if (!has_tf) return;
-  // The static tree as undirected edges (a breadth-first search from the robot frame) and each
-  // frame's parent.
+  if (!has_tf) return out;
   Ros2Bag bag(path());
   bag.open({tf_static()});
   Ros2Message m;
@@ -433,89 +424,17 @@ void Ros2BagSource::loadStatic() {
     TfMsg tf;
     decode(m, tf);
     for (const auto& t : tf.transforms) {
-      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-      T.translation() << t.translation[0], t.translation[1], t.translation[2];
-      T.linear() = Eigen::Quaterniond(t.rotation[3], t.rotation[0], t.rotation[1], t.rotation[2])
-                       .normalized()
-                       .toRotationMatrix();
-      const std::string parent = frameName(t.header.frame_id);
-      const std::string child = frameName(t.child_frame_id);
-      static_edges_.emplace(parent, std::make_pair(child, T));
-      static_edges_.emplace(child, std::make_pair(parent, T.inverse()));
-      static_parent_[child] = parent;
+      BagTransform edge{tfFrameName(t.header.frame_id), tfFrameName(t.child_frame_id),
+                        Eigen::Isometry3d::Identity(), tf_static()};
+      edge.pose.translation() << t.translation[0], t.translation[1], t.translation[2];
+      edge.pose.linear() =
+          Eigen::Quaterniond(t.rotation[3], t.rotation[0], t.rotation[1], t.rotation[2])
+              .normalized()
+              .toRotationMatrix();
+      out.push_back(std::move(edge));
     }
   }
-}
-
-std::string Ros2BagSource::robotFrame(const std::string& sensor) {
-  loadStatic();
-  // The robot: `base_frame`, else the odometry's child frame when the static tree has it, else
-  // the root of the static tree the sensor hangs from (static transforms describe the rigid
-  // robot; its root is the body odometry moves).
-  std::string robot = frameName(base_frame());
-  if (robot.empty()) {
-    robot = odometryFrame();
-    if (robot.empty() || (!static_parent_.count(robot) && !static_edges_.count(robot))) {
-      robot = sensor;
-      for (size_t hops = 0; static_parent_.count(robot) && hops < static_parent_.size(); ++hops)
-        robot = static_parent_[robot];
-    }
-  }
-  return robot;
-}
-
-std::optional<Eigen::Isometry3d> Ros2BagSource::staticPose(const std::string& from,
-                                                           const std::string& frame) {
-  loadStatic();
-  std::map<std::string, Eigen::Isometry3d> pose{{from, Eigen::Isometry3d::Identity()}};
-  std::deque<std::string> todo{from};
-  while (!todo.empty() && !pose.count(frame)) {
-    const std::string f = todo.front();
-    todo.pop_front();
-    for (auto [it, end] = static_edges_.equal_range(f); it != end; ++it) {
-      if (pose.count(it->second.first)) continue;
-      pose[it->second.first] = pose[f] * it->second.second;
-      todo.push_back(it->second.first);
-    }
-  }
-  const auto found = pose.find(frame);
-  if (found == pose.end()) return std::nullopt;
-  return found->second;
-}
-
-Eigen::Isometry2d Ros2BagSource::defaultMount(std::size_t index, const std::string& frame_id) {
-  const std::string& topic = scanTopics()[index];
-  const std::string laser = frameName(frame_id);
-  if (tf_static().empty()) return Eigen::Isometry2d::Identity();
-  bool has_tf = false;
-  for (const auto& t : bag_->topics()) has_tf = has_tf || t.topic == tf_static();
-  if (!has_tf) {
-    spdlog::warn("{}: no {} topic and no `mounts`: scan topic {} is mounted at the robot's origin",
-                 bagName(), tf_static(), topic);
-    return Eigen::Isometry2d::Identity();
-  }
-  const std::string robot = robotFrame(laser);
-  const auto found = staticPose(robot, laser);
-  if (!found) {
-    spdlog::warn("{}: {} links no frame '{}' (scan topic {}) to the robot frame '{}'; mounted at "
-                 "the robot's origin (set `mounts` or `base_frame`)",
-                 bagName(), tf_static(), laser, topic, robot);
-    return Eigen::Isometry2d::Identity();
-  }
-  const Eigen::Isometry3d& T = *found;
-  // The scan plane is the sensor's x-y plane: its heading is where its x axis points.
-  const Eigen::Vector3d x = T.linear().col(0);
-  const double yaw = std::atan2(x.y(), x.x());
-  const Eigen::Vector3d z = T.linear().col(2);
-  if (z.z() < std::cos(0.05)) {
-    spdlog::warn("{}: frame '{}' is tilted {:.1f} deg from the robot's plane; the scan is used "
-                 "as if level",
-                 bagName(), laser, std::acos(std::min(1.0, std::abs(z.z()))) * 180.0 / M_PI);
-  }
-  spdlog::info("{}: scan topic {} mounted from {}: {} -> {} = ({:.4f}, {:.4f}, {:.4f})",
-               bagName(), topic, tf_static(), robot, laser, T.translation().x(),
-               T.translation().y(), yaw);
-  return se2(T.translation().x(), T.translation().y(), yaw);
+  return out;
 }
 
 }  // namespace io

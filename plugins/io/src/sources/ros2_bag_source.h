@@ -58,13 +58,6 @@ class Ros2BagSource : public BagSource {
                               "an image message that does not decode or fit the calibration: "
                               "stop with an error, or warn and skip it",
                               Choices{{"strict", "skip"}}};
-  Param<std::string> tf_static{this, "tf_static", "/tf_static", "",
-                               "topic of the static transforms the mounts come from when "
-                               "`mounts` is empty; empty = none (identity mounts)"};
-  Param<std::string> base_frame{this, "base_frame", "", "",
-                                "robot frame of the mounts; empty = the odometry's "
-                                "child_frame_id, else the root of the scanner's static tree"};
-
   Ros2BagSource();
   ~Ros2BagSource() override;
 
@@ -82,25 +75,17 @@ class Ros2BagSource : public BagSource {
   bool readReading(BagReading& reading) override;
   std::vector<BagTopic> bagTopics() const override;
   std::string bagName() const override;
-  Eigen::Isometry2d defaultMount(std::size_t index, const std::string& frame_id) override;
+  /// Every transform on `tf_static`.
+  std::vector<BagTransform> rigidTransforms() override;
+  std::string odometryChildFrame() override;
 
  private:
   void checkTopics();
-  std::string odometryFrame();
-  // The static transform tree, read once: undirected edges and each frame's parent.
-  void loadStatic();
-  // The robot frame for a sensor frame (base_frame, the odometry's child, the tree's root).
-  std::string robotFrame(const std::string& sensor);
-  // The pose of `frame` in `from` through the static tree, if linked.
-  std::optional<Eigen::Isometry3d> staticPose(const std::string& from, const std::string& frame);
   void setCalibration();
   // Decodes a camera stream's message into the reading; false when skipped (on_error: skip).
   bool decodeImage(const Ros2Message& m, const BagStream& stream, BagReading& r);
 
   std::unique_ptr<Ros2Bag> bag_;
-  bool static_loaded_ = false;
-  std::multimap<std::string, std::pair<std::string, Eigen::Isometry3d>> static_edges_;
-  std::map<std::string, std::string> static_parent_;
   CameraInfo calibration_;
   bool has_camera_ = false;
   std::size_t skipped_images_ = 0;

@@ -2,6 +2,11 @@
 
 #include <spdlog/spdlog.h>
 
+#include <array>
+#include <map>
+#include <set>
+#include <utility>
+
 #include "readers/ros_messages.h"
 
 namespace plugslam {
@@ -9,7 +14,8 @@ namespace io {
 
 RosbagSource::RosbagSource()
     : BagSource("ROS1 bag (v2.0) to read",
-                "x, y, theta (m, m, rad) per scan topic; empty = identity") {}
+                "x, y, theta (m, m, rad) per scan topic; empty = from the bag's transforms "
+                "(`tf_static`, the constant edges of `tf`)") {}
 RosbagSource::~RosbagSource() = default;
 
 void RosbagSource::openBag() {
@@ -56,6 +62,89 @@ void RosbagSource::endOfPass() {
         "unsorted chunks); returned in file order",
         path(), reader_->stats().out_of_order);
   }
+}
+
+std::string RosbagSource::transformTopics() const {
+  if (tf_static().empty()) return tf().empty() ? "" : "the constant edges of " + tf();
+  return tf().empty() ? tf_static() : tf_static() + " and the constant edges of " + tf();
+}
+
+std::string RosbagSource::odometryChildFrame() {
+  if (odometryTopic().empty()) return "";
+  // The pose of an Odometry message is that of its child frame: the robot.
+  RosbagReaderOptions options;
+  options.topics = {odometryTopic()};
+  RosbagReader bag(path(), options);
+  RosbagMessage m;
+  if (!bag.next(m)) return "";
+  OdometryMsg odom;
+  decodeOdometry(bag, m, odom);
+  return tfFrameName(odom.child_frame_id);
+}
+
+std::vector<BagTransform> RosbagSource::rigidTransforms() {
+  std::vector<BagTransform> out;
+  RosbagReaderOptions options;
+  if (!tf_static().empty()) options.topics.insert(tf_static());
+  if (!tf().empty()) options.topics.insert(tf());
+  if (options.topics.empty()) return out;
+  // Per edge (parent, child): its value, how often `tf` gave it and whether that ever changed. A
+  // `tf_static` edge is rigid by declaration (its last value counts) and needs no repetition.
+  struct Edge {
+    std::array<double, 7> value{};
+    std::string topic;
+    std::size_t seen = 0;
+    bool changed = false;
+    bool declared_static = false;
+  };
+  std::map<std::pair<std::string, std::string>, Edge> edges;
+  std::set<std::string> other_types;
+  RosbagReader bag(path(), options);
+  RosbagMessage m;
+  while (bag.next(m)) {
+    const RosbagConnection& c = *m.connection;
+    if (c.type != kTfMessageType && c.type != kTfMessageOldType) {
+      if (other_types.insert(c.topic).second)
+        spdlog::warn("{}: topic {} is {}, not {}: no transforms read from it", bagName(), c.topic,
+                     c.type, kTfMessageType);
+      continue;
+    }
+    TfMsg msg;
+    decodeTf(bag, m, msg);
+    const bool declared_static = c.topic == tf_static();
+    for (const TransformMsg& t : msg.transforms) {
+      Edge& e = edges[{tfFrameName(t.header.frame_id), tfFrameName(t.child_frame_id)}];
+      const std::array<double, 7> value{t.translation[0], t.translation[1], t.translation[2],
+                                        t.rotation[0],    t.rotation[1],    t.rotation[2],
+                                        t.rotation[3]};
+      if (declared_static) {
+        e.value = value;
+        e.topic = c.topic;
+        e.declared_static = true;
+      } else if (!e.declared_static) {
+        if (e.seen == 0) {
+          e.value = value;
+          e.topic = c.topic;
+        } else if (value != e.value) {
+          e.changed = true;
+        }
+        ++e.seen;
+      }
+    }
+  }
+  for (const auto& [frames, e] : edges) {
+    if (!e.declared_static && (e.changed || e.seen < 2)) continue;
+    BagTransform edge{frames.first, frames.second, Eigen::Isometry3d::Identity(),
+                      e.declared_static
+                          ? e.topic
+                          : e.topic + ", the same in its " + std::to_string(e.seen) + " messages"};
+    edge.pose.translation() << e.value[0], e.value[1], e.value[2];
+    edge.pose.linear() = Eigen::Quaterniond(e.value[6], e.value[3], e.value[4], e.value[5])
+                             .normalized()
+                             .toRotationMatrix();
+    out.push_back(std::move(edge));
+  }
+  return out;
 }
 
 }  // namespace io
