@@ -2,10 +2,10 @@
 // candidate is refused by validation.
 #include <gtest/gtest.h>
 
-#include <chrono>
+#include <condition_variable>
+#include <mutex>
 #include <random>
 #include <stdexcept>
-#include <thread>
 
 #include "landmark_cue.h"
 #include "modules/graph/consistency_filter.h"
@@ -835,16 +835,43 @@ TEST(GraphWriter, WritesLocalMapsAndEdgesAsG2o) {
 }
 
 namespace {
-// Takes `delay` per validation: a back-end on a slower or busier machine.
+// With `slow`, a validation of the map closed at one closing returns only once the front-end has
+// entered the next closing (or finish()): the slowest back-end lockstep still waits for, on any
+// machine. Without it, a validation returns at once.
 class SlowValidator : public LoopValidator {
  public:
   std::shared_ptr<AlignmentValidator<Space2D>> inner = makeValidator();
-  std::chrono::milliseconds delay{0};
+  bool slow = false;
+  /// The front-end is about to close map `id`.
+  void closing(int64_t id) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      closing_ = id;
+    }
+    changed_.notify_all();
+  }
+  /// The front-end is about to finish the run.
+  void finishing() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      finishing_ = true;
+    }
+    changed_.notify_all();
+  }
   bool validate(const LocalMap& c, const LocalMap& q, const Eigen::Isometry3d& guess,
                 LoopClosure& closure, std::string& reason) override {
-    std::this_thread::sleep_for(delay);
+    if (slow) {
+      std::unique_lock<std::mutex> lock(mutex_);
+      changed_.wait(lock, [&] { return closing_ > q.id || finishing_; });
+    }
     return inner->validate(c, q, guess, closure, reason);
   }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  int64_t closing_ = -1;
+  bool finishing_ = false;
 };
 }  // namespace
 
@@ -863,7 +890,7 @@ TEST(GraphSlam, LockstepRunsAreBitIdenticalWhateverTheBackEndsSpeed) {
       graph->lockstep = lockstep;
       graph->loop_detectors.assign(Registry::instance().create("sdk.ProximityDetector"));
       auto validator = std::make_shared<SlowValidator>();
-      validator->delay = std::chrono::milliseconds(slow ? 15 : 0);
+      validator->slow = slow;
       graph->validators.assign(validator);
       graph->configure();
       std::vector<std::shared_ptr<LocalMap>> maps;
@@ -881,13 +908,18 @@ TEST(GraphSlam, LockstepRunsAreBitIdenticalWhateverTheBackEndsSpeed) {
         m->origin = Space2D::to3D(estimate);
         maps.push_back(m);
         graph->mapStarted(m);
-        if (k > 0) graph->mapClosed(maps[k - 1]);
+        if (k > 0) {
+          validator->closing(maps[k - 1]->id);
+          graph->mapClosed(maps[k - 1]);
+        }
         EXPECT_FALSE(graph->poll());  // nothing joins between closings
         std::vector<Eigen::Isometry3d> origins;
         for (const auto& map : maps) origins.push_back(map->origin);
         seen[slow].push_back(origins);
       }
+      validator->closing(maps.back()->id);
       graph->mapClosed(maps.back());
+      validator->finishing();
       graph->finish();
       std::vector<Eigen::Isometry3d> origins;
       for (const auto& map : maps) origins.push_back(map->origin);
