@@ -520,6 +520,42 @@ TEST(RosbagSourceMounts, BaseFrameAndTopicsAreParameters) {
   }
 }
 
+// A transform topic that does not decode (another version of the message) stops a run that needs
+// its mount, and only warns when `mounts` gives it.
+TEST(RosbagSourceMounts, ATransformTopicThatDoesNotDecode) {
+  using namespace plugslam::io;
+  std::string inner = connection(0, "/scan", kLaserScanType, kLaserScanMd5) +
+                      connection(3, "/tf_static", kTfMessageType, "0123456789abcdef");
+  inner += message(3, 9.9, tfMessage({transform(9.9, "base_link", "laser", 0.2, 0, 0, 0)}));
+  inner += message(0, 10.0, laserScan(10.0, 2.0f, "laser"));
+  const std::string path = writeBag("bad_tf.bag", inner);
+  {
+    RosbagSource source;
+    source.path = path;
+    source.odometry = std::string("");
+    source.configure();
+    Frame f;
+    try {
+      source.next(f);
+      FAIL() << "a mount from a transform topic that does not decode";
+    } catch (const plugslam::ParseError& e) {
+      EXPECT_NE(std::string(e.what()).find("md5sum"), std::string::npos) << e.what();
+    }
+  }
+  LogCapture log;
+  RosbagSource source;
+  source.path = path;
+  source.odometry = std::string("");
+  source.mounts = std::vector<double>{0.2, 0, 0};
+  source.configure();
+  const std::vector<Frame> frames = readFrames(source);
+  ASSERT_EQ(frames.size(), 1u);
+  expectMount(frames[0], plugslam::se2(0.2, 0, 0));
+  EXPECT_NE(log.text().find("`mounts` not checked against the bag's transforms"),
+            std::string::npos)
+      << log.text();
+}
+
 // A TFMessage decodes field by field; a count its bytes cannot hold is refused before anything
 // is allocated.
 TEST(RosbagSourceMounts, TfMessagesDecode) {

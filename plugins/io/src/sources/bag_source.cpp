@@ -435,7 +435,16 @@ Eigen::Isometry2d BagSource::resolveMount(std::size_t i, const std::string& fram
   const std::string& topic = scan_topics_[i];
   std::string how;
   double tilt = 0;
-  const std::optional<Eigen::Isometry2d> from_bag = bagMount(frame_id, how, tilt);
+  std::optional<Eigen::Isometry2d> from_bag;
+  try {
+    from_bag = bagMount(frame_id, how, tilt);
+  } catch (const Error& e) {
+    // With `mounts` the bag's transforms only check it: a bad transform topic does not stop a
+    // run that does not need it.
+    if (!config_mounts_[i]) throw;
+    spdlog::warn("{}: scan topic {}: `mounts` not checked against the bag's transforms: {}",
+                 bagName(), topic, e.what());
+  }
   if (config_mounts_[i]) {
     const Eigen::Isometry2d& m = *config_mounts_[i];
     if (from_bag) {
