@@ -61,6 +61,7 @@ int runCli(int argc, char** argv) {
   addRenderCommand(app, exit_code);
   addViewCommand(app, exit_code);
   addSweepCommand(app, exit_code);
+  addMergeCommand(app, exit_code);
 
   app.parse_complete_callback([&] {
     // A sink, not a registered logger: runCli may run again in one process (no command, tests).

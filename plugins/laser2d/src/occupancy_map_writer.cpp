@@ -209,10 +209,39 @@ void OccupancyMapWriter::end(const RunResult& result) {
   placed.reserve(scans_.size());
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector2d hi = -lo;
-  for (const auto& s : scans_) {
-    const auto i = result.trajectory.nearest(s.stamp, max_time_offset());
-    if (!i) continue;
-    const SE2 pose = Space2D::from3D(result.trajectory[*i].pose);
+  // A run that saw no frame (sessions merged or loaded) has only its local maps: each map's
+  // clouds are drawn as one scan from where its sensor was, at the map's corrected origin.
+  std::vector<KeptScan> from_maps;
+  std::vector<SE2> map_poses;
+  if (scans_.empty() && frames_ == 0) {
+    for (const auto& m : result.local_maps) {
+      if (m->dimension != 2) continue;
+      for (const std::string& entry : m->scene.names()) {
+        if (!m->scene.holds<PointCloud2D>(entry)) continue;
+        const PointCloud2D& cloud = m->scene.get<PointCloud2D>(entry);
+        KeptScan k{};
+        k.origin[0] = static_cast<float>(cloud.sensor_origin.x());
+        k.origin[1] = static_cast<float>(cloud.sensor_origin.y());
+        for (const auto& p : cloud.points) {
+          k.xy.push_back(static_cast<float>(p.x()));
+          k.xy.push_back(static_cast<float>(p.y()));
+        }
+        from_maps.push_back(std::move(k));
+        map_poses.push_back(Space2D::from3D(m->origin));
+      }
+    }
+  }
+  for (size_t i = 0; i < scans_.size() + from_maps.size(); ++i) {
+    const bool kept = i < scans_.size();
+    const KeptScan& s = kept ? scans_[i] : from_maps[i - scans_.size()];
+    SE2 pose = SE2::Identity();
+    if (kept) {
+      const auto at = result.trajectory.nearest(s.stamp, max_time_offset());
+      if (!at) continue;
+      pose = Space2D::from3D(result.trajectory[*at].pose);
+    } else {
+      pose = map_poses[i - scans_.size()];
+    }
     placed.push_back({&s, pose});
     const Eigen::Vector2d o = pose * Eigen::Vector2d(s.origin[0], s.origin[1]);
     lo = lo.cwiseMin(o);

@@ -6,6 +6,7 @@
 #include "occupancy_map_writer.h"
 #include "plugslam/view/drawers.h"
 #include "point_cloud2d.h"
+#include "place_recognizer.h"
 #include "point_map_slice.h"
 #include "scan_preprocessor.h"
 #include "scan_slices.h"
@@ -39,4 +40,8 @@ PLUGSLAM_PLUGIN("laser2d", "1.0.0", "2D laser: scan preprocessing, ICP slices, p
       "GlobalMatchDetector",
       "loop detector for large drift: branch-and-bound scan-to-map matching of the query "
       "against each nearby candidate's neighbourhood over a drift-sized window");
+  registrar.add<PlaceRecognizer>(
+      "PlaceRecognizer",
+      "loop detector across graph components (sessions, unknown starts): the query's place "
+      "matched against each whole other component, proposed once several matches agree");
 }

@@ -20,5 +20,6 @@ void addShellCommand(CLI::App& root, int& exit_code);
 void addRenderCommand(CLI::App& root, int& exit_code);
 void addViewCommand(CLI::App& root, int& exit_code);
 void addSweepCommand(CLI::App& root, int& exit_code);
+void addMergeCommand(CLI::App& root, int& exit_code);
 
 }  // namespace plugslam::runtime

@@ -97,18 +97,23 @@ std::vector<std::shared_ptr<LocalMap>> copyMaps(
 
 SessionSummary saveSession(const std::string& dir, const std::string& config_yaml,
                            Pipeline& pipeline) {
+  const RunResult result = pipeline.result();
+  const int dimension = pipeline.tracker            ? pipeline.tracker->dimension()
+                        : result.local_maps.empty() ? 0
+                                                    : result.local_maps.front()->dimension;
+  return saveSession(dir, config_yaml, result, dimension, pipeline.graph.get());
+}
+
+SessionSummary saveSession(const std::string& dir, const std::string& config_yaml,
+                           const RunResult& result, int dimension, GraphBackend* graph) {
   boost::system::error_code ec;
   fs::create_directories(dir, ec);
   if (ec) throw InputError("cannot create session folder '" + dir + "': " + ec.message());
   const fs::path d(dir);
-  RunResult result = pipeline.result();
   SessionSummary summary;
   summary.maps = result.local_maps.size();
   summary.edges = result.edges.size();
   summary.poses = result.trajectory.size();
-  const int dimension = pipeline.tracker            ? pipeline.tracker->dimension()
-                        : result.local_maps.empty() ? 0
-                                                    : result.local_maps.front()->dimension;
   writeText((d / "config.yaml").string(), config_yaml);
   writeTumTrajectory(result.trajectory, (d / "trajectory.tum").string());
   saveArchiveFile((d / "maps.bin").string(), ArchiveFormat::kBinary, [&](OutArchive& ar) {
@@ -125,10 +130,10 @@ SessionSummary saveSession(const std::string& dir, const std::string& config_yam
     ar.endArray();
     ar.endObject();
   });
-  if (pipeline.graph) {
-    for (const auto& a : pipeline.graph->actions()) {
+  if (graph) {
+    for (const auto& a : graph->actions()) {
       if (a.name != "save_graph") continue;
-      pipeline.graph->invoke("save_graph", {(d / "graph.g2o").string()});
+      graph->invoke("save_graph", {(d / "graph.g2o").string()});
       summary.graph_file = true;
     }
   }

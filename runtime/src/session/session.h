@@ -46,6 +46,10 @@ struct SessionSummary {
 /// must not be processing a frame meanwhile.
 SessionSummary saveSession(const std::string& dir, const std::string& config_yaml,
                            Pipeline& pipeline);
+/// Writes `result` (its maps, edges and trajectory) as a session of `dimension`; `graph` (may be
+/// null) writes graph.g2o.
+SessionSummary saveSession(const std::string& dir, const std::string& config_yaml,
+                           const RunResult& result, int dimension, GraphBackend* graph);
 /// Reads session.yaml and config.yaml; a missing file or another format version throws
 /// InputError saying what was found and what this build reads.
 SessionManifest readSessionManifest(const std::string& dir);

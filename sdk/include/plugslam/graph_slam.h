@@ -57,6 +57,10 @@ class GraphBackend : public Configurable {
   /// origins) and the edges exactly as edges() returned them. The default throws InputError.
   virtual void restore(const std::vector<std::shared_ptr<LocalMap>>& maps,
                        const std::vector<GraphEdge>& edges);
+  /// Searches loops from restored maps `first`.. now, one map at a time, each search on the
+  /// estimate the closures before it optimized (sessions restored together, to be merged);
+  /// finish()'s final pass then queries them as this run's maps. The default throws InputError.
+  virtual void searchRestored(int64_t first);
 };
 
 /// Pose-graph SLAM over local maps ("sdk.GraphSlam2D/3D"). Loop detection and validation, and
@@ -97,6 +101,12 @@ class GraphSlam : public GraphBackend {
                             "large drift, on staler estimates when data comes faster than real "
                             "time)",
                             Range{0, 1000000}};
+  Param<bool> join_by_estimate{
+      this, "join_by_estimate", true, "",
+      "graph components (a restored session and this run, a tracker reset) are assumed to lie "
+      "where the estimate puts them (the run started where the session did): any detector may "
+      "join them. false: their relative pose is unknown (a run started anywhere, merged "
+      "sessions) and only candidates found without the estimate (place recognition) join them"};
   Param<std::string> solver{this, "solver", "gn", "", "global optimizer", Choices{{"gn", "lm"}}};
   Param<int> iterations{this, "iterations", 20, "", "max iterations per optimization",
                         Range{1, 1000}};
@@ -133,6 +143,7 @@ class GraphSlam : public GraphBackend {
 
   void restore(const std::vector<std::shared_ptr<LocalMap>>& maps,
                const std::vector<GraphEdge>& edges) override;
+  void searchRestored(int64_t first) override;
 
   /// Optimizes now (inline), whatever the mode; the action "optimize_now".
   void optimizeNow();

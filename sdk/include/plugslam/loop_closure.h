@@ -24,6 +24,14 @@ struct GraphView {
   std::vector<double> travelled;  ///< path length from map 0 to each map's origin [m]
   /// Path length at the newest map that closed a loop so far (-1: none yet).
   double last_loop_travelled = -1;
+  /// Each map's component: maps tied by odometry or by an active loop share one; a session or
+  /// a tracker reset starts a new one, whose origins say nothing of where it lies in the others
+  /// until a loop joins them. Empty: one component.
+  std::vector<int> components;
+  /// The component of map `id`.
+  int component(int64_t id) const {
+    return components.empty() ? 0 : components[static_cast<size_t>(id)];
+  }
   /// Origin of map `b` in map `a`'s frame, from the snapshot.
   Eigen::Isometry3d relative(int64_t a, int64_t b) const {
     return origins[static_cast<size_t>(a)].inverse() * origins[static_cast<size_t>(b)];
@@ -38,6 +46,9 @@ struct LoopCandidate {
   bool matched = false;
   Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();  ///< query origin in `id`'s frame
   double score = 0;  ///< the detector's own score (for logs)
+  /// True when found without the estimate (place recognition): the only kind of candidate that
+  /// may join graph components whose relative pose is unknown (GraphSlam's join_by_estimate).
+  bool global = false;
 };
 
 /// Proposes older local maps that may show the same place as `query`.

@@ -23,6 +23,11 @@ void GraphBackend::restore(const std::vector<std::shared_ptr<LocalMap>>&,
                    ") cannot restore a saved graph");
 }
 
+void GraphBackend::searchRestored(int64_t) {
+  throw InputError("graph back-end '" + name() + "' (" + typeName() +
+                   ") cannot search loops between restored sessions");
+}
+
 LoopFilter::~LoopFilter() = default;
 void LoopFilter::loopsAdded(detail::PoseGraph&) {}
 bool LoopFilter::optimized(detail::PoseGraph&, const detail::Solution&) { return false; }
@@ -48,7 +53,7 @@ struct GraphSlam<S>::State final : detail::GraphOptimizer {
   explicit State(GraphSlam& o)
       : owner(o),
         graph(S::kDim, o.weak_edge_ratio()),
-        search(o.loop_detectors, o.final_detectors, o.validators) {}
+        search(o.loop_detectors, o.final_detectors, o.validators, o.join_by_estimate) {}
 
   detail::OptimizerSettings settings() const {
     return {owner.solver(), owner.iterations(), owner.loop_kernel(), owner.loop_kernel_scale()};
@@ -94,7 +99,8 @@ struct GraphSlam<S>::State final : detail::GraphOptimizer {
     } while (pending);
   }
 
-  void applyLoops(const detail::LoopJob& job) {
+  // `optimize_inline`: optimize now, whatever the mode (the next search needs the estimate).
+  void applyLoops(const detail::LoopJob& job, bool optimize_inline = false) {
     stats.candidates += job.candidates;
     stats.detection_time += job.detection_time;
     stats.validation_time += job.validation_time;
@@ -109,7 +115,7 @@ struct GraphSlam<S>::State final : detail::GraphOptimizer {
     }
     for (auto& filter : owner.loop_filters) filter->loopsAdded(graph);
     pending = true;
-    if (owner.deterministic()) {
+    if (owner.deterministic() || optimize_inline) {
       optimizeNow();
     } else if (!optimizer.running()) {
       startOptimization();
@@ -287,6 +293,25 @@ void GraphSlam<S>::restore(const std::vector<std::shared_ptr<LocalMap>>& maps,
   state_->graph.setWeakEdgeRatio(weak_edge_ratio());
   state_->graph.restore(maps, edges);
   state_->stats.optimizations = 0;
+}
+
+template <class S>
+void GraphSlam<S>::searchRestored(int64_t first) {
+  State& st = *state_;
+  const auto n = static_cast<int64_t>(st.graph.size());
+  if (first < 0 || first > n)
+    throw InputError("searchRestored: map " + std::to_string(first) + " is not restored (" +
+                     std::to_string(n) + " maps)");
+  st.graph.treatAsNew(static_cast<size_t>(first));
+  if (loop_detectors.empty() || validators.empty()) return;
+  for (int64_t id = first; id < n; ++id) {
+    st.search.enqueue(id);
+    detail::LoopJob job = st.search.take(st.graph, information_scale());
+    // The restored sessions' own loops are in the graph already.
+    job.linked = detail::LoopSearch::linkedPairs(st.graph, true);
+    st.search.run(job);
+    st.applyLoops(job, true);
+  }
 }
 
 template <class S>

@@ -19,8 +19,12 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 LoopSearch::LoopSearch(const SlotList<LoopDetector>& online,
                        const SlotList<LoopDetector>& final_detectors,
-                       const SlotList<LoopValidator>& validators)
-    : online_(online), final_(final_detectors), validators_(validators) {}
+                       const SlotList<LoopValidator>& validators,
+                       const Param<bool>& join_by_estimate)
+    : online_(online),
+      final_(final_detectors),
+      validators_(validators),
+      join_by_estimate_(join_by_estimate) {}
 
 LoopSearch::~LoopSearch() {
   if (searching_.valid()) searching_.wait();
@@ -29,6 +33,7 @@ LoopSearch::~LoopSearch() {
 LoopJob LoopSearch::take(const PoseGraph& graph, double information_scale) {
   LoopJob job;
   job.queries.swap(queued_);
+  job.join_by_estimate = join_by_estimate_();
   job.view = graph.view();
   job.dof = graph.dof();
   job.information_scale = information_scale;
@@ -41,16 +46,24 @@ LoopJob LoopSearch::finalPass(const PoseGraph& graph, double information_scale) 
   job.dof = graph.dof();
   job.information_scale = information_scale;
   job.final_pass = true;
+  job.join_by_estimate = join_by_estimate_();
   for (size_t id = graph.restoredMaps(); id < graph.size(); ++id)
     job.queries.push_back(static_cast<int64_t>(id));
-  // Pairs ever closed, kept or rejected, newer map first (a detector may propose either order);
-  // but a pair the odometry audit rejected may be proposed again: validated from the corrected
-  // estimate, it closes where its maps now are, not where the wrong loops had put them.
-  for (const auto& l : graph.loops())
-    if (!l.audited)
-      job.linked.emplace_back(std::max(l.edge.to, l.edge.from), std::min(l.edge.to, l.edge.from));
-  std::sort(job.linked.begin(), job.linked.end());
+  // Pairs ever closed, kept or rejected (a detector may propose either order); but a pair the
+  // odometry audit rejected may be proposed again: validated from the corrected estimate, it
+  // closes where its maps now are, not where the wrong loops had put them.
+  job.linked = linkedPairs(graph, false);
   return job;
+}
+
+std::vector<std::pair<int64_t, int64_t>> LoopSearch::linkedPairs(const PoseGraph& graph,
+                                                                 bool audited) {
+  std::vector<std::pair<int64_t, int64_t>> linked;
+  for (const auto& l : graph.loops())
+    if (audited || !l.audited)
+      linked.emplace_back(std::max(l.edge.to, l.edge.from), std::min(l.edge.to, l.edge.from));
+  std::sort(linked.begin(), linked.end());
+  return linked;
 }
 
 void LoopSearch::run(LoopJob& job) const {
@@ -68,6 +81,9 @@ void LoopSearch::run(LoopJob& job) const {
       for (const LoopCandidate& c : candidates) {
         const int64_t id = c.id;
         if (id < 0 || id >= static_cast<int64_t>(view.maps.size()) || id == query_id) continue;
+        // Components whose relative pose is unknown: the estimate relates nothing between them.
+        if (!job.join_by_estimate && !c.global && view.component(id) != view.component(query_id))
+          continue;
         if (std::find(closed.begin(), closed.end(), id) != closed.end()) continue;
         if (std::find(tried.begin(), tried.end(), std::make_pair(id, c.matched)) != tried.end())
           continue;

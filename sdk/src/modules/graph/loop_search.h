@@ -18,6 +18,7 @@ struct LoopJob {
   GraphView view;
   std::vector<int64_t> queries;
   bool final_pass = false;  // the final detectors over every map this run added
+  bool join_by_estimate = true;  // candidates from the estimate may join components
   std::vector<std::pair<int64_t, int64_t>> linked;  // (newer, older) pairs to skip, sorted
   int dof = 3;                     // of the closures' information
   double information_scale = 1.0;  // applied to the closures' information
@@ -30,7 +31,7 @@ struct LoopJob {
 class LoopSearch {
  public:
   LoopSearch(const SlotList<LoopDetector>& online, const SlotList<LoopDetector>& final_detectors,
-             const SlotList<LoopValidator>& validators);
+             const SlotList<LoopValidator>& validators, const Param<bool>& join_by_estimate);
   ~LoopSearch();
 
   /// A closed map waits for the search.
@@ -39,6 +40,10 @@ class LoopSearch {
   size_t queued() const { return queued_.size(); }
   /// A job for every waiting map (the queue empties) on a snapshot of `graph`.
   LoopJob take(const PoseGraph& graph, double information_scale);
+  /// The pairs `graph`'s loops ever closed, newer map first, sorted (a job's `linked`); those
+  /// the odometry audit rejected only with `audited`.
+  static std::vector<std::pair<int64_t, int64_t>> linkedPairs(const PoseGraph& graph,
+                                                              bool audited);
   /// A job for the final detectors over every map this run added, on the current estimate,
   /// skipping the pairs ever closed (but those the odometry audit rejected).
   LoopJob finalPass(const PoseGraph& graph, double information_scale) const;
@@ -59,6 +64,7 @@ class LoopSearch {
   const SlotList<LoopDetector>& online_;
   const SlotList<LoopDetector>& final_;
   const SlotList<LoopValidator>& validators_;
+  const Param<bool>& join_by_estimate_;
   std::vector<int64_t> queued_;
   std::future<LoopJob> searching_;
 };

@@ -2,6 +2,7 @@
 // The back-end's pose graph (SDK-private): local maps as nodes with their path length and graph
 // component, the tracker's odometry edges with the weak ones (tracking failures) marked, and every
 // validated loop with what the loop filters decided about it.
+#include <algorithm>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -60,6 +61,8 @@ class PoseGraph {
   const std::vector<std::shared_ptr<LocalMap>>& maps() const { return maps_; }
   /// Maps that came from restore() (ids below it): the restored session's.
   size_t restoredMaps() const { return restored_maps_; }
+  /// Restored maps from `first` on count as this run's (the final pass queries them).
+  void treatAsNew(size_t first) { restored_maps_ = std::min(restored_maps_, first); }
   /// Loops that came from restore() (the first ones of loops()).
   size_t restoredLoops() const { return restored_loops_; }
   /// Path length from map 0 to each map's origin (graph components apart by a large gap).

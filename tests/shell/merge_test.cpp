@@ -1,0 +1,164 @@
+// `plugslam merge` in-process: two sessions of the simulated office started at different, unknown
+// places join in one frame (their trajectories against ground truth with one alignment); a
+// session of another building is reported and left out; sessions of other cues are refused.
+#include "session/merge.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "config_builder.h"
+#include "plugin_manager.h"
+#include "plugslam/errors.h"
+#include "plugslam/eval/ate.h"
+#include "run_config.h"
+#include "runner.h"
+#include "session/session.h"
+#include "temp_dir_test.h"
+#include "test_paths.h"
+
+using namespace plugslam;
+using namespace plugslam::runtime;
+namespace fs = std::filesystem;
+
+namespace {
+
+class Merge : public plugslam::testing::TempDirTest {
+ protected:
+  Merge() : TempDirTest("plugslam_merge") {}
+  // Why the test cannot run: a plugin it needs is not built (empty: it can).
+  std::string pluginsMissing() {
+    const std::string plugin_dir = plugslam::testing::buildDir() + "/plugins";
+    for (const char* p : {"sim", "io", "laser2d", "odometry"})
+      if (!fs::exists(plugin_dir + "/plugslam_" + p + ".so"))
+        return "plugin '" + std::string(p) + "' is not built in " + plugin_dir;
+    plugins_.addSearchDir(plugin_dir);
+    plugins_.addSearchDir(plugslam::testing::buildDir() + "/tests/plugins");
+    return "";
+  }
+  // The shipped simulated-office config with `sets`, mapped and saved as session `name`; its
+  // ground truth.
+  Trajectory mapAndSave(const std::string& name, const std::vector<std::string>& sets) {
+    ConfigDocument doc =
+        loadConfigFile(plugslam::testing::sourceDir() + "/configs/sim2d_single_laser.yaml");
+    applyOverride(doc, "outputs=[]");
+    applyOverride(doc, "pipeline.graph.deterministic=true");
+    for (const auto& s : sets) applyOverride(doc, s);
+    auto run = buildRun(doc, plugins_);
+    RunOptions o;
+    o.out_dir = (dir_ / ("run_" + name)).string();
+    runPipeline(*run, o);
+    saveSession((dir_ / name).string(), resolvedYaml(doc), *run->pipeline);
+    return run->pipeline->result().reference;
+  }
+  MergeReport merge(const std::vector<std::string>& names) {
+    MergeOptions o;
+    for (const auto& n : names) o.sessions.push_back((dir_ / n).string());
+    o.out_dir = (dir_ / "merged").string();
+    return mergeSessions(o, plugins_);
+  }
+  Trajectory merged(int k) const {
+    return readTumTrajectory((dir_ / "merged" / ("trajectory_" + std::to_string(k) + ".tum")).string());
+  }
+  PluginManager plugins_;
+};
+
+// `t` moved by the similarity `s` (the alignment one trajectory found).
+Trajectory moved(const Trajectory& t, const SimilarityTransform& s) {
+  std::vector<StampedPose> out;
+  for (StampedPose p : t) {
+    p.pose.linear() = s.rotation * p.pose.linear();
+    p.pose.translation() = s.scale * s.rotation * p.pose.translation() + s.translation;
+    out.push_back(p);
+  }
+  return Trajectory(std::move(out));
+}
+
+TEST_F(Merge, TwoOfficeSessionsStartedApartJoinInOneFrame) {
+  if (const std::string why = pluginsMissing(); !why.empty()) GTEST_SKIP() << why;
+  // Two tours starting 4.75 m apart: each run's estimate is in its own start frame.
+  const Trajectory truth0 = mapAndSave("s0", {"source.session=stage-0"});
+  const Trajectory truth1 = mapAndSave("s1", {"source.session=stage-1", "source.seed=1"});
+  const MergeReport r = merge({"s0", "s1"});
+  ASSERT_EQ(r.inputs.size(), 2u);
+  EXPECT_TRUE(r.inputs[0].joined && r.inputs[1].joined);
+  EXPECT_GE(r.links, 1u);
+  EXPECT_TRUE(fs::exists(dir_ / "merged" / "session" / "session.yaml"));
+  EXPECT_TRUE(fs::exists(dir_ / "merged" / "merge.json"));
+  // One alignment, found on the first trajectory, must put the second on its truth too.
+  AteOptions se2;
+  se2.alignment = Alignment::SE2;
+  const AteResult first = computeAte(truth0, merged(1), se2);
+  AteOptions none;
+  none.alignment = Alignment::None;
+  const AteResult second = computeAte(truth1, moved(merged(2), first.transform), none);
+  std::cout << "merged office: ATE " << first.translation.rmse << " m and "
+            << second.translation.rmse << " m in one frame, " << r.links << " links\n";
+  EXPECT_LT(first.translation.rmse, 0.05);
+  EXPECT_LT(second.translation.rmse, 0.05);
+  // Unmerged, the second run's own frame is its start's: metres off in that frame.
+  const Trajectory own = readTumTrajectory((dir_ / "s1" / "trajectory.tum").string());
+  EXPECT_GT(computeAte(truth1, moved(own, first.transform), none).translation.rmse, 1.0);
+}
+
+TEST_F(Merge, ASessionOfAnotherBuildingIsReportedNotMerged) {
+  if (const std::string why = pluginsMissing(); !why.empty()) GTEST_SKIP() << why;
+  // A hall of seven unequal sides with pillars: nothing like the office's rooms and corridors.
+  const fs::path world = dir_ / "hall.txt";
+  {
+    std::ofstream out(world);
+    const double r[7] = {7, 6, 8, 5.5, 7.5, 6.5, 5};
+    for (int i = 0; i < 7; ++i) {
+      const double a0 = 2 * M_PI * i / 7, a1 = 2 * M_PI * (i + 1) / 7;
+      out << r[i] * std::cos(a0) << " " << r[i] * std::sin(a0) << " "
+          << r[(i + 1) % 7] * std::cos(a1) << " " << r[(i + 1) % 7] * std::sin(a1) << "\n";
+    }
+    for (const auto& [x, y] : {std::pair{2.0, 1.0}, std::pair{-2.0, 2.5}, std::pair{0.5, -3.0}})
+      out << x << " " << y << " " << x + 0.6 << " " << y << "\n"
+          << x + 0.6 << " " << y << " " << x + 0.6 << " " << y + 0.6 << "\n"
+          << x + 0.6 << " " << y + 0.6 << " " << x << " " << y + 0.6 << "\n"
+          << x << " " << y + 0.6 << " " << x << " " << y << "\n";
+  }
+  mapAndSave("s0", {"source.session=stage-0"});
+  mapAndSave("s1", {"source.session=stage-1", "source.seed=1"});
+  mapAndSave("hall", {"source.session=stage-0", "source.world=" + world.string(),
+                      "source.start=[0, 0]"});
+  const MergeReport r = merge({"s0", "hall", "s1"});
+  ASSERT_EQ(r.inputs.size(), 3u);
+  EXPECT_TRUE(r.inputs[0].joined);
+  EXPECT_FALSE(r.inputs[1].joined) << "the hall was welded to the office";
+  EXPECT_TRUE(r.inputs[2].joined);
+  EXPECT_EQ(r.maps, r.inputs[0].maps + r.inputs[2].maps);  // the hall is left out
+  const auto json = nlohmann::json::parse(std::ifstream(dir_ / "merged" / "merge.json"));
+  EXPECT_FALSE(json["sessions"][1]["joined"].get<bool>());
+  // Alone with the office, nothing merges: nothing is written.
+  fs::remove_all(dir_ / "merged");
+  const MergeReport apart = merge({"s0", "hall"});
+  EXPECT_FALSE(apart.inputs[1].joined);
+  EXPECT_FALSE(fs::exists(dir_ / "merged" / "session"));
+}
+
+TEST_F(Merge, SessionsOfOtherCuesAreRefused) {
+  if (const std::string why = pluginsMissing(); !why.empty()) GTEST_SKIP() << why;
+  mapAndSave("laser", {"source.session=stage-0", "max_frames=50"});
+  // The landmark test plugin's pipeline: a 2D session too, but of landmarks.
+  ConfigDocument doc =
+      loadConfigFile(plugslam::testing::sourceDir() + "/tests/shell/lmsim.yaml");
+  applyOverride(doc, "max_frames=50");
+  auto run = buildRun(doc, plugins_);
+  RunOptions o;
+  o.out_dir = (dir_ / "run_lm").string();
+  runPipeline(*run, o);
+  saveSession((dir_ / "landmarks").string(), resolvedYaml(doc), *run->pipeline);
+  try {
+    merge({"laser", "landmarks"});
+    FAIL() << "sessions of different cues merged";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("do not merge"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(merge({"laser"}), InputError);
+}
+
+}  // namespace
