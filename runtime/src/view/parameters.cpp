@@ -172,4 +172,15 @@ ServiceRequest parseServiceRequest(const std::string& text) {
   return r;
 }
 
+bool parseServiceRequest(const std::string& json, ServiceRequest& request,
+                         const std::function<void(bool ok, std::string message)>& done) {
+  try {
+    request = parseServiceRequest(json);
+    return true;
+  } catch (const std::exception& e) {
+    done(false, e.what());
+    return false;
+  }
+}
+
 }  // namespace plugslam::runtime

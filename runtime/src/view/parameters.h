@@ -2,6 +2,7 @@
 // The pipeline's parameters as a viewer client sees them: named by pipeline path, valued in JSON,
 // set live between frames after the checks of `--set`. Shared by `run --serve` and
 // `shell --serve`.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -36,5 +37,9 @@ struct ServiceRequest {
 };
 /// Parses a JSON service request (an empty payload is an empty object).
 ServiceRequest parseServiceRequest(const std::string& json);
+/// Parses `json` into `request`; when it cannot, answers the call with `done(false, why)` and
+/// returns false.
+bool parseServiceRequest(const std::string& json, ServiceRequest& request,
+                         const std::function<void(bool ok, std::string message)>& done);
 
 }  // namespace plugslam::runtime

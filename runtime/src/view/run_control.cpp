@@ -44,26 +44,24 @@ RunControl::RunControl(RunConfig& run, ConfigDocument& doc, PluginManager& plugi
       interrupted_(std::move(interrupted)),
       config_yaml_(config_yaml),
       services_(standardServices(&run)),
-      paused_(start_paused) {
+      paused_(start_paused),
+      // A setting waiting when the run ends would be applied to nothing: it is dropped.
+      validator_(kMaxPendingValidations, "viewer: parameter validation failed",
+                 JobThread::OnStop::kDropWaiting) {
   if (paused_) stream_.setState("paused");
-  validator_ = std::thread([this] { validatorLoop(); });
 }
 
 RunControl::~RunControl() { shutdown(); }
 
 void RunControl::shutdown() {
+  validator_.stop();
   std::deque<Command> left;
-  std::deque<std::function<void()>> validations;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     ended_ = true;
-    stop_validator_ = true;
     left.swap(queue_);
-    validations.swap(validations_);
   }
-  validation_cv_.notify_all();
   cv_.notify_all();
-  if (validator_.joinable()) validator_.join();
   CallDone step;
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -145,13 +143,7 @@ void RunControl::setParameters(std::vector<foxglove::ParameterAssignment> assign
     }
   }
   if (live.empty()) return reply(std::move(errors));
-  std::unique_lock<std::mutex> lock(mutex_);
-  if (validations_.size() >= kMaxPendingValidations) {
-    lock.unlock();
-    errors.push_back("too many parameter changes waiting for validation; try again");
-    return reply(std::move(errors));
-  }
-  validations_.push_back([this, live, errors, reply]() mutable {
+  const auto posted = validator_.post([this, live, errors, reply]() mutable {
     // Exactly `--set`: the overrides applied to a copy of the document, the whole run rebuilt.
     ConfigDocument copy;
     {
@@ -182,35 +174,15 @@ void RunControl::setParameters(std::vector<foxglove::ParameterAssignment> assign
       reply(std::move(errors));
     });
   });
-  lock.unlock();
-  validation_cv_.notify_one();
-}
-
-void RunControl::validatorLoop() {
-  std::unique_lock<std::mutex> lock(mutex_);
-  for (;;) {
-    validation_cv_.wait(lock, [&] { return stop_validator_ || !validations_.empty(); });
-    if (stop_validator_) return;
-    auto job = std::move(validations_.front());
-    validations_.pop_front();
-    lock.unlock();
-    try {
-      job();
-    } catch (const std::exception& e) {
-      spdlog::warn("viewer: parameter validation failed: {}", e.what());
-    }
-    lock.lock();
+  if (posted == JobThread::Posted::kFull) {
+    errors.push_back("too many parameter changes waiting for validation; try again");
+    reply(std::move(errors));
   }
 }
 
 void RunControl::call(const std::string& service, const std::string& request, CallDone done) {
   if (editor::ConfigEditor::handles(service)) {
     // Off the run's thread and the server's: validation runs `plugslam validate` (a process).
-    std::unique_lock<std::mutex> lock(mutex_);
-    if (validations_.size() >= kMaxPendingValidations) {
-      lock.unlock();
-      return done(false, "too many requests waiting; try again");
-    }
     auto job = [this, service, request, done] {
       try {
         std::string name;
@@ -224,21 +196,18 @@ void RunControl::call(const std::string& service, const std::string& request, Ca
         done(false, e.what());
       }
     };
-    if (stop_validator_) {  // the run has ended: nobody else will answer
-      lock.unlock();
-      return job();
+    switch (validator_.post(job)) {
+      case JobThread::Posted::kQueued:
+        return;
+      case JobThread::Posted::kFull:
+        return done(false, "too many requests waiting; try again");
+      case JobThread::Posted::kStopped:  // the run has ended: nobody else will answer
+        return job();
     }
-    validations_.push_back(std::move(job));
-    lock.unlock();
-    validation_cv_.notify_all();
     return;
   }
   ServiceRequest r;
-  try {
-    r = parseServiceRequest(request);
-  } catch (const std::exception& e) {
-    return done(false, e.what());
-  }
+  if (!parseServiceRequest(request, r, done)) return;
   auto frameText = [](Execution* e) { return std::to_string(e ? e->frames() : 0); };
   if (service == "pause") {
     enqueue([this, done, frameText](Execution* e) {

@@ -9,11 +9,11 @@
 #include <functional>
 #include <mutex>
 #include <string>
-#include <thread>
 
 #include "plugin_manager.h"
 #include "run_config.h"
 #include "runner.h"
+#include "view/job_thread.h"
 #include "view/view_control.h"
 #include "view/view_stream.h"
 
@@ -55,7 +55,6 @@ class RunControl final : public ViewControl, public RunObserver {
   // Queues `command` for the run's thread; false when the run has ended.
   bool enqueue(Command command);
   void runQueued(std::unique_lock<std::mutex>& lock, Execution* execution);
-  void validatorLoop();
 
   RunConfig& run_;
   ConfigDocument& doc_;
@@ -77,11 +76,9 @@ class RunControl final : public ViewControl, public RunObserver {
   CallDone step_done_;     // the step call in progress
   uint64_t frames_ = 0;    // frames processed so far
 
-  // Settings waiting for validation, on their own thread.
-  std::deque<std::function<void()>> validations_;
-  std::condition_variable validation_cv_;
-  bool stop_validator_ = false;
-  std::thread validator_;
+  // Settings (and config editor requests) waiting for validation, on their own thread; last, so
+  // that it stops while the members its jobs use still exist.
+  JobThread validator_;
 };
 
 }  // namespace plugslam::runtime

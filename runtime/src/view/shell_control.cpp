@@ -20,51 +20,19 @@ constexpr size_t kMaxPending = 64;
 }  // namespace
 
 ShellControl::ShellControl(ViewHub& hub, std::string out_dir)
-    : hub_(hub), out_dir_(std::move(out_dir)) {
-  thread_ = std::thread([this] { loop(); });
-}
+    : hub_(hub),
+      out_dir_(std::move(out_dir)),
+      // The requests answered while stopping: none is left without a reply.
+      jobs_(kMaxPending, "viewer request failed", JobThread::OnStop::kRunWaiting) {}
 
 ShellControl::~ShellControl() { shutdown(); }
 
 void ShellControl::attach(Shell& shell) { shell_ = &shell; }
 
-void ShellControl::shutdown() {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (stop_) return;
-    stop_ = true;
-  }
-  cv_.notify_all();
-  if (thread_.joinable()) thread_.join();
-}
+void ShellControl::shutdown() { jobs_.stop(); }
 
 void ShellControl::enqueue(std::function<void()> job, std::function<void()> refuse) {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (!stop_ && jobs_.size() < kMaxPending && shell_) {
-      jobs_.push_back(std::move(job));
-      cv_.notify_one();
-      return;
-    }
-  }
-  refuse();
-}
-
-void ShellControl::loop() {
-  std::unique_lock<std::mutex> lock(mutex_);
-  for (;;) {
-    cv_.wait(lock, [&] { return stop_ || !jobs_.empty(); });
-    if (jobs_.empty()) return;  // stopping: the jobs left were answered as they ran
-    auto job = std::move(jobs_.front());
-    jobs_.pop_front();
-    lock.unlock();
-    try {
-      job();
-    } catch (const std::exception& e) {
-      spdlog::warn("viewer request failed: {}", e.what());
-    }
-    lock.lock();
-  }
+  if (!shell_ || jobs_.post(std::move(job)) != JobThread::Posted::kQueued) refuse();
 }
 
 void ShellControl::stateChanged(const std::string& state) {
@@ -174,11 +142,7 @@ void ShellControl::call(const std::string& service, const std::string& request, 
     return;
   }
   ServiceRequest r;
-  try {
-    r = parseServiceRequest(request);
-  } catch (const std::exception& e) {
-    return done(false, e.what());
-  }
+  if (!parseServiceRequest(request, r, done)) return;
   std::string line;
   if (service == "pause" || service == "resume") {
     line = service;
