@@ -21,6 +21,7 @@
 
 #include "plugslam/errors.h"
 #include "serialization/backends.h"
+#include "serialization/reader_frames.h"
 #include "serialization/writer_frames.h"
 
 namespace plugslam {
@@ -215,72 +216,56 @@ class BinaryIn final : public InArchive {
   void beginObject() override {
     slot();
     expectTag(kObject);
-    if (static_cast<int>(frames_.size()) >= kMaxDepth) fail("objects and arrays nested too deep");
+    if (frames_.depth() >= kMaxDepth) fail("objects and arrays nested too deep");
     const std::uint32_t n = static_cast<std::uint32_t>(getLE(take(4), 4));
     Frame f;
     f.object = true;
-    f.segment = std::move(seg_);
-    seg_.clear();
+    f.segment = frames_.takeSegment();
     f.keys.reserve(n);
     for (std::uint32_t i = 0; i < n; ++i) {
       const std::size_t len = takeCount(1, "field name");
       std::string k(take(len), len);
       if (!f.index.emplace(k, pos_).second) fail("duplicate field '" + k + "'");
       f.keys.push_back(std::move(k));
-      pos_ = skip(pos_, static_cast<int>(frames_.size()) + 1);
+      pos_ = skip(pos_, frames_.depth() + 1);
     }
     f.end = pos_;
-    frames_.push_back(std::move(f));
+    frames_.push(std::move(f));
   }
 
   void endObject() override {
-    if (frames_.empty() || !frames_.back().object) misuse("endObject() without beginObject()");
-    pos_ = frames_.back().end;
-    seg_.clear();
-    has_pending_ = false;
-    frames_.pop_back();
+    pos_ = frames_.closing(true).end;
+    frames_.pop();
   }
 
   void key(const std::string& name) override {
-    if (frames_.empty() || !frames_.back().object) misuse("key() outside an object");
-    const Frame& f = frames_.back();
-    seg_.clear();
+    const Frame& f = frames_.keyObject();
     auto it = f.index.find(name);
-    if (it == f.index.end()) fail(missingFieldMessage(name, f.keys));
+    if (it == f.index.end()) fail(Frames::missingField(name, f.keys));
     pending_pos_ = it->second;
-    pending_key_ = name;
-    has_pending_ = true;
+    frames_.select(name);
   }
 
-  bool hasKey(const std::string& name) const override {
-    if (frames_.empty() || !frames_.back().object) return false;
-    return frames_.back().index.count(name) > 0;
-  }
+  bool hasKey(const std::string& name) const override { return frames_.hasKey(name); }
 
-  std::vector<std::string> keys() const override {
-    if (frames_.empty() || !frames_.back().object) misuse("keys() outside an object");
-    return frames_.back().keys;
-  }
+  std::vector<std::string> keys() const override { return frames_.keys(); }
 
   std::size_t beginArray() override {
     slot();
     expectTag(kArray);
-    if (static_cast<int>(frames_.size()) >= kMaxDepth) fail("objects and arrays nested too deep");
+    if (frames_.depth() >= kMaxDepth) fail("objects and arrays nested too deep");
     Frame f;
     f.object = false;
     f.count = takeCount(1, "array");
-    f.segment = std::move(seg_);
-    seg_.clear();
-    frames_.push_back(std::move(f));
-    return frames_.back().count;
+    f.segment = frames_.takeSegment();
+    frames_.push(std::move(f));
+    return frames_.top().count;
   }
 
   void endArray() override {
-    if (frames_.empty() || frames_.back().object) misuse("endArray() without beginArray()");
-    Frame& f = frames_.back();
-    for (; f.next < f.count; ++f.next) pos_ = skip(pos_, static_cast<int>(frames_.size()));
-    seg_.clear();
-    frames_.pop_back();
+    Frame& f = frames_.closing(false);
+    for (; f.next < f.count; ++f.next) pos_ = skip(pos_, frames_.depth());
+    frames_.pop();
   }
 
   bool readBool() override {
@@ -369,31 +354,12 @@ class BinaryIn final : public InArchive {
     std::size_t next = 0;
   };
 
-  [[noreturn]] static void misuse(const std::string& what) {
-    throw std::logic_error("InArchive (binary): " + what);
-  }
-
-  static std::string missingFieldMessage(const std::string& name,
-                                         const std::vector<std::string>& keys) {
-    std::string have;
-    for (const auto& k : keys) have += (have.empty() ? "" : ", ") + k;
-    return "missing field '" + name + "'" +
-           (have.empty() ? std::string(" (the object is empty)")
-                         : " (fields present: " + have + ")");
-  }
-
-  std::string path() const {
-    std::string p;
-    for (const auto& f : frames_) p += f.segment;
-    p += seg_;
-    if (!p.empty() && p[0] == '.') p.erase(0, 1);
-    return p.empty() ? "the root" : "'" + p + "'";
-  }
+  using Frames = ReaderFrames<Frame>;
 
   [[noreturn]] void failAt(std::size_t pos, const std::string& message) const {
-    throw ParseError(
-        source_, 0,
-        "binary archive, at " + path() + " (payload byte " + std::to_string(pos) + "): " + message);
+    throw ParseError(source_, 0,
+                     "binary archive, at " + frames_.path() + " (payload byte " +
+                         std::to_string(pos) + "): " + message);
   }
 
   [[noreturn]] void headerFail(const std::string& message) const {
@@ -543,37 +509,25 @@ class BinaryIn final : public InArchive {
 
   // Positions pos_ on the next value to read and records its path segment for messages.
   void slot() {
-    if (frames_.empty()) {
-      if (root_taken_) misuse("the archive holds one root value, already read");
-      root_taken_ = true;
-      pos_ = 0;
-      seg_.clear();
-      return;
-    }
-    Frame& f = frames_.back();
-    if (f.object) {
-      if (!has_pending_) misuse("a read inside an object needs key() first");
-      has_pending_ = false;
-      pos_ = pending_pos_;
-      seg_ = "." + pending_key_;
-    } else {
-      if (f.next >= f.count) {
-        fail("read past the end of an array of " + std::to_string(f.count) + " elements");
-      }
-      seg_ = "[" + std::to_string(f.next) + "]";
-      ++f.next;
+    switch (frames_.next()) {
+      case Frames::Next::kRoot:
+        pos_ = 0;
+        return;
+      case Frames::Next::kField:
+        pos_ = pending_pos_;
+        return;
+      case Frames::Next::kElement:
+        if (const std::string past = frames_.pastEnd(); !past.empty()) fail(past);
+        frames_.element();  // elements follow each other: pos_ is at this one already
+        return;
     }
   }
 
   std::string source_;
   std::string data_;
   std::size_t pos_ = 0;
-  std::vector<Frame> frames_;
-  std::string seg_;
-  bool has_pending_ = false;
-  std::size_t pending_pos_ = 0;
-  std::string pending_key_;
-  bool root_taken_ = false;
+  Frames frames_{"binary"};
+  std::size_t pending_pos_ = 0;  // where the field that key() selected starts
 };
 
 std::array<std::uint32_t, 256> makeCrcTable() {

@@ -18,6 +18,7 @@
 #include "plugslam/errors.h"
 #include "plugslam/yaml_load.h"
 #include "serialization/backends.h"
+#include "serialization/reader_frames.h"
 #include "serialization/writer_frames.h"
 
 namespace plugslam {
@@ -225,12 +226,11 @@ class TextIn final : public InArchive {
   void beginObject() override {
     YAML::Node n = slot();
     if (!n.IsMap()) fail(std::string("expected an object (a map), found ") + kindName(n));
-    if (static_cast<int>(frames_.size()) >= kMaxDepth) fail("objects and arrays nested too deep");
+    if (frames_.depth() >= kMaxDepth) fail("objects and arrays nested too deep");
     Frame f;
     f.node.reset(n);
     f.object = true;
-    f.segment = std::move(seg_);
-    seg_.clear();
+    f.segment = frames_.takeSegment();
     for (const auto& kv : n) {
       if (!kv.first.IsScalar()) {
         cur_.reset(kv.first);
@@ -244,65 +244,46 @@ class TextIn final : public InArchive {
       f.keys.push_back(k);
       f.values.push_back(kv.second);
     }
-    frames_.push_back(std::move(f));
+    frames_.push(std::move(f));
   }
 
   void endObject() override {
-    if (frames_.empty() || !frames_.back().object) misuse("endObject() without beginObject()");
-    cur_.reset(frames_.back().node);
-    seg_.clear();
-    has_pending_ = false;
-    frames_.pop_back();
+    cur_.reset(frames_.closing(true).node);
+    frames_.pop();
   }
 
   void key(const std::string& name) override {
-    if (frames_.empty() || !frames_.back().object) misuse("key() outside an object");
-    const Frame& f = frames_.back();
-    seg_.clear();
+    const Frame& f = frames_.keyObject();
     auto it = f.index.find(name);
     if (it == f.index.end()) {
       cur_.reset(f.node);
-      std::string have;
-      for (const auto& k : f.keys) have += (have.empty() ? "" : ", ") + k;
-      fail("missing field '" + name + "'" +
-           (have.empty() ? std::string(" (the object is empty)")
-                         : " (fields present: " + have + ")"));
+      fail(Frames::missingField(name, f.keys));
     }
     pending_.reset(f.values[it->second]);
-    pending_key_ = name;
-    has_pending_ = true;
+    frames_.select(name);
   }
 
-  bool hasKey(const std::string& name) const override {
-    if (frames_.empty() || !frames_.back().object) return false;
-    return frames_.back().index.count(name) > 0;
-  }
+  bool hasKey(const std::string& name) const override { return frames_.hasKey(name); }
 
-  std::vector<std::string> keys() const override {
-    if (frames_.empty() || !frames_.back().object) misuse("keys() outside an object");
-    return frames_.back().keys;
-  }
+  std::vector<std::string> keys() const override { return frames_.keys(); }
 
   std::size_t beginArray() override {
     YAML::Node n = slot();
     if (!n.IsSequence()) fail(std::string("expected an array (a sequence), found ") + kindName(n));
-    if (static_cast<int>(frames_.size()) >= kMaxDepth) fail("objects and arrays nested too deep");
+    if (frames_.depth() >= kMaxDepth) fail("objects and arrays nested too deep");
     Frame f;
     f.node.reset(n);
     f.object = false;
     for (const auto& e : n) f.values.push_back(static_cast<const YAML::Node&>(e));
     f.count = f.values.size();
-    f.segment = std::move(seg_);
-    seg_.clear();
-    frames_.push_back(std::move(f));
-    return frames_.back().count;
+    f.segment = frames_.takeSegment();
+    frames_.push(std::move(f));
+    return frames_.top().count;
   }
 
   void endArray() override {
-    if (frames_.empty() || frames_.back().object) misuse("endArray() without beginArray()");
-    cur_.reset(frames_.back().node);
-    seg_.clear();
-    frames_.pop_back();
+    cur_.reset(frames_.closing(false).node);
+    frames_.pop();
   }
 
   bool readBool() override {
@@ -355,13 +336,7 @@ class TextIn final : public InArchive {
   }
 
   [[noreturn]] void fail(const std::string& message) const override {
-    std::string p;
-    for (const auto& f : frames_) p += f.segment;
-    p += seg_;
-    if (!p.empty() && p[0] == '.') p.erase(0, 1);
-    throw ParseError(source_, lineOf(cur_),
-                     "text archive, at " + (p.empty() ? std::string("the root") : "'" + p + "'") +
-                         ": " + message);
+    throw ParseError(source_, lineOf(cur_), "text archive, at " + frames_.path() + ": " + message);
   }
 
  private:
@@ -376,9 +351,7 @@ class TextIn final : public InArchive {
     std::size_t next = 0;
   };
 
-  [[noreturn]] static void misuse(const std::string& what) {
-    throw std::logic_error("InArchive (text): " + what);
-  }
+  using Frames = ReaderFrames<Frame>;
 
   static int lineOf(const YAML::Node& n) {
     if (!n.IsDefined()) return 0;
@@ -387,27 +360,22 @@ class TextIn final : public InArchive {
   }
 
   YAML::Node slot() {
-    if (frames_.empty()) {
-      if (root_taken_) misuse("the archive holds one root value, already read");
-      root_taken_ = true;
-      seg_.clear();
-      cur_.reset(root_);
-      return root_;
+    switch (frames_.next()) {
+      case Frames::Next::kRoot:
+        cur_.reset(root_);
+        return root_;
+      case Frames::Next::kField:
+        cur_.reset(pending_);
+        return pending_;
+      case Frames::Next::kElement:
+        break;
     }
-    Frame& f = frames_.back();
-    if (f.object) {
-      if (!has_pending_) misuse("a read inside an object needs key() first");
-      has_pending_ = false;
-      seg_ = "." + pending_key_;
-      cur_.reset(pending_);
-      return pending_;
-    }
-    if (f.next >= f.count) {
+    Frame& f = frames_.top();
+    if (const std::string past = frames_.pastEnd(); !past.empty()) {
       cur_.reset(f.node);
-      fail("read past the end of an array of " + std::to_string(f.count) + " elements");
+      fail(past);
     }
-    seg_ = "[" + std::to_string(f.next) + "]";
-    cur_.reset(f.values[f.next++]);
+    cur_.reset(f.values[frames_.element()]);
     return cur_;
   }
 
@@ -447,16 +415,12 @@ class TextIn final : public InArchive {
 
   std::string source_;
   YAML::Node root_;
-  std::vector<Frame> frames_;
-  std::string seg_;
-  bool has_pending_ = false;
-  YAML::Node pending_;
-  std::string pending_key_;
+  Frames frames_{"text"};
+  YAML::Node pending_;  // the field that key() selected
   // The node errors point at (for the line number). yaml-cpp's Node::operator= writes through
   // to the referenced node, so every member Node is rebound with reset(), never assigned.
   YAML::Node cur_;
   std::string scalar_;
-  bool root_taken_ = false;
 };
 
 }  // namespace
