@@ -21,12 +21,8 @@ inline Eigen::Quaterniond positiveQuaternion(const Eigen::Matrix3d& r) {
 
 BetweenFactorSE2::BetweenFactorSE2(VariableSE2* xi, VariableSE2* xj, const SE2& measurement,
                                    const Eigen::Matrix3d& information)
-    : Factor(xi, xj),
-      measurement_(measurement),
-      inverse_measurement_(measurement.inverse()),
-      measurement_angle_(angleOf(measurement.linear())) {
-  setInformation(information);
-}
+    : PoseMeasurementFactor(xi, xj, measurement, information),
+      measurement_angle_(angleOf(measurement.linear())) {}
 
 BetweenFactorSE2::ErrorVector BetweenFactorSE2::error() const {
   const SE2& xi = var<0>()->estimate();
@@ -57,9 +53,7 @@ void BetweenFactorSE2::errorAndJacobian(ErrorVector& e, JacobianMatrix& J) const
 
 BetweenFactorSE3::BetweenFactorSE3(VariableSE3* xi, VariableSE3* xj, const SE3& measurement,
                                    const Eigen::Matrix<double, 6, 6>& information)
-    : Factor(xi, xj), measurement_(measurement), inverse_measurement_(measurement.inverse()) {
-  setInformation(information);
-}
+    : PoseMeasurementFactor(xi, xj, measurement, information) {}
 
 BetweenFactorSE3::ErrorVector BetweenFactorSE3::error() const {
   const SE3& xi = var<0>()->estimate();
@@ -93,12 +87,8 @@ void BetweenFactorSE3::errorAndJacobian(ErrorVector& e, JacobianMatrix& J) const
 
 PriorFactorSE2::PriorFactorSE2(VariableSE2* x, const SE2& measurement,
                                const Eigen::Matrix3d& information)
-    : Factor(x),
-      measurement_(measurement),
-      inverse_measurement_(measurement.inverse()),
-      measurement_angle_(angleOf(measurement.linear())) {
-  setInformation(information);
-}
+    : PoseMeasurementFactor(x, measurement, information),
+      measurement_angle_(angleOf(measurement.linear())) {}
 
 PriorFactorSE2::ErrorVector PriorFactorSE2::error() const {
   const SE2& x = var<0>()->estimate();
@@ -119,9 +109,7 @@ void PriorFactorSE2::errorAndJacobian(ErrorVector& e, JacobianMatrix& J) const {
 
 PriorFactorSE3::PriorFactorSE3(VariableSE3* x, const SE3& measurement,
                                const Eigen::Matrix<double, 6, 6>& information)
-    : Factor(x), measurement_(measurement), inverse_measurement_(measurement.inverse()) {
-  setInformation(information);
-}
+    : PoseMeasurementFactor(x, measurement, information) {}
 
 PriorFactorSE3::ErrorVector PriorFactorSE3::error() const {
   const SE3& x = var<0>()->estimate();
