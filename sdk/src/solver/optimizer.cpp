@@ -603,6 +603,23 @@ OptimizeResult Optimizer::optimize(FactorGraph& graph) {
       st.accepted = false;
       done = true;
     };
+    // A step refused (no solution, or a cost not accepted): GN ends with the last good estimate;
+    // LM raises its damping and tries again, until it has refused too many steps or refused one
+    // below the step tolerance (`tiny`, converged). True when the run ends.
+    const auto refuse = [&](bool tiny) {
+      if (!lm) {
+        stopRejected(StopReason::kSolverFailure);
+        return true;
+      }
+      ++st.rejected_steps;
+      lambda *= nu;
+      nu *= 2.0;
+      if (st.rejected_steps > options_.lm_max_rejections || tiny) {
+        stopRejected(tiny ? StopReason::kConverged : StopReason::kNoProgress);
+        return true;
+      }
+      return false;
+    };
     for (;;) {
       t0 = Clock::now();
       const bool solved = im.solve(lm ? lambda : 0.0);
@@ -610,17 +627,7 @@ OptimizeResult Optimizer::optimize(FactorGraph& graph) {
       t0 = Clock::now();
       if (!solved) {
         ++result.singular_systems;
-        if (!lm) {
-          stopRejected(StopReason::kSolverFailure);
-          break;
-        }
-        ++st.rejected_steps;
-        lambda *= nu;
-        nu *= 2.0;
-        if (st.rejected_steps > options_.lm_max_rejections) {
-          stopRejected(StopReason::kNoProgress);
-          break;
-        }
+        if (refuse(false)) break;
         continue;
       }
       for (Variable* v : im.active) v->saveEstimate();
@@ -663,18 +670,8 @@ OptimizeResult Optimizer::optimize(FactorGraph& graph) {
         break;
       }
       for (Variable* v : im.active) v->restoreEstimate();
-      if (!lm) {
-        // GN produced a non-finite cost: keep the last good estimate.
-        stopRejected(StopReason::kSolverFailure);
-        break;
-      }
-      ++st.rejected_steps;
-      lambda *= nu;
-      nu *= 2.0;
-      if (st.rejected_steps > options_.lm_max_rejections || step < options_.step_norm) {
-        stopRejected(step < options_.step_norm ? StopReason::kConverged : StopReason::kNoProgress);
-        break;
-      }
+      // GN refuses a step only for a non-finite cost.
+      if (refuse(step < options_.step_norm)) break;
     }
     if (!st.accepted) st.chi2 = chi;
     result.iterations = it + 1;
