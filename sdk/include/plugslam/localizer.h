@@ -17,26 +17,17 @@ template <class S>
 class Localizer : public Tracker {
  public:
   using Pose = typename S::Pose;
-  Localizer();
-  ~Localizer() override;
 
   Slot<MultiAligner<S>> aligner{this, "aligner", std::string("sdk.MultiAligner") + S::kSuffix,
                                 "solves for the robot pose against a frozen map"};
   Slot<MotionModel<S>> motion{this, "motion", "",
                               "predicts motion between frames (default: constant velocity)"};
-  Param<double> max_acceleration{this,
-                                 "max_acceleration",
-                                 1.0,
-                                 "m/s^2",
-                                 "largest plausible linear acceleration: the uncertainty of a "
-                                 "constant-velocity prediction",
-                                 Range{0, 1e4}};
-  Param<double> max_angular_acceleration{this,
-                                         "max_angular_acceleration",
-                                         2.0,
-                                         "rad/s^2",
-                                         "largest plausible angular acceleration",
-                                         Range{0, 1e4}};
+  Param<double> max_acceleration = maxAccelerationParam(
+      this,
+      "largest plausible linear acceleration: the uncertainty of a constant-velocity "
+      "prediction");
+  Param<double> max_angular_acceleration =
+      maxAngularAccelerationParam(this, "largest plausible angular acceleration");
   Param<double> tie{this,
                     "tie",
                     0.02,
@@ -45,6 +36,8 @@ class Localizer : public Tracker {
                     "good, and the one nearest the motion prediction wins",
                     Range{0, 1}};
 
+  Localizer();
+  ~Localizer() override;
   int dimension() const override { return S::kDim; }
   TrackEvents track(Frame& frame) override;
   void continueSession(int64_t next_id) override;

@@ -58,6 +58,16 @@ struct ConstantVelocityBounds {
   double min_sigma_rotation = 0.005;    ///< [rad] floor
 };
 
+/// The parameters that set a tracker's bounds, declared by each tracker as
+/// `Param<double> max_acceleration = maxAccelerationParam(this, doc);` so that their names,
+/// units, ranges and defaults (ConstantVelocityBounds') are one tracker's as the other's.
+Param<double> maxAccelerationParam(Configurable* owner, std::string doc);
+/// The angular one (see maxAccelerationParam).
+Param<double> maxAngularAccelerationParam(Configurable* owner, std::string doc);
+/// The bounds those two parameters set.
+ConstantVelocityBounds constantVelocityBounds(double max_acceleration,
+                                              double max_angular_acceleration);
+
 /// The motion a tracker predicts before aligning: the motion model's estimate when it has one
 /// for the frame, else the recent velocity kept over the time since the last frame, with the
 /// covariance the largest plausible accelerations give over that time.

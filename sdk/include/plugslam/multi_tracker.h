@@ -33,21 +33,14 @@ class MultiTracker : public Tracker {
                               "predicts motion between frames (default: constant velocity)"};
   // Without a motion model's reading the robot keeps its velocity; how wrong that can be is
   // what its acceleration can change over the time since the last frame.
-  Param<double> max_acceleration{this,
-                                 "max_acceleration",
-                                 1.0,
-                                 "m/s^2",
-                                 "largest plausible linear acceleration: sets the uncertainty of "
-                                 "a constant-velocity prediction (no motion model reading)",
-                                 Range{0, 1e4}};
-  Param<double> max_angular_acceleration{
+  Param<double> max_acceleration = maxAccelerationParam(
       this,
-      "max_angular_acceleration",
-      2.0,
-      "rad/s^2",
+      "largest plausible linear acceleration: sets the uncertainty of a constant-velocity "
+      "prediction (no motion model reading)");
+  Param<double> max_angular_acceleration = maxAngularAccelerationParam(
+      this,
       "largest plausible angular acceleration: sets the heading uncertainty of a "
-      "constant-velocity prediction",
-      Range{0, 1e4}};
+      "constant-velocity prediction");
   Param<std::vector<double>> fallback_sigma{
       this, "fallback_sigma",
       S::kDim == 2 ? std::vector<double>{0.1, 0.1, 0.05}

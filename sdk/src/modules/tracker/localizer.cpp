@@ -59,10 +59,9 @@ std::shared_ptr<Localizer<S>> Localizer<S>::create(
 template <class S>
 std::shared_ptr<Tracker> Localizer<S>::localizer(
     std::vector<std::shared_ptr<const LocalMap>> maps) const {
-  ConstantVelocityBounds bounds;
-  bounds.acceleration = max_acceleration();
-  bounds.angular_acceleration = max_angular_acceleration();
-  return create(name(), aligner.shared(), motion.shared(), bounds, tie(), std::move(maps));
+  return create(name(), aligner.shared(), motion.shared(),
+                constantVelocityBounds(max_acceleration(), max_angular_acceleration()), tie(),
+                std::move(maps));
 }
 
 template <class S>
@@ -83,10 +82,8 @@ TrackEvents Localizer<S>::track(Frame& frame) {
   ++stats_.frames;
   const Eigen::Isometry3d at = st.located ? st.located->origin : Eigen::Isometry3d::Identity();
   const Eigen::Isometry3d previous_world = at * S::to3D(st.pose);
-  ConstantVelocityBounds bounds;
-  bounds.acceleration = max_acceleration();
-  bounds.angular_acceleration = max_angular_acceleration();
-  const MotionEstimate<S> predicted = st.prediction.predict(motion.get(), bounds, frame);
+  const MotionEstimate<S> predicted = st.prediction.predict(
+      motion.get(), constantVelocityBounds(max_acceleration(), max_angular_acceleration()), frame);
   const Eigen::Isometry3d guess_world = at * S::to3D(S::normalized(st.pose * predicted.mean));
   std::vector<std::pair<double, std::shared_ptr<const LocalMap>>> near;
   for (const auto& m : st.maps)

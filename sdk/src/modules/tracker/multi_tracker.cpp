@@ -78,10 +78,7 @@ void MultiTracker<S>::configure() {
 
 template <class S>
 ConstantVelocityBounds MultiTracker<S>::bounds() const {
-  ConstantVelocityBounds b;
-  b.acceleration = max_acceleration();
-  b.angular_acceleration = max_angular_acceleration();
-  return b;
+  return constantVelocityBounds(max_acceleration(), max_angular_acceleration());
 }
 
 template <class S>

@@ -44,6 +44,28 @@ void TrackerSlice<S>::merge(const Frame& frame, PropertyContainer& scene, const 
 template <class S>
 MotionModel<S>::~MotionModel() = default;
 
+Param<double> maxAccelerationParam(Configurable* owner, std::string doc) {
+  return {owner,   "max_acceleration", ConstantVelocityBounds{}.acceleration,
+          "m/s^2", std::move(doc),     Range{0, 1e4}};
+}
+
+Param<double> maxAngularAccelerationParam(Configurable* owner, std::string doc) {
+  return {owner,
+          "max_angular_acceleration",
+          ConstantVelocityBounds{}.angular_acceleration,
+          "rad/s^2",
+          std::move(doc),
+          Range{0, 1e4}};
+}
+
+ConstantVelocityBounds constantVelocityBounds(double max_acceleration,
+                                              double max_angular_acceleration) {
+  ConstantVelocityBounds b;
+  b.acceleration = max_acceleration;
+  b.angular_acceleration = max_angular_acceleration;
+  return b;
+}
+
 template <class S>
 HandoverSlice<S>::~HandoverSlice() = default;
 
