@@ -11,19 +11,12 @@ namespace plugslam {
 namespace {
 
 CameraInfo rawPair() {
+  const auto radtan = Distortion::Model::kRadialTangential;
   CameraInfo c;
-  c.fx = 458.654;
-  c.fy = 457.296;
-  c.cx = 367.215;
-  c.cy = 248.375;
-  c.width = 752;
-  c.height = 480;
-  c.distortion.model = Distortion::Model::kRadialTangential;
-  c.distortion.coefficients = {-0.28340811, 0.07395907, 0.00019359, 1.76187114e-05};
-  CameraIntrinsics r{457.587, 456.134, 379.999, 255.238, 752, 480, {}};
-  r.distortion.model = Distortion::Model::kRadialTangential;
-  r.distortion.coefficients = {-0.28368365, 0.07451284, -0.00010473, -3.55590700e-05};
-  c.second = r;
+  c.setIntrinsics({{458.654, 457.296, 367.215, 248.375, 752, 480},
+                   {radtan, {-0.28340811, 0.07395907, 0.00019359, 1.76187114e-05}}});
+  c.second = CameraIntrinsics{{457.587, 456.134, 379.999, 255.238, 752, 480},
+                              {radtan, {-0.28368365, 0.07451284, -0.00010473, -3.55590700e-05}}};
   // Right camera 11 cm to the right, turned by a fraction of a degree.
   c.second_pose = Eigen::Isometry3d::Identity();
   c.second_pose.linear() = Eigen::AngleAxisd(0.004, Eigen::Vector3d(0.3, 1, 0.2).normalized())

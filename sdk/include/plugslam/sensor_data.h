@@ -109,14 +109,19 @@ bool parseDistortionModel(const std::string& name, Distortion::Model& model);
 /// The name the archive and messages use: "none", "radial-tangential" or "equidistant".
 const char* distortionModelName(Distortion::Model model);
 
+/// A camera's pinhole and image size, the first fields of CameraIntrinsics and CameraInfo (which
+/// keep their offsets: a base of plain fields adds nothing before them).
+struct CameraPinhole {
+  double fx = 0;   ///< focal length along x [px]
+  double fy = 0;   ///< focal length along y [px]
+  double cx = 0;   ///< principal point x [px]
+  double cy = 0;   ///< principal point y [px]
+  int width = 0;   ///< image width [px]
+  int height = 0;  ///< image height [px]
+};
+
 /// Intrinsics of one camera: pinhole, image size and lens distortion.
-struct CameraIntrinsics {
-  double fx = 0;          ///< focal length along x [px]
-  double fy = 0;          ///< focal length along y [px]
-  double cx = 0;          ///< principal point x [px]
-  double cy = 0;          ///< principal point y [px]
-  int width = 0;          ///< image width [px]
-  int height = 0;         ///< image height [px]
+struct CameraIntrinsics : CameraPinhole {
   Distortion distortion;  ///< lens distortion; kNone when the images are ideal pinhole
 };
 
@@ -129,13 +134,7 @@ struct CameraIntrinsics {
 /// KITTI (rectified): distortion kNone, baseline 0.537, second = the same pinhole, second_pose a
 /// translation (0.537, 0, 0). TUM RGB-D (depth registered by the driver): second = the colour
 /// pinhole and size, second_pose identity.
-struct CameraInfo {
-  double fx = 0;      ///< focal length along x [px]
-  double fy = 0;      ///< focal length along y [px]
-  double cx = 0;      ///< principal point x [px]
-  double cy = 0;      ///< principal point y [px]
-  int width = 0;      ///< image width [px]
-  int height = 0;     ///< image height [px]
+struct CameraInfo : CameraPinhole {
   /// Baseline of a rectified stereo pair, right camera at +baseline along x [m]; 0 = mono, or a
   /// pair that still needs rectifying (then `second` and `second_pose` say how it sits).
   double baseline = 0;
@@ -152,19 +151,14 @@ struct CameraInfo {
   Eigen::Isometry3d second_pose = Eigen::Isometry3d::Identity();
 
   /// This camera's pinhole, size and distortion.
-  CameraIntrinsics intrinsics() const {
-    return CameraIntrinsics{fx, fy, cx, cy, width, height, distortion};
-  }
+  CameraIntrinsics intrinsics() const { return CameraIntrinsics{pinhole(), distortion}; }
   /// Sets this camera's pinhole, size and distortion.
   void setIntrinsics(const CameraIntrinsics& k) {
-    fx = k.fx;
-    fy = k.fy;
-    cx = k.cx;
-    cy = k.cy;
-    width = k.width;
-    height = k.height;
+    static_cast<CameraPinhole&>(*this) = k;
     distortion = k.distortion;
   }
+  /// This camera's pinhole and size.
+  const CameraPinhole& pinhole() const { return *this; }
 };
 
 /// Serializes a laser scan.

@@ -43,7 +43,7 @@ void odometryFields(Ar& ar, O& o) {
   ar.endObject();
 }
 
-// The pinhole fields shared by CameraInfo and CameraIntrinsics.
+// The pinhole fields, CameraInfo's first as CameraIntrinsics', for save and load.
 template <class Ar, class C>
 void pinholeFields(Ar& ar, C& c) {
   ar.field("fx", c.fx);
@@ -54,10 +54,11 @@ void pinholeFields(Ar& ar, C& c) {
   ar.field("height", c.height);
 }
 
-void checkPinhole(InArchive& ar, double fx, double fy, int width, int height) {
-  if (!std::isfinite(fx) || !std::isfinite(fy))
-    ar.fail("camera focal lengths must be finite");
-  checkSize(ar, width, height);
+// Reads the pinhole fields and checks them.
+void loadPinhole(InArchive& ar, CameraPinhole& c) {
+  pinholeFields(ar, c);
+  if (!std::isfinite(c.fx) || !std::isfinite(c.fy)) ar.fail("camera focal lengths must be finite");
+  checkSize(ar, c.width, c.height);
 }
 
 // The fields before an image's pixels, shared by save and load.
@@ -161,8 +162,7 @@ void save(OutArchive& ar, const CameraIntrinsics& c) {
 
 void load(InArchive& ar, CameraIntrinsics& c) {
   ar.beginObject();
-  pinholeFields(ar, c);
-  checkPinhole(ar, c.fx, c.fy, c.width, c.height);
+  loadPinhole(ar, c);
   ar.field("distortion", c.distortion);
   ar.endObject();
 }
@@ -182,8 +182,7 @@ void save(OutArchive& ar, const CameraInfo& c) {
 
 void load(InArchive& ar, CameraInfo& c) {
   ar.beginObject();
-  pinholeFields(ar, c);
-  checkPinhole(ar, c.fx, c.fy, c.width, c.height);
+  loadPinhole(ar, c);
   ar.field("baseline", c.baseline);
   ar.field("mount", c.mount);
   // Archives written before ABI 1.5 have neither: undistorted, and no second camera.

@@ -59,12 +59,7 @@ PinholeCamera PinholeCamera::kitti() { return {718.856, 718.856, 607.1928, 185.2
 
 CameraInfo PinholeCamera::info() const {
   CameraInfo c;
-  c.fx = fx;
-  c.fy = fy;
-  c.cx = cx;
-  c.cy = cy;
-  c.width = width;
-  c.height = height;
+  c.setIntrinsics({{fx, fy, cx, cy, width, height}, Distortion{}});
   return c;
 }
 
