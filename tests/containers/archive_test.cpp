@@ -15,6 +15,7 @@
 #include "plugslam/landmarks/landmark_map.h"
 #include "plugslam/property_container.h"
 #include "plugslam/value_types.h"
+#include "round_trip.h"
 
 namespace testplugin {
 
@@ -32,25 +33,27 @@ struct Scan {
   }
 };
 
-void save(plugslam::OutArchive& ar, const Scan& s) {
-  ar.beginObject();
+// The fields, listed once for save (Ar = OutArchive, S = const Scan) and load, as the SDK's own
+// types list theirs.
+template <class Ar, class S>
+void scanFields(Ar& ar, S& s) {
   ar.field("ranges", s.ranges)
       .field("angle_min", s.angle_min)
       .field("angle_increment", s.angle_increment)
       .field("frame", s.frame)
       .field("seq", s.seq)
       .field("tags", s.tags);
+}
+
+void save(plugslam::OutArchive& ar, const Scan& s) {
+  ar.beginObject();
+  scanFields(ar, s);
   ar.endObject();
 }
 
 void load(plugslam::InArchive& ar, Scan& s) {
   ar.beginObject();
-  ar.field("ranges", s.ranges)
-      .field("angle_min", s.angle_min)
-      .field("angle_increment", s.angle_increment)
-      .field("frame", s.frame)
-      .field("seq", s.seq)
-      .field("tags", s.tags);
+  scanFields(ar, s);
   if (s.angle_increment < 0) ar.fail("angle_increment must be >= 0");
   ar.endObject();
 }
@@ -82,10 +85,7 @@ T decode(ArchiveFormat f, const std::string& bytes) {
   return out;
 }
 
-template <class T>
-T roundTrip(ArchiveFormat f, const T& v) {
-  return decode<T>(f, encode(f, v));
-}
+using plugslam::testing::roundTrip;
 
 bool sameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
@@ -270,20 +270,12 @@ PropertyContainer everyBuiltIn() {
   depth.data = {0.0f, 1.25f, 3.1f, std::numeric_limits<float>::quiet_NaN(), 12.0f, 0.5f};
   c.set<DepthImage>("DepthImage", depth);
   CameraInfo camera;
-  camera.fx = 718.856;
-  camera.fy = 718.856;
-  camera.cx = 607.1928;
-  camera.cy = 185.2157;
-  camera.width = 1241;
-  camera.height = 376;
+  camera.setIntrinsics({{718.856, 718.856, 607.1928, 185.2157, 1241, 376}, Distortion{}});
   camera.baseline = 0.54;
   camera.mount = i3;
   c.set<CameraInfo>("CameraInfo", camera);
   FeatureSet features;
-  features.camera.fx = features.camera.fy = 700;
-  features.camera.cx = 600;
-  features.camera.cy = 180;
-  features.camera.baseline = 0.54;
+  features.camera = {700, 700, 600, 180, 0.54};
   features.width = 1241;
   features.height = 376;
   features.mount = i3;
@@ -322,6 +314,13 @@ void expectEqualIntrinsics(const CameraIntrinsics& x, const CameraIntrinsics& y)
   EXPECT_EQ(x.distortion.coefficients, y.distortion.coefficients);
 }
 
+// Expects each of the `members` equal in x and y, naming the entry `n` when one is not.
+template <class T, class... M>
+void expectEqualMembers(const T& x, const T& y, const std::string& n, M T::*... members) {
+  const auto one = [&](auto member) { EXPECT_EQ(x.*member, y.*member) << n; };
+  (one(members), ...);
+}
+
 template <class T>
 bool equalAs(const PropertyContainer& a, const PropertyContainer& b, const std::string& n) {
   if (!a.holds<T>(n)) return false;
@@ -336,26 +335,15 @@ bool equalAs(const PropertyContainer& a, const PropertyContainer& b, const std::
     EXPECT_TRUE(a.get<T>(n) == b.get<T>(n)) << n;
   } else if constexpr (std::is_same_v<T, LaserScan>) {
     const auto &x = a.get<T>(n), &y = b.get<T>(n);
-    EXPECT_EQ(x.stamp, y.stamp);
-    EXPECT_EQ(x.angle_min, y.angle_min);
-    EXPECT_EQ(x.angle_increment, y.angle_increment);
-    EXPECT_EQ(x.range_min, y.range_min);
-    EXPECT_EQ(x.range_max, y.range_max);
-    EXPECT_EQ(x.ranges, y.ranges);
+    expectEqualMembers(x, y, n, &T::stamp, &T::angle_min, &T::angle_increment, &T::range_min,
+                       &T::range_max, &T::ranges);
     EXPECT_EQ(x.mount.matrix(), y.mount.matrix());
   } else if constexpr (std::is_same_v<T, Image>) {
-    const auto &x = a.get<T>(n), &y = b.get<T>(n);
-    EXPECT_EQ(x.stamp, y.stamp);
-    EXPECT_EQ(x.width, y.width);
-    EXPECT_EQ(x.height, y.height);
-    EXPECT_EQ(x.channels, y.channels);
-    EXPECT_EQ(x.stride, y.stride);
-    EXPECT_EQ(x.data, y.data);
+    expectEqualMembers(a.get<T>(n), b.get<T>(n), n, &T::stamp, &T::width, &T::height, &T::channels,
+                       &T::stride, &T::data);
   } else if constexpr (std::is_same_v<T, DepthImage>) {
     const auto &x = a.get<T>(n), &y = b.get<T>(n);
-    EXPECT_EQ(x.stamp, y.stamp);
-    EXPECT_EQ(x.width, y.width);
-    EXPECT_EQ(x.height, y.height);
+    expectEqualMembers(x, y, n, &T::stamp, &T::width, &T::height);
     EXPECT_EQ(x.data.size(), y.data.size());
     // Bit-exact, NaN included.
     if (x.data.size() == y.data.size()) {
@@ -373,33 +361,16 @@ bool equalAs(const PropertyContainer& a, const PropertyContainer& b, const std::
     }
   } else if constexpr (std::is_same_v<T, FeatureSet>) {
     const auto &x = a.get<T>(n), &y = b.get<T>(n);
-    EXPECT_EQ(x.camera.fx, y.camera.fx);
-    EXPECT_EQ(x.camera.cy, y.camera.cy);
-    EXPECT_EQ(x.camera.baseline, y.camera.baseline);
-    EXPECT_EQ(x.width, y.width);
-    EXPECT_EQ(x.height, y.height);
+    expectEqualMembers(x.camera, y.camera, n, &PinholeCamera::fx, &PinholeCamera::cy,
+                       &PinholeCamera::baseline);
     EXPECT_EQ(x.mount.matrix(), y.mount.matrix());
-    EXPECT_EQ(x.stamp, y.stamp);
-    EXPECT_EQ(x.pixels, y.pixels);
-    EXPECT_EQ(x.pixel_sigma, y.pixel_sigma);
-    EXPECT_EQ(x.inverse_depth, y.inverse_depth);
-    EXPECT_EQ(x.inverse_depth_sigma, y.inverse_depth_sigma);
-    EXPECT_EQ(x.points, y.points);
-    EXPECT_EQ(x.covariances, y.covariances);
-    EXPECT_EQ(x.descriptor_bytes, y.descriptor_bytes);
-    EXPECT_EQ(x.descriptors, y.descriptors);
-    EXPECT_EQ(x.colours, y.colours);
+    expectEqualMembers(x, y, n, &T::width, &T::height, &T::stamp, &T::pixels, &T::pixel_sigma,
+                       &T::inverse_depth, &T::inverse_depth_sigma, &T::points, &T::covariances,
+                       &T::descriptor_bytes, &T::descriptors, &T::colours);
   } else if constexpr (std::is_same_v<T, LandmarkMap>) {
-    const auto &x = a.get<T>(n), &y = b.get<T>(n);
-    EXPECT_EQ(x.positions, y.positions);
-    EXPECT_EQ(x.covariances, y.covariances);
-    EXPECT_EQ(x.ids, y.ids);
-    EXPECT_EQ(x.observations, y.observations);
-    EXPECT_EQ(x.visible, y.visible);
-    EXPECT_EQ(x.last_seen, y.last_seen);
-    EXPECT_EQ(x.colours, y.colours);
-    EXPECT_EQ(x.descriptor_bytes, y.descriptor_bytes);
-    EXPECT_EQ(x.descriptors, y.descriptors);
+    expectEqualMembers(a.get<T>(n), b.get<T>(n), n, &T::positions, &T::covariances, &T::ids,
+                       &T::observations, &T::visible, &T::last_seen, &T::colours,
+                       &T::descriptor_bytes, &T::descriptors);
   } else if constexpr (std::is_same_v<T, Odometry2D>) {
     EXPECT_EQ(a.get<T>(n).stamp, b.get<T>(n).stamp);
     EXPECT_EQ(a.get<T>(n).pose.matrix(), b.get<T>(n).pose.matrix());

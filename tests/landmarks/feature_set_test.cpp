@@ -8,16 +8,14 @@
 #include "plugslam/landmarks/feature_set.h"
 #include "plugslam/landmarks/landmark_map.h"
 #include "plugslam/property_container.h"
+#include "round_trip.h"
 
 namespace plugslam {
 namespace {
 
 FeatureSet sample() {
   FeatureSet f;
-  f.camera.fx = f.camera.fy = 500;
-  f.camera.cx = 320;
-  f.camera.cy = 240;
-  f.camera.baseline = 0.1;
+  f.camera = {500, 500, 320, 240, 0.1};
   f.width = 640;
   f.height = 480;
   f.mount.translation() << 0.1, 0.2, 0.3;
@@ -47,15 +45,7 @@ TEST(FeatureSet, RoundTripsThroughBothArchives) {
   for (ArchiveFormat format : {ArchiveFormat::kBinary, ArchiveFormat::kText}) {
     PropertyContainer c;
     c.set<FeatureSet>("features", f);
-    std::stringstream s;
-    {
-      auto out = makeOutArchive(s, format);
-      save(*out, c);
-      out->finish();
-    }
-    PropertyContainer back;
-    auto in = makeInArchive(s, format);
-    load(*in, back);
+    const PropertyContainer back = plugslam::testing::roundTrip(format, c);
     const FeatureSet& g = back.get<FeatureSet>("features");
     ASSERT_EQ(g.size(), f.size());
     EXPECT_EQ(g.descriptors, f.descriptors);

@@ -13,14 +13,8 @@
 namespace plugslam {
 namespace {
 
-PinholeCamera kittiLike() {
-  PinholeCamera c;
-  c.fx = c.fy = 718.856;
-  c.cx = 607.19;
-  c.cy = 185.22;
-  c.baseline = 0.537;
-  return c;
-}
+// fx, fy, cx, cy [px], baseline [m].
+PinholeCamera kittiLike() { return {718.856, 718.856, 607.19, 185.22, 0.537}; }
 
 Eigen::Isometry3d randomPose(std::mt19937& rng, double t, double r) {
   std::uniform_real_distribution<double> u(-1, 1);

@@ -34,14 +34,8 @@ World makeWorld(std::mt19937& rng, int n) {
   return w;
 }
 
-PinholeCamera camera() {
-  PinholeCamera c;
-  c.fx = c.fy = 700;
-  c.cx = 620;
-  c.cy = 188;
-  c.baseline = 0.54;
-  return c;
-}
+// fx, fy, cx, cy [px], baseline [m].
+PinholeCamera camera() { return {700, 700, 620, 188, 0.54}; }
 
 // What a stereo camera at `camera_in_world` measures: projections with pixel noise, disparity
 // noise, and a fraction of keypoints whose descriptor belongs to a different point (outliers).

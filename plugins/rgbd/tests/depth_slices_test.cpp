@@ -14,6 +14,7 @@
 #include "plugslam/multi_aligner.h"
 #include "plugslam/slice_check.h"
 #include "room_depth.h"
+#include "round_trip.h"
 
 namespace plugslam::rgbd {
 namespace {
@@ -278,15 +279,7 @@ TEST(DepthKeyframe, SurvivesASessionArchive) {
   const DepthKeyframe& kf = scene.get<DepthKeyframe>("depth_keyframe");
   ASSERT_EQ(kf.anchors.size(), 1u);
   for (ArchiveFormat format : {ArchiveFormat::kBinary, ArchiveFormat::kText}) {
-    std::stringstream io;
-    {
-      auto out = makeOutArchive(io, format);
-      save(*out, kf);
-      out->finish();
-    }
-    DepthKeyframe back;
-    auto in = makeInArchive(io, format);
-    load(*in, back);
+    const DepthKeyframe back = plugslam::testing::roundTrip(format, kf);
     EXPECT_EQ(back.depth.data, kf.depth.data);
     EXPECT_DOUBLE_EQ(back.camera.cx, kf.camera.cx);
     EXPECT_TRUE(back.pose.isApprox(kf.pose, 1e-12));
