@@ -1,8 +1,5 @@
 // The plugslam CLI as a user runs it: output, exit codes (0 ok, 1 runtime failure, 2 bad input).
 #include <gtest/gtest.h>
-
-#include "run_command.h"
-#include "test_paths.h"
 #include <pty.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -11,14 +8,16 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
-#include <optional>
 
 #include "plugslam/version.h"
-#include "temp_dir.h"
+#include "run_command.h"
+#include "temp_dir_test.h"
+#include "test_paths.h"
 
 namespace fs = std::filesystem;
 
@@ -75,24 +74,15 @@ void expectLogLinesStartClean(const std::string& out) {
   EXPECT_GT(lines, 0) << out;
 }
 
-class Cli : public ::testing::Test {
+class Cli : public plugslam::testing::TempDirTest {
  protected:
-  void SetUp() override {
-    tmp_.emplace("plugslam_cli");  // a fresh folder of this test's own
-    dir_ = tmp_->path();
-  }
-  void TearDown() override { tmp_.reset(); }
-  std::string write(const std::string& name, const std::string& text) {
-    return tmp_->write(name, text);  // checked
-  }
+  Cli() : TempDirTest("plugslam_cli") {}
   std::string config(const std::string& extra = "") {
     return write("run.yaml", "plugins: [" + buildDir() + "/tests/plugins/plugslam_fixture.so]\n" +
                                  "source: {type: fixture.CountingSource, frames: 20}\n"
                                  "pipeline:\n  preprocessors:\n    - {type: fixture.Scale, factor: 0.5}\n"
                                  "outputs: [fixture.SumWriter]\n" + extra);
   }
-  std::optional<plugslam::testing::TempDir> tmp_;
-  fs::path dir_;
 };
 
 void expectHas(const std::string& s, const std::string& part) {

@@ -10,16 +10,16 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
-#include <optional>
 
 #include "plugslam/solver/factor_graph.h"
 #include "plugslam/solver/graph_io.h"
 #include "plugslam/solver/variable.h"
 #include "run_command.h"
+#include "temp_dir_test.h"
 #include "test_paths.h"
-#include "temp_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -50,19 +50,9 @@ void expectHas(const std::string& s, const std::string& part) {
   EXPECT_NE(s.find(part), std::string::npos) << "'" << part << "' not in:\n" << s;
 }
 
-class Optimize : public ::testing::Test {
+class Optimize : public plugslam::testing::TempDirTest {
  protected:
-  void SetUp() override {
-    tmp_.emplace("plugslam_optimize");  // a fresh folder of this test's own
-    dir_ = tmp_->path();
-  }
-  void TearDown() override { tmp_.reset(); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::string write(const std::string& name, const std::string& text) {
-    return tmp_->write(name, text);  // checked
-  }
-  std::optional<plugslam::testing::TempDir> tmp_;
-  fs::path dir_;
+  Optimize() : TempDirTest("plugslam_optimize") {}
 };
 
 // A 2D loop of 8 poses around a square, 1 m apart, with exact odometry and one exact loop
@@ -195,30 +185,23 @@ TEST_F(Optimize, MalformedInputExitsTwoWithFileAndLine) {
 
 TEST_F(Optimize, BadArgumentsExitTwo) {
   const std::string in = write("square.g2o", squareLoop2d());
-  Result r = run("optimize " + path("missing.g2o") + " -o " + path("o.g2o"));
-  EXPECT_EQ(r.code, 2) << r.out;
-  expectHas(r.out, "missing.g2o");
-  r = run("optimize " + in + " --solver newton");
-  EXPECT_EQ(r.code, 2) << r.out;
-  expectHas(r.out, "--solver: newton not in {gn,lm}");
-  r = run("optimize " + in + " --init spanning");
-  EXPECT_EQ(r.code, 2) << r.out;
-  expectHas(r.out, "--init: spanning not in {file,odometry,chordal,best}");
-  r = run("optimize " + in + " --robust Welsch");
-  EXPECT_EQ(r.code, 2) << r.out;
-  expectHas(r.out, "Huber");
-  r = run("optimize " + in + " --factorization qr");
-  EXPECT_EQ(r.code, 2) << r.out;
-  expectHas(r.out, "--factorization: qr not in {auto,supernodal,simplicial,block}");
-  r = run("optimize " + in + " --iterations -3");
-  EXPECT_EQ(r.code, 2) << r.out;
-  r = run("optimize " + in + " -o " + path("no/such/dir/out.g2o"));
-  EXPECT_EQ(r.code, 2) << r.out;
-  r = run("optimize " + in + " --summary " + path("no/such/dir/s.json"));
-  EXPECT_EQ(r.code, 2) << r.out;
-  expectHas(r.out, "--summary");
-  r = run("optimize");
-  EXPECT_EQ(r.code, 2) << r.out;
+  // The arguments, and what the message must name ("": only the exit code is checked).
+  const std::pair<std::string, std::string> cases[] = {
+      {path("missing.g2o") + " -o " + path("o.g2o"), "missing.g2o"},
+      {in + " --solver newton", "--solver: newton not in {gn,lm}"},
+      {in + " --init spanning", "--init: spanning not in {file,odometry,chordal,best}"},
+      {in + " --robust Welsch", "Huber"},
+      {in + " --factorization qr", "--factorization: qr not in {auto,supernodal,simplicial,block}"},
+      {in + " --iterations -3", ""},
+      {in + " -o " + path("no/such/dir/out.g2o"), ""},
+      {in + " --summary " + path("no/such/dir/s.json"), "--summary"},
+      {"", ""},
+  };
+  for (const auto& [args, names] : cases) {
+    const Result r = run("optimize " + args);
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
+    if (!names.empty()) expectHas(r.out, names);
+  }
 }
 
 TEST_F(Optimize, NonPositiveDefiniteInformationRefusedUnlessProjected) {

@@ -6,29 +6,24 @@
 
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <optional>
+#include <sstream>
 
 #include "plugslam/archive.h"
 #include "plugslam/eval/relations.h"
 #include "plugslam/property_container.h"
 #include "plugslam/solver/graph_io.h"
 #include "plugslam/trajectory.h"
-#include "temp_dir.h"
+#include "temp_dir_test.h"
 
 namespace fs = std::filesystem;
 
 namespace plugslam {
 namespace {
 
-class AtomicFile : public ::testing::Test {
+class AtomicFile : public plugslam::testing::TempDirTest {
  protected:
-  void SetUp() override {
-    tmp_.emplace("plugslam_atomic");  // a fresh folder of this test's own
-    dir_ = tmp_->path();
-  }
-  void TearDown() override { tmp_.reset(); }
-
+  AtomicFile() : TempDirTest("plugslam_atomic") {}
   std::vector<std::string> entries() const {
     std::vector<std::string> out;
     for (const auto& e : fs::directory_iterator(dir_)) out.push_back(e.path().filename());
@@ -42,10 +37,6 @@ class AtomicFile : public ::testing::Test {
     ss << in.rdbuf();
     return ss.str();
   }
-
-  std::optional<plugslam::testing::TempDir> tmp_;
-
-  fs::path dir_;
 };
 
 TEST_F(AtomicFile, WritesAndLeavesNoTempFile) {

@@ -12,8 +12,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 #include <optional>
+#include <sstream>
 
 #include "config_builder.h"
 #include "plugin_manager.h"
@@ -21,8 +21,8 @@
 #include "plugslam/eval/ate.h"
 #include "run_config.h"
 #include "runner.h"
+#include "temp_dir_test.h"
 #include "test_paths.h"
-#include "temp_dir.h"
 
 using namespace plugslam;
 using namespace plugslam::runtime;
@@ -58,15 +58,13 @@ struct VisualSession {
   }
 };
 
-class Session : public ::testing::Test {
+class Session : public plugslam::testing::TempDirTest {
  protected:
+  Session() : TempDirTest("plugslam_session") {}
   void SetUp() override {
-    tmp_.emplace("plugslam_session");  // a fresh folder of this test's own
-    dir_ = tmp_->path();
+    TempDirTest::SetUp();
     plugins_.addSearchDir(plugslam::testing::buildDir() + "/tests/plugins");
   }
-  void TearDown() override { tmp_.reset(); }
-
   std::shared_ptr<RunConfig> build(const ConfigDocument& doc) { return buildRun(doc, plugins_); }
   // Why the real-log tests cannot run: a CARMEN plugin not built (empty: they can; the plugin
   // folder is then searched).
@@ -151,10 +149,6 @@ class Session : public ::testing::Test {
     r->pipeline->restoreSession(maps.maps, maps.edges, localize);
     return r;
   }
-
-  std::optional<plugslam::testing::TempDir> tmp_;
-
-  fs::path dir_;
   PluginManager plugins_;
 };
 

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "plugslam/errors.h"
-#include "temp_dir.h"
+#include "temp_dir_test.h"
 #include "test_paths.h"
 
 namespace fs = std::filesystem;
@@ -34,17 +34,9 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-class CarmenReaderTest : public ::testing::Test {
+class CarmenReaderTest : public plugslam::testing::TempDirTest {
  protected:
-  void SetUp() override {
-    tmp_.emplace("plugslam_carmen");  // a fresh folder of this test's own
-    dir_ = tmp_->path();
-  }
-  void TearDown() override { tmp_.reset(); }
-
-  std::string write(const std::string& name, const std::string& text) {
-    return tmp_->write(name, text);  // checked
-  }
+  CarmenReaderTest() : TempDirTest("plugslam_carmen") {}
   std::string writeGz(const std::string& name, const std::string& text) {
     std::string p = (dir_ / name).string();
     gzFile f = gzopen(p.c_str(), "wb");
@@ -63,10 +55,6 @@ class CarmenReaderTest : public ::testing::Test {
     out.resize(size);
     return out;
   }
-
-  std::optional<plugslam::testing::TempDir> tmp_;
-
-  fs::path dir_;
 };
 
 // A FLASER line with n beams, ranges 1..n/100 and the given pose/time.

@@ -26,7 +26,7 @@ using plugslam::ParseError;
 using namespace plugslam::io;  // test file only
 
 #include "bag_bytes.h"
-#include "temp_dir.h"
+#include "temp_dir_test.h"
 #include "test_paths.h"
 
 namespace {
@@ -97,16 +97,9 @@ std::string bagHeader() {
 
 const char* kMagic = "#ROSBAG V2.0\n";
 
-class RosbagReaderTest : public ::testing::Test {
+class RosbagReaderTest : public plugslam::testing::TempDirTest {
  protected:
-  void SetUp() override {
-    tmp_.emplace("plugslam_rosbag");  // a fresh folder of this test's own
-    dir_ = tmp_->path();
-  }
-  void TearDown() override { tmp_.reset(); }
-  std::string write(const std::string& name, const std::string& bytes) {
-    return tmp_->write(name, bytes);  // checked
-  }
+  RosbagReaderTest() : TempDirTest("plugslam_rosbag") {}
   // A bag with /scan (conn 0) and /odom (conn 1) messages split over two chunks.
   std::string smallBag(const std::string& how) {
     std::string c1 = connection(0, "/scan", kLaserScanType, kLaserScanMd5) +
@@ -121,8 +114,6 @@ class RosbagReaderTest : public ::testing::Test {
     return kMagic + bagHeader() + chunk(c1, how) + index + chunk(c2, how) +
            connection(0, "/scan", kLaserScanType, kLaserScanMd5);
   }
-  std::optional<plugslam::testing::TempDir> tmp_;
-  fs::path dir_;
 };
 
 TEST_F(RosbagReaderTest, ReadsScansAndOdometryInEveryCompression) {
