@@ -9,6 +9,15 @@
 namespace plugslam {
 namespace odometry {
 
+Param<std::vector<double>> mountParam(Configurable* owner) {
+  return {owner,
+          "mount",
+          {},
+          "m, rad",
+          "the odometry's base frame (x forward, y left, z up) in the robot frame [x y z rx ry rz] "
+          "(rotation vector); empty = the robot frame is the base"};
+}
+
 Eigen::Isometry3d mountFromParam(const std::vector<double>& v, const std::string& param) {
   if (v.empty()) return Eigen::Isometry3d::Identity();
   if (v.size() != 6)

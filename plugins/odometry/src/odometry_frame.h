@@ -7,8 +7,14 @@
 #include <string>
 #include <vector>
 
+#include "plugslam/param.h"
+
 namespace plugslam {
 namespace odometry {
+
+/// The `mount` parameter [x y z rx ry rz] on `owner`; each 3D module declares it as
+/// `mount = mountParam(this)`, so that all of them describe the base's pose alike.
+Param<std::vector<double>> mountParam(Configurable* owner);
 
 /// The mount parameter [x y z rx ry rz] (metres, rotation vector in radians) as a pose; empty =
 /// identity. Throws ParamError naming `param` for another length or a non-finite value.

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "odometry_frame.h"
 #include "plugslam/aligner_slice.h"
 #include "plugslam/sensor_data.h"
 
@@ -125,13 +126,7 @@ class PriorSlice : public OdometryPriorSlice<Space2D> {
 /// (MotionPrior3D) with the 2D noise model on x, y and yaw and loose sigmas on z, roll, pitch.
 class PriorSlice3D : public OdometryPriorSlice<Space3D> {
  public:
-  Param<std::vector<double>> mount{
-      this,
-      "mount",
-      {},
-      "m, rad",
-      "the odometry's base frame (x forward, y left, z up) in the robot frame [x y z rx ry rz] "
-      "(rotation vector); empty = the robot frame is the base"};
+  Param<std::vector<double>> mount = mountParam(this);
   // A wheel encoder measures nothing about height, roll or pitch: the other cues fix them. They
   // are held loosely (not left free) so that the prior alone, on a frame where the camera sees
   // nothing, still gives a well-posed solve: the motion's planar part from the wheels and the

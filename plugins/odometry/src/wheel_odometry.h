@@ -6,6 +6,7 @@
 #include <optional>
 #include <vector>
 
+#include "odometry_frame.h"
 #include "plugslam/motion_model.h"
 #include "plugslam/sensor_data.h"
 
@@ -97,13 +98,7 @@ class WheelOdometry : public WheelOdometryModel<Space2D> {
 /// (the planar sigmas), which the mount's rotation leaves as it is.
 class WheelOdometry3D : public WheelOdometryModel<Space3D> {
  public:
-  Param<std::vector<double>> mount{
-      this,
-      "mount",
-      {},
-      "m, rad",
-      "the odometry's base frame (x forward, y left, z up) in the robot frame [x y z rx ry rz] "
-      "(rotation vector); empty = the robot frame is the base"};
+  Param<std::vector<double>> mount = mountParam(this);
 
   void configure() override;
 

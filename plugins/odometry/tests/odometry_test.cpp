@@ -5,6 +5,7 @@
 #include <random>
 #include <vector>
 
+#include "odometry_frames.h"
 #include "plugslam/errors.h"
 #include "plugslam/geometry.h"
 #include "plugslam/multi_aligner.h"
@@ -13,25 +14,11 @@
 #include "prior_slice.h"
 #include "wheel_odometry.h"
 
-using plugslam::AlignContext;
-using plugslam::Frame;
-using plugslam::NormalEquations;
-using plugslam::Odometry2D;
-using plugslam::PropertyContainer;
-using plugslam::se2;
-using plugslam::Space2D;
-using plugslam::odometry::PriorSlice;
-using plugslam::odometry::WheelOdometry;
+using namespace plugslam;
+using namespace plugslam::odometry;
+using namespace odometry_test;
 
 namespace {
-
-Frame odomFrame(uint64_t seq, const Eigen::Isometry2d& pose, const std::string& entry = "odom") {
-  Frame f;
-  f.seq = seq;
-  f.stamp = 0.1 * seq;
-  f.raw.set<Odometry2D>(entry, {f.stamp, pose});
-  return f;
-}
 
 void expectPose(const Eigen::Isometry2d& expected, const Eigen::Isometry2d& actual, double tol) {
   EXPECT_NEAR(expected.translation().x(), actual.translation().x(), tol);
@@ -156,10 +143,7 @@ TEST(PriorSlice, JacobianMatchesNumericalDifferentiation) {
 TEST(PriorSlice, ItsFactorPassesTheSdkJacobianCheck) {
   PriorSlice slice;
   slice.configure();
-  PropertyContainer scene;
-  AlignContext<Space2D> ctx{se2(1.0, 2.0, 2.9), se2(0, 0, 0)};
-  slice.bind(odomFrame(0, se2(0, 0, 0)), scene, ctx);
-  ASSERT_TRUE(slice.bind(odomFrame(1, se2(0.7, 0.2, 0.6)), scene, ctx));
+  bindStep(slice, se2(1.0, 2.0, 2.9), se2(0, 0, 0), se2(0.7, 0.2, 0.6));
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int trial = 0; trial < 20; ++trial) {
@@ -173,30 +157,17 @@ TEST(PriorSlice, ItsFactorPassesTheSdkJacobianCheck) {
 TEST(PriorSlice, AloneInAMultiAlignerReturnsThePriorExactly) {
   auto slice = std::make_shared<PriorSlice>();
   slice->configure();
-  plugslam::MultiAligner<Space2D> aligner;
-  aligner.slices.assign(slice);
-  aligner.min_inliers = 1;
-  PropertyContainer scene;
   const Eigen::Isometry2d odom0 = se2(5.0, -3.0, 1.2), odom1 = odom0 * se2(0.8, 0.1, -0.7);
   AlignContext<Space2D> ctx{se2(-2.0, 4.0, -2.5), se2(-1.0, 3.0, 0.5)};
-
-  auto first = aligner.align(odomFrame(0, odom0), scene, ctx);
-  EXPECT_EQ(first.factors, 0u);  // the first reading has no delta yet
-
-  auto result = aligner.align(odomFrame(1, odom1), scene, ctx);
-  const Eigen::Isometry2d z = ctx.previous * odom0.inverse() * odom1;
-  expectPose(z, result.pose, 1e-9);
-  EXPECT_TRUE(result.valid);
-  EXPECT_EQ(result.factors, 1u);
-  EXPECT_LT(result.chi2, 1e-12);
+  const auto result = alignSecondReading(slice, odom0, odom1, ctx);
+  expectPose(ctx.previous * odom0.inverse() * odom1, result.pose, 1e-9);
+  expectExactPrior(result);
   EXPECT_TRUE(result.H.isApprox(slice->information(), 1e-9));
 }
 
 TEST(PriorSlice, NoiseModelScalesWithTheMotion) {
   PriorSlice slice;
-  slice.sigma_translation_per_m = 0.1;
-  slice.sigma_rotation_per_rad = 0.2;
-  slice.sigma_rotation_per_m = 0.05;
+  setStepSigmas(slice);
   slice.min_sigma_translation = 0.01;
   slice.min_sigma_rotation = 0.004;
   slice.configure();
