@@ -5,6 +5,7 @@
 #include <random>
 
 #include "plugslam/registry.h"
+#include "plugslam/splitter.h"
 
 namespace plugslam::testing {
 
@@ -57,6 +58,34 @@ Landmarks observe(const Landmarks& world, const Eigen::Isometry2d& pose, double 
   for (size_t i = 0; i < world.size(); ++i)
     if ((world[i] - pose.translation()).norm() <= range) out[i] = pose.inverse() * world[i];
   return out;
+}
+
+std::shared_ptr<MultiTracker<Space2D>> landmarkTracker(double split_distance) {
+  registerLandmarkCue();
+  auto tracker = std::dynamic_pointer_cast<MultiTracker<Space2D>>(
+      Registry::instance().create("sdk.MultiTracker2D"));
+  tracker->aligner.assign(Registry::instance().create("sdk.MultiAligner2D"));
+  tracker->aligner->slices.assign(Registry::instance().create("lmtest.LandmarkSlice"));
+  tracker->slices.assign(Registry::instance().create("lmtest.LandmarkMapSlice"));
+  auto splitter = Registry::instance().create("sdk.DistanceSplitter");
+  dynamic_cast<DistanceSplitter&>(*splitter).distance = split_distance;
+  tracker->splitter.assign(splitter);
+  tracker->configure();
+  return tracker;
+}
+
+std::unique_ptr<Pipeline> trackingOnly(std::shared_ptr<Tracker> tracker) {
+  auto pipeline = std::make_unique<Pipeline>();
+  pipeline->tracker.assign(std::move(tracker));
+  pipeline->configure();
+  return pipeline;
+}
+
+Frame sequenceFrame(uint64_t seq) {
+  Frame f;
+  f.seq = seq;
+  f.stamp = 0.1 * static_cast<double>(seq);
+  return f;
 }
 
 }  // namespace plugslam::testing

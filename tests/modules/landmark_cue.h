@@ -3,9 +3,14 @@
 // landmarks with known identities. The measurement and the scene hold a
 // std::vector<Eigen::Vector2d> indexed by landmark id (NaN = not seen), so association is exact.
 #include <Eigen/Core>
+#include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "plugslam/aligner_slice.h"
+#include "plugslam/frame.h"
+#include "plugslam/multi_tracker.h"
+#include "plugslam/pipeline.h"
 #include "plugslam/tracker_slice.h"
 
 namespace plugslam::testing {
@@ -54,5 +59,16 @@ void registerLandmarkCue();
 
 /// Landmarks of `world` within `range` of the robot at `pose`, in the robot frame.
 Landmarks observe(const Landmarks& world, const Eigen::Isometry2d& pose, double range);
+
+/// A 2D Multi-Tracker of this cue alone, built through the registry as a config builds it, that
+/// closes its local map every `split_distance` metres.
+std::shared_ptr<MultiTracker<Space2D>> landmarkTracker(double split_distance);
+
+/// A pipeline that only tracks: it places each local map the tracker starts and composes the
+/// frames' world poses, as every run does.
+std::unique_ptr<Pipeline> trackingOnly(std::shared_ptr<Tracker> tracker);
+
+/// An empty frame `seq` of a 10 Hz sequence.
+Frame sequenceFrame(uint64_t seq);
 
 }  // namespace plugslam::testing

@@ -22,29 +22,6 @@ namespace {
 
 Landmarks grid(double step, double extent) { return jitteredGrid(step, extent, 7); }
 
-std::shared_ptr<MultiTracker<Space2D>> makeTracker(double split_distance) {
-  registerLandmarkCue();
-  auto obj = Registry::instance().create("sdk.MultiTracker2D");
-  auto tracker = std::dynamic_pointer_cast<MultiTracker<Space2D>>(obj);
-  tracker->aligner.assign(Registry::instance().create("sdk.MultiAligner2D"));
-  tracker->aligner->slices.assign(Registry::instance().create("lmtest.LandmarkSlice"));
-  tracker->slices.assign(Registry::instance().create("lmtest.LandmarkMapSlice"));
-  auto splitter = Registry::instance().create("sdk.DistanceSplitter");
-  dynamic_cast<DistanceSplitter&>(*splitter).distance = split_distance;
-  tracker->splitter.assign(splitter);
-  tracker->configure();
-  return tracker;
-}
-
-// A pipeline that only tracks: it places each local map the tracker starts and composes the
-// frames' world poses, as every run does.
-std::unique_ptr<Pipeline> trackingOnly(std::shared_ptr<Tracker> tracker) {
-  auto pipeline = std::make_unique<Pipeline>();
-  pipeline->tracker.assign(std::move(tracker));
-  pipeline->configure();
-  return pipeline;
-}
-
 }  // namespace
 
 TEST(MultiAligner, RecoversAKnownOffsetWithOneSlice) {
@@ -200,7 +177,7 @@ TEST(MultiAligner, NoSliceOrNoDataIsInvalidNotACrash) {
 }
 
 TEST(MultiTracker, TracksACircleAndSplitsLocalMaps) {
-  auto tracker = makeTracker(1.0);
+  auto tracker = landmarkTracker(1.0);
   auto pipeline = trackingOnly(tracker);
   const Landmarks world = grid(1.5, 12.0);
   std::vector<Eigen::Isometry2d> truth;
@@ -210,9 +187,7 @@ TEST(MultiTracker, TracksACircleAndSplitsLocalMaps) {
   }
   double worst = 0;
   for (size_t i = 0; i < truth.size(); ++i) {
-    Frame f;
-    f.seq = i;
-    f.stamp = 0.1 * i;
+    Frame f = sequenceFrame(i);
     // Observations in the robot frame; the world frame of the estimate is the first pose's.
     f.measurement.set<Landmarks>("landmarks", observe(world, truth[i], 6.0));
     pipeline->process(f);
@@ -238,14 +213,12 @@ TEST(MultiTracker, TracksACircleAndSplitsLocalMaps) {
 TEST(MultiTracker, ReportsTheMapsItStartsAndCloses) {
   // A split every metre at 0.1 m per frame: every 10th frame closes the map and starts the next;
   // a reset closes the map at once and the next frame starts a new chain.
-  auto tracker = makeTracker(1.0);
+  auto tracker = landmarkTracker(1.0);
   const Landmarks world = grid(1.5, 12.0);
   std::vector<std::shared_ptr<LocalMap>> started, closed;
   for (int i = 0; i < 40; ++i) {
     if (i == 25) tracker->reset();
-    Frame f;
-    f.seq = i;
-    f.stamp = 0.1 * i;
+    Frame f = sequenceFrame(i);
     f.measurement.set<Landmarks>("landmarks", observe(world, se2(0.1 * i, 0, 0), 6.0));
     const TrackEvents events = tracker->track(f);
     if (events.started) {
@@ -270,13 +243,11 @@ TEST(MultiTracker, ReportsTheMapsItStartsAndCloses) {
 }
 
 TEST(MultiTracker, AFrameWithoutDataStartsANewMapAndTrackingGoesOn) {
-  auto tracker = makeTracker(100.0);
+  auto tracker = landmarkTracker(100.0);
   auto pipeline = trackingOnly(tracker);
   const Landmarks world = grid(1.5, 12.0);
   for (int i = 0; i < 30; ++i) {
-    Frame f;
-    f.seq = i;
-    f.stamp = 0.1 * i;
+    Frame f = sequenceFrame(i);
     const Eigen::Isometry2d pose = se2(0.1 * i, 0, 0);
     if (i != 15) f.measurement.set<Landmarks>("landmarks", observe(world, pose, 6.0));
     pipeline->process(f);
@@ -293,14 +264,12 @@ TEST(MultiTracker, AFrameWithoutDataStartsANewMapAndTrackingGoesOn) {
 TEST(MultiTracker, EstimatesSayWhetherTheMapIsFrozenAndWhetherTheFrameWasLost) {
   const Landmarks world = grid(1.5, 12.0);
   auto frameAt = [&](int i, bool with_data) {
-    Frame f;
-    f.seq = i;
-    f.stamp = 0.1 * i;
+    Frame f = sequenceFrame(i);
     if (with_data)
       f.measurement.set<Landmarks>("landmarks", observe(world, se2(0.1 * i, 0, 0), 6.0));
     return f;
   };
-  auto mapper = makeTracker(1.0);
+  auto mapper = landmarkTracker(1.0);
   auto mapping = trackingOnly(mapper);
   for (int i = 0; i < 30; ++i) {
     Frame f = frameAt(i, i != 15);
@@ -313,7 +282,7 @@ TEST(MultiTracker, EstimatesSayWhetherTheMapIsFrozenAndWhetherTheFrameWasLost) {
   // tracker's localizer.
   std::vector<std::shared_ptr<LocalMap>> maps;
   for (const auto& m : mapping->result().local_maps) maps.push_back(std::make_shared<LocalMap>(*m));
-  auto localizing = trackingOnly(makeTracker(1.0));
+  auto localizing = trackingOnly(landmarkTracker(1.0));
   localizing->restoreSession(maps, {}, true);
   ASSERT_TRUE(dynamic_cast<Localizer<Space2D>*>(localizing->tracker.get()));
   const Tracker& localizer = *localizing->tracker;
@@ -363,13 +332,13 @@ void expectSlicesRequired() {
 TEST(MultiTracker, ATrackerWithoutAlignerSlicesIsAConfigurationError) {
   expectSlicesRequired<Space2D>();
   expectSlicesRequired<Space3D>();
-  auto tracker = makeTracker(1.0);
+  auto tracker = landmarkTracker(1.0);
   tracker->slices.clear();
   EXPECT_EQ(configureError(*tracker), "");
 }
 
 TEST(MultiTracker, FallbackSigmaIsValidated) {
-  auto tracker = makeTracker(1.0);
+  auto tracker = landmarkTracker(1.0);
   tracker->fallback_sigma = std::vector<double>{0.1, 0.1};
   EXPECT_THROW(tracker->configure(), ParamError);
 }
@@ -403,9 +372,7 @@ std::vector<Eigen::Isometry2d> driveWithABadPrediction(
   const Landmarks world = grid(1.5, 12.0);
   std::vector<Eigen::Isometry2d> out;
   for (int i = 0; i < 30; ++i) {
-    Frame f;
-    f.seq = i;
-    f.stamp = 0.1 * i;
+    Frame f = sequenceFrame(i);
     f.measurement.set<Landmarks>("landmarks", observe(world, se2(0.1 * i, 0, 0), 6.0));
     pipeline->process(f);
     out.push_back(Space2D::from3D(f.estimate.world));
@@ -426,7 +393,7 @@ std::vector<Eigen::Isometry2d> driveWithABadPrediction(
 TEST(MultiTracker, TheAlignmentCorrectsAPredictionItsCovarianceCallsUncertain) {
   // The (exact) landmark alignment corrects the bad prediction: the prior, a factor with the
   // prediction's 1 m covariance, barely pulls it; the frame without a prediction passes.
-  auto tracker = makeTracker(100.0);
+  auto tracker = landmarkTracker(100.0);
   auto estimates = driveWithABadPrediction(tracker);
   EXPECT_EQ(tracker->stats().failed, 0u);
   EXPECT_NEAR(estimates[15].translation().x(), 1.5, 1e-3);
@@ -436,7 +403,7 @@ TEST(MultiTracker, TheAlignmentCorrectsAPredictionItsCovarianceCallsUncertain) {
 // Item 18.6: a frame that failed to align must not enter the map it failed against (its data
 // would sit there at the unverified predicted pose); it seeds the next map instead.
 TEST(MultiTracker, AFrameThatFailedToAlignLeavesTheOldMapUnchanged) {
-  auto tracker = makeTracker(100.0);
+  auto tracker = landmarkTracker(100.0);
   auto motion = std::make_shared<ScriptedMotion>();
   // 0.1 m per frame; frame 15 sees too few of the map's landmarks to align (below), so it
   // fails and keeps the prediction.
@@ -446,9 +413,7 @@ TEST(MultiTracker, AFrameThatFailedToAlignLeavesTheOldMapUnchanged) {
   std::shared_ptr<LocalMap> first;
   Landmarks before;  // the first map's landmarks after frame 14
   for (int i = 0; i < 20; ++i) {
-    Frame f;
-    f.seq = i;
-    f.stamp = 0.1 * i;
+    Frame f = sequenceFrame(i);
     Landmarks seen = observe(world, se2(0.1 * i, 0, 0), 6.0);
     // Frame 15 sees only three of them, too few to align, and a landmark no other frame sees,
     // so merging it would change the old map.

@@ -16,27 +16,6 @@ namespace {
 
 Landmarks grid(double step, double extent) { return jitteredGrid(step, extent, 11); }
 
-std::shared_ptr<MultiTracker<Space2D>> makeTracker() {
-  registerLandmarkCue();
-  auto tracker = std::dynamic_pointer_cast<MultiTracker<Space2D>>(
-      Registry::instance().create("sdk.MultiTracker2D"));
-  tracker->aligner.assign(Registry::instance().create("sdk.MultiAligner2D"));
-  tracker->aligner->slices.assign(Registry::instance().create("lmtest.LandmarkSlice"));
-  tracker->slices.assign(Registry::instance().create("lmtest.LandmarkMapSlice"));
-  auto splitter = Registry::instance().create("sdk.DistanceSplitter");
-  dynamic_cast<DistanceSplitter&>(*splitter).distance = 100.0;
-  tracker->splitter.assign(splitter);
-  tracker->configure();
-  return tracker;
-}
-
-// A pipeline that only tracks: it places the local maps and composes the world pose.
-std::unique_ptr<Pipeline> trackingOnly(const std::shared_ptr<Tracker>& tracker) {
-  auto pipeline = std::make_unique<Pipeline>();
-  pipeline->tracker.assign(tracker);
-  return pipeline;
-}
-
 Eigen::Isometry2d se2(double x, double y, double a) {
   Eigen::Isometry2d t = Eigen::Isometry2d::Identity();
   t.translation() << x, y;
@@ -57,7 +36,7 @@ Landmarks onlyOne(Landmarks seen) {
 }
 
 TEST(TrackerRobustness, UnsolvableFrameIsCountedAndStartsANewLocalMap) {
-  auto tracker = makeTracker();
+  auto tracker = landmarkTracker(100.0);
   auto pipeline = trackingOnly(tracker);
   const Landmarks world = grid(1.5, 12.0);
   // After the failure the new local map is anchored at the motion prediction, so the world
@@ -66,9 +45,7 @@ TEST(TrackerRobustness, UnsolvableFrameIsCountedAndStartsANewLocalMap) {
   Eigen::Isometry3d previous_estimate = Eigen::Isometry3d::Identity();
   Eigen::Isometry2d previous_pose = Eigen::Isometry2d::Identity();
   for (int i = 0; i < 40; ++i) {
-    Frame f;
-    f.seq = i;
-    f.stamp = 0.1 * i;
+    Frame f = sequenceFrame(i);
     const Eigen::Isometry2d pose = se2(0.1 * i, 0.02 * i, 0.01 * i);
     Landmarks seen = observe(world, pose, 6.0);
     f.measurement.set<Landmarks>("landmarks", i == 20 ? onlyOne(seen) : seen);
@@ -95,15 +72,12 @@ TEST(TrackerRobustness, UnsolvableFrameIsCountedAndStartsANewLocalMap) {
 }
 
 TEST(TrackerRobustness, OverflowingMeasurementsNeverReachTheEstimate) {
-  auto tracker = makeTracker();
+  auto tracker = landmarkTracker(100.0);
   auto pipeline = trackingOnly(tracker);
   const Landmarks world = grid(1.5, 12.0);
   for (int i = 0; i < 30; ++i) {
-    Frame f;
-    f.seq = i;
-    f.stamp = 0.1 * i;
-    const Eigen::Isometry2d pose = se2(0.1 * i, 0, 0);
-    Landmarks seen = observe(world, pose, 6.0);
+    Frame f = sequenceFrame(i);
+    Landmarks seen = observe(world, se2(0.1 * i, 0, 0), 6.0);
     // Finite but absurd: squared residuals overflow to inf inside the normal equations.
     if (i == 10)
       for (auto& p : seen)
