@@ -63,13 +63,17 @@ TEST(PointMapSlice, PointsAreMergedAtTheRobotPose) {
 TEST(PointMapSlice, ClippingDropsPointsFarFromTheRobot) {
   // A long corridor walked along x: with clipping the map keeps only the stretch near the robot.
   const auto world = test::corridor(-5.0, 60.0, 1.5);
+  // One scan every metre from x = 0 to 50, merged into `map`.
+  const auto walk = [&](PointMapSlice& s, PropertyContainer& map) {
+    for (int k = 0; k <= 50; ++k) {
+      const SE2 pose = se2(k, 0.0, 0.0);
+      s.merge(frameAt(world, pose, k + 1), map, pose);
+    }
+  };
   PointMapSlice slice;
   slice.clip_radius = 8.0;
   PropertyContainer scene;
-  for (int k = 0; k <= 50; ++k) {
-    const SE2 pose = se2(k, 0.0, 0.0);
-    slice.merge(frameAt(world, pose, k + 1), scene, pose);
-  }
+  walk(slice, scene);
   const auto& map = scene.get<PointCloud2D>("front");
   ASSERT_GT(map.size(), 100u);
   for (const auto& p : map.points) EXPECT_LE((p - Eigen::Vector2d(50, 0)).norm(), 8.0 + 1e-9);
@@ -77,10 +81,7 @@ TEST(PointMapSlice, ClippingDropsPointsFarFromTheRobot) {
   PointMapSlice keep;
   keep.clip_radius = 0.0;
   PropertyContainer all;
-  for (int k = 0; k <= 50; ++k) {
-    const SE2 pose = se2(k, 0.0, 0.0);
-    keep.merge(frameAt(world, pose, k + 1), all, pose);
-  }
+  walk(keep, all);
   EXPECT_GT(all.get<PointCloud2D>("front").size(), 3 * map.size());
 }
 

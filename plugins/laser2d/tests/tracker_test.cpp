@@ -96,6 +96,22 @@ std::pair<double, double> trackLap(
   return {worst, worst_angle};
 }
 
+// Prints the tracker's figures after a lap, then checks that no frame failed and that the worst
+// error stays within the exact-odometry lap's bounds (its worst error is ~1 cm, 0.3 deg).
+void expectLapTracked(const MultiTracker<Space2D>& tracker, const char* label, double worst,
+                      double worst_angle) {
+  const auto& st = tracker.stats();
+  std::printf(
+      "%s: %lu aligned, %lu failed, %lu searched, %lu ambiguous, %lu local maps, "
+      "worst %.4f m, %.3f deg\n",
+      label, static_cast<unsigned long>(st.aligned), static_cast<unsigned long>(st.failed),
+      static_cast<unsigned long>(st.searched), static_cast<unsigned long>(st.ambiguous),
+      static_cast<unsigned long>(st.local_maps), worst, worst_angle * 180 / M_PI);
+  EXPECT_EQ(st.failed, 0u) << label;
+  EXPECT_LT(worst, 0.05) << label;
+  EXPECT_LT(worst_angle, 0.75 * M_PI / 180) << label;
+}
+
 TEST(MultiTracker2D, RecoversASyntheticTrajectory) {
   for (const char* association : {"kdtree", "projective"}) {
     MultiTracker<Space2D> tracker;
@@ -113,13 +129,7 @@ TEST(MultiTracker2D, RecoversASyntheticTrajectory) {
     const auto [worst, worst_angle] = trackLap(tracker, [](size_t, const Eigen::Vector3d& d) {
       return se2(1.02 * d.x(), 1.02 * d.y(), d.z() + 0.002);
     });
-    std::printf("%s: %zu frames, worst error %.4f m, %.3f deg; %lu aligned, %lu local maps\n",
-                association, lap().size(), worst, worst_angle * 180 / M_PI,
-                static_cast<unsigned long>(tracker.stats().aligned),
-                static_cast<unsigned long>(tracker.stats().local_maps));
-    EXPECT_EQ(tracker.stats().failed, 0u) << association;
-    EXPECT_LT(worst, 0.05) << association;
-    EXPECT_LT(worst_angle, 0.75 * M_PI / 180) << association;
+    expectLapTracked(tracker, association, worst, worst_angle);
     EXPECT_GT(tracker.stats().local_maps, 5u);
   }
 }
@@ -140,14 +150,16 @@ std::pair<double, double> lapWithOnePoorPrediction(MultiTracker<Space2D>& tracke
       });
 }
 
-void build(MultiTracker<Space2D>& tracker) {
+// A laser tracker with the odometry increments as motion model or, without `odometry`, the
+// constant-velocity prediction.
+void build(MultiTracker<Space2D>& tracker, bool odometry = true) {
   auto aligner = std::make_shared<MultiAligner<Space2D>>();
   aligner->slices.assign(std::make_shared<PointToLineSlice>());
   aligner->configure();
   tracker.aligner.assign(aligner);
   tracker.slices.assign(std::make_shared<PointMapSlice>());
   tracker.splitter.assign(std::make_shared<DistanceSplitter>());
-  tracker.motion.assign(std::make_shared<OdometryIncrement>());
+  if (odometry) tracker.motion.assign(std::make_shared<OdometryIncrement>());
   tracker.configure();
 }
 
@@ -159,14 +171,7 @@ TEST(MultiTracker2D, RecoversFromAPredictionOffByOneMetreAndThirtyDegrees) {
   build(tracker);
   const auto [worst, worst_angle] =
       lapWithOnePoorPrediction(tracker, 40, Eigen::Vector2d(0.5, 0.3));
-  std::printf("covered: %lu failed, %lu searched, worst %.4f m, %.3f deg\n",
-              static_cast<unsigned long>(tracker.stats().failed),
-              static_cast<unsigned long>(tracker.stats().searched), worst,
-              worst_angle * 180 / M_PI);
-  EXPECT_EQ(tracker.stats().failed, 0u);
-  // Same bounds as the exact-odometry lap above (its worst error is ~1 cm, 0.3 deg).
-  EXPECT_LT(worst, 0.05);
-  EXPECT_LT(worst_angle, 0.75 * M_PI / 180);
+  expectLapTracked(tracker, "covered", worst, worst_angle);
 
   // When the model claims 5 cm and 0.05 rad, the error is far outside what it allows: the frame
   // may fail, but it must not be taken silently at a wrong pose.
@@ -207,23 +212,10 @@ std::vector<SE2> stopAndGo() {
 
 TEST(MultiTracker2D, LaserOnlyTheConstantVelocityWindowCoversStopsAndTurns) {
   MultiTracker<Space2D> tracker;
-  auto aligner = std::make_shared<MultiAligner<Space2D>>();
-  aligner->slices.assign(std::make_shared<PointToLineSlice>());
-  aligner->configure();
-  tracker.aligner.assign(aligner);
-  tracker.slices.assign(std::make_shared<PointMapSlice>());
-  tracker.splitter.assign(std::make_shared<DistanceSplitter>());
-  tracker.configure();  // no motion model: constant velocity
+  build(tracker, false);
   const auto unused = [](size_t, const Eigen::Vector3d& d) { return se2(d.x(), d.y(), d.z()); };
   const auto [worst, worst_angle] = trackLap(tracker, unused, stopAndGo(), 1.0);
-  std::printf("laser only: %lu failed, %lu searched, %lu ambiguous, worst %.4f m, %.3f deg\n",
-              static_cast<unsigned long>(tracker.stats().failed),
-              static_cast<unsigned long>(tracker.stats().searched),
-              static_cast<unsigned long>(tracker.stats().ambiguous), worst,
-              worst_angle * 180 / M_PI);
-  EXPECT_EQ(tracker.stats().failed, 0u);
-  EXPECT_LT(worst, 0.05);
-  EXPECT_LT(worst_angle, 0.75 * M_PI / 180);
+  expectLapTracked(tracker, "laser only", worst, worst_angle);
 }
 
 // A corridor whose ends the scan does not see: every pose along its axis fits the walls alike.
