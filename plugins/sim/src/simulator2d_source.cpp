@@ -50,12 +50,7 @@ void Simulator2DSource::configure() {
   }
   if (odometry() == ground_truth()) throw ParamError("odometry", "must differ from ground_truth");
 
-  const double k = odometry_noise();
-  config.odometry.left_scale_error *= k;
-  config.odometry.right_scale_error *= k;
-  config.odometry.wheel_base_error *= k;
-  config.odometry.slip_per_distance *= k;
-  config.odometry.slip_per_rotation *= k;
+  config.odometry = config.odometry.scaled(odometry_noise());
 
   if (!world().empty()) {
     if (world_origin().size() != 2) throw ParamError("world_origin", "expected [x, y]");

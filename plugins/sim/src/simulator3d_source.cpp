@@ -47,12 +47,7 @@ void Simulator3DSource::configure() {
     // Odometry integrates over the whole drive, so it is computed once here (it costs nothing
     // next to rendering) and frame k stays the same whatever order frames are asked in.
     sim3d::WheelOdometryOptions w;
-    const double k = odometry_noise();
-    w.noise.left_scale_error *= k;
-    w.noise.right_scale_error *= k;
-    w.noise.wheel_base_error *= k;
-    w.noise.slip_per_distance *= k;
-    w.noise.slip_per_rotation *= k;
+    w.noise = w.noise.scaled(odometry_noise());
     w.wheel_base = wheel_base();
     w.camera_height = sim3d::kCameraHeight;
     w.seed = o.seed;

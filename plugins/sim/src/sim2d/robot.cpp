@@ -94,6 +94,11 @@ Eigen::Vector2d PurePursuit::command(const Eigen::Vector3d& pose, double dt) {
   return velocity_;
 }
 
+OdometryNoise OdometryNoise::scaled(double k) const {
+  return {left_scale_error * k, right_scale_error * k, wheel_base_error * k, slip_per_distance * k,
+          slip_per_rotation * k};
+}
+
 WheelOdometry::WheelOdometry(const Eigen::Vector3d& start, double wheel_base,
                              const OdometryNoise& noise, uint64_t seed)
     : pose_(start), wheel_base_(wheel_base), noise_(noise), rng_(seed, 1) {}

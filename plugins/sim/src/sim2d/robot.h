@@ -66,6 +66,8 @@ struct OdometryNoise {
 
   /// No error at all: odometry equals ground truth.
   static OdometryNoise none() { return {0.0, 0.0, 0.0, 0.0, 0.0}; }
+  /// Every error times `k`: the simulators' `odometry_noise` scales this preset.
+  OdometryNoise scaled(double k) const;
 };
 
 /// Integrates noisy wheel encoder readings into an odometry pose, as a robot's base does.

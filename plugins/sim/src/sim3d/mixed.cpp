@@ -72,11 +72,7 @@ MixedSimulator::MixedSimulator(const MixedOptions& o)
   c.planner.min_clearance = 0.4;
   c.planner.preferred_clearance = 0.8;
   c.lasers = {};
-  c.odometry.left_scale_error *= o.odometry_noise;
-  c.odometry.right_scale_error *= o.odometry_noise;
-  c.odometry.wheel_base_error *= o.odometry_noise;
-  c.odometry.slip_per_distance *= o.odometry_noise;
-  c.odometry.slip_per_rotation *= o.odometry_noise;
+  c.odometry = c.odometry.scaled(o.odometry_noise);
   c.seed = o.seed;
   sim2d_ = std::make_unique<sim2d::Simulator>(std::move(c));
   options_.depth_noise.validate();
