@@ -6,14 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "config_builder.h"
-#include "plugin_manager.h"
+#include "host_run.h"
 #include "plugslam/eval/ate.h"
 #include "plugslam/trajectory.h"
-#include "run_config.h"
-#include "runner.h"
 #include "temp_dir.h"
-#include "test_paths.h"
 
 using namespace plugslam;
 
@@ -27,16 +23,11 @@ struct Outcome {
 // Runs configs/<config> on the street's first `frames` frames, like `plugslam run` does.
 Outcome run(const std::string& config, int frames) {
   plugslam::testing::TempDir out("plugslam-odom3d-");
-  runtime::ConfigDocument doc =
-      runtime::loadConfigFile(plugslam::testing::sourceDir() + "/configs/" + config);
-  runtime::applyOverride(doc, "max_frames=" + std::to_string(frames));
-  runtime::applyOverride(doc, "pipeline.graph.deterministic=true");
-  runtime::PluginManager plugins;
-  auto cfg = runtime::buildRun(doc, plugins);
-  runtime::RunOptions options;
-  options.out_dir = out.path().string();
   Outcome o;
-  o.report = runtime::runPipeline(*cfg, options);
+  o.report = plugslam::testing::runDocument(
+      plugslam::testing::shippedConfig(
+          config, {"max_frames=" + std::to_string(frames), "pipeline.graph.deterministic=true"}),
+      out.path().string());
   o.ate = computeAte(readTumTrajectory((out.path() / "reference.tum").string()),
                      readTumTrajectory((out.path() / "trajectory.tum").string()))
               .translation.rmse;

@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "config_builder.h"
 #include "depth_check.h"
+#include "host_run.h"
 #include "plugin_manager.h"
 #include "plugslam/eval/ate.h"
 #include "plugslam/eval/rpe.h"
@@ -36,15 +36,9 @@ struct Outcome {
 // Runs configs/<config> with the --set assignments, like `plugslam run` does.
 Outcome run(const std::string& config, const std::vector<std::string>& sets) {
   TempDir out;
-  runtime::ConfigDocument doc =
-      runtime::loadConfigFile(plugslam::testing::sourceDir() + "/configs/" + config);
-  for (const auto& s : sets) runtime::applyOverride(doc, s);
-  runtime::PluginManager plugins;
-  auto cfg = runtime::buildRun(doc, plugins);
-  runtime::RunOptions options;
-  options.out_dir = out.path().string();
   Outcome o;
-  o.report = runtime::runPipeline(*cfg, options);
+  o.report = plugslam::testing::runDocument(plugslam::testing::shippedConfig(config, sets),
+                                            out.path().string());
   o.estimate = readTumTrajectory((out.path() / "trajectory.tum").string());
   o.reference = readTumTrajectory((out.path() / "reference.tum").string());
   return o;
@@ -81,9 +75,8 @@ TEST(RgbdRealData, Icl5FramesAgainstTheirDepth) {
   ASSERT_EQ(o.estimate.size(), 5u);
   EXPECT_EQ(o.report.tracking_failures, 0u);
 
-  runtime::ConfigDocument doc =
-      runtime::loadConfigFile(plugslam::testing::sourceDir() + "/configs/rgbd_icl.yaml");
-  runtime::applyOverride(doc, "source.path=" + folder);
+  const runtime::ConfigDocument doc =
+      plugslam::testing::shippedConfig("rgbd_icl.yaml", {"source.path=" + folder});
   runtime::PluginManager plugins;
   auto built = runtime::buildRun(doc, plugins);
   const rgbd::DepthCheck check = rgbd::checkDepth(
@@ -123,10 +116,9 @@ TEST(RgbdRealData, SevenScenes300Frames) {
 // does not write fails when the run is built, naming the name, not at every frame.
 TEST(RgbdConfigs, MisnamedRawEntryIsReportedBeforeTheRun) {
   SKIP_WITHOUT("rgbd/7scenes-300frames-tsdf-fusion");
-  runtime::ConfigDocument doc =
-      runtime::loadConfigFile(plugslam::testing::sourceDir() + "/configs/rgbd_7scenes.yaml");
-  runtime::applyOverride(doc, "source.path=" + data("rgbd/7scenes-300frames-tsdf-fusion"));
-  runtime::applyOverride(doc, "pipeline.preprocessors[0].rgb=colour");
+  const runtime::ConfigDocument doc = plugslam::testing::shippedConfig(
+      "rgbd_7scenes.yaml", {"source.path=" + data("rgbd/7scenes-300frames-tsdf-fusion"),
+                            "pipeline.preprocessors[0].rgb=colour"});
   runtime::PluginManager plugins;
   std::string message = "no error";
   try {

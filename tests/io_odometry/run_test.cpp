@@ -5,9 +5,12 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "config_builder.h"
+#include "host_run.h"
 #include "plugin_manager.h"
 #include "plugslam/aligner_slice.h"
 #include "plugslam/geometry.h"
@@ -26,22 +29,16 @@ using namespace plugslam;
 
 namespace {
 
-// `head` (plugins and source) followed by a pipeline of wheel odometry alone, its local maps
-// `split_distance` [m] long, writing traj.tum.
+// `head` (plugins and source) followed by a pipeline of wheel odometry alone
+// (tests/support/odometry_only.yaml), its local maps `split_distance` [m] long, writing traj.tum.
 std::string odometryOnly(const std::string& head, const std::string& split_distance) {
-  return head + R"(pipeline:
-  tracker:
-    type: sdk.MultiTracker2D
-    motion: {type: odometry.WheelOdometry}
-    aligner:
-      min_inliers: 1
-      slices:
-        - {type: odometry.PriorSlice}
-    splitter: {type: sdk.DistanceSplitter, distance: )" +
-         split_distance + R"(, angle: 0.5}
-outputs:
-  - {type: io.TrajectoryWriter, file: traj.tum, format: tum}
-)";
+  std::ifstream in(plugslam::testing::sourceDir() + "/tests/support/odometry_only.yaml");
+  std::stringstream pipeline;
+  pipeline << in.rdbuf();
+  std::string text = pipeline.str();
+  const std::string split = "distance: 1.0";
+  text.replace(text.find(split), split.size(), "distance: " + split_distance);
+  return head + text + "outputs:\n  - {type: io.TrajectoryWriter, file: traj.tum, format: tum}\n";
 }
 
 std::string runText(const std::string& noise) {
@@ -79,11 +76,9 @@ TEST(IoOdometryPlugins, RegisterTheirTypes) {
 TEST(IoOdometryPlugins, OdometryOnlyRunFollowsGroundTruth) {
   const plugslam::testing::TempDir tmp("plugslam_ioodom");
   const fs::path out = tmp.path() / "out";
-  runtime::PluginManager plugins;
-  auto run = runtime::buildRun(runtime::loadConfigText(runText("0.0"), "run.yaml"), plugins);
-  runtime::RunOptions options;
-  options.out_dir = out.string();
-  const auto report = runtime::runPipeline(*run, options);
+  runtime::PluginManager plugins;  // keeps sim loaded for the ground truth below
+  const auto report = plugslam::testing::runDocument(
+      runtime::loadConfigText(runText("0.0"), "run.yaml"), out.string(), &plugins);
   ASSERT_GT(report.frames, 100u);
   const Trajectory traj = readTumTrajectory((out / "traj.tum").string());
   ASSERT_EQ(traj.size(), report.frames);
@@ -127,11 +122,8 @@ TEST(IoOdometryPlugins, CarmenRunKeepsTheLogsStamps) {
       odometryOnly("plugins: [io, odometry]\nsource: {type: io.CarmenSource, path: LOG}\n", "1.5");
   text.replace(text.find("LOG"), 3, log);
   const fs::path out = tmp.path() / "out";
-  runtime::PluginManager plugins;
-  auto run = runtime::buildRun(runtime::loadConfigText(text, "run.yaml"), plugins);
-  runtime::RunOptions options;
-  options.out_dir = out.string();
-  const auto report = runtime::runPipeline(*run, options);
+  const auto report =
+      plugslam::testing::runDocument(runtime::loadConfigText(text, "run.yaml"), out.string());
   ASSERT_EQ(report.frames, 5u);
   EXPECT_FALSE(fs::exists(out / "reference.tum")) << "a raw log's poses are no reference";
   const Trajectory traj = readTumTrajectory((out / "traj.tum").string());
