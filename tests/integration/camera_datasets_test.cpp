@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -120,6 +121,22 @@ std::vector<double> firstColumn(const fs::path& file, double scale = 1.0) {
   return out;
 }
 
+// Runs `source` on a mirror `name` (in `tmp`) of the data folder `folder` that `damage` changed,
+// and expects plugslam to refuse it as bad input (exit 2) naming each of `names`; returns the
+// mirror, for a test that runs it again.
+fs::path expectDamagedCopyRefused(const TempDir& tmp, const std::string& folder,
+                                  const std::string& name, const std::string& source,
+                                  const std::function<void(const fs::path& copy)>& damage,
+                                  const std::vector<std::string>& names) {
+  const fs::path copy = tmp.path() / name;
+  mirror(data(folder), copy);
+  damage(copy);
+  const CliRun r = plugslam(tmp, source, {"source.path=" + copy.string()});
+  EXPECT_EQ(r.code, 2) << r.out;
+  for (const auto& n : names) EXPECT_TRUE(contains(r.out, n)) << n << "\n" << r.out;
+  return copy;
+}
+
 // The stamps of OUT/reference.tum equal `stamps` (to the 1 ns the TUM writer prints).
 void expectStamps(const Trajectory& reference, const std::vector<double>& stamps) {
   ASSERT_EQ(reference.size(), stamps.size());
@@ -166,13 +183,13 @@ TEST(CameraDatasets, KittiCutIsIndexedByTheImageNumber) {
 TEST(CameraDatasets, KittiTruncatedImageNamesFileAndFrameOrIsSkipped) {
   SKIP_WITHOUT(kKittiData);
   TempDir tmp;
-  const fs::path copy = tmp.path() / "00";
-  mirror(data(kKittiData), copy);
-  replace(copy / "image_1/000003.png", truncated(data(kKittiData) + "/image_1/000003.png", 4000));
-  const CliRun strict = plugslam(tmp, kKitti, {"source.path=" + copy.string()});
-  EXPECT_EQ(strict.code, 2) << strict.out;
-  EXPECT_TRUE(contains(strict.out, "frame 3 of 5")) << strict.out;
-  EXPECT_TRUE(contains(strict.out, "image_1/000003.png")) << strict.out;
+  const fs::path copy =
+      expectDamagedCopyRefused(tmp, kKittiData, "00", kKitti,
+                               [&](const fs::path& copy) {
+                                 replace(copy / "image_1/000003.png",
+                                         truncated(data(kKittiData) + "/image_1/000003.png", 4000));
+                               },
+                               {"frame 3 of 5", "image_1/000003.png"});
 
   TempDir tmp2;
   const CliRun skip =
@@ -188,25 +205,20 @@ TEST(CameraDatasets, KittiTruncatedImageNamesFileAndFrameOrIsSkipped) {
 TEST(CameraDatasets, KittiMissingImageNamesFileAndFrame) {
   SKIP_WITHOUT(kKittiData);
   TempDir tmp;
-  const fs::path copy = tmp.path() / "00";
-  mirror(data(kKittiData), copy);
-  fs::remove(copy / "image_1/000002.png");
-  const CliRun r = plugslam(tmp, kKitti, {"source.path=" + copy.string()});
-  EXPECT_EQ(r.code, 2) << r.out;
-  EXPECT_TRUE(contains(r.out, "frame 2 of 5")) << r.out;
-  EXPECT_TRUE(contains(r.out, "image_1/000002.png")) << r.out;
+  expectDamagedCopyRefused(tmp, kKittiData, "00", kKitti,
+                           [&](const fs::path& copy) { fs::remove(copy / "image_1/000002.png"); },
+                           {"frame 2 of 5", "image_1/000002.png"});
 }
 
 TEST(CameraDatasets, KittiCalibrationWithoutP1NamesFileAndKey) {
   SKIP_WITHOUT(kKittiData);
   TempDir tmp;
-  const fs::path copy = tmp.path() / "00";
-  mirror(data(kKittiData), copy);
-  replace(copy / "calib.txt", withoutLines(data(kKittiData) + "/calib.txt", "P1:"));
-  const CliRun r = plugslam(tmp, kKitti, {"source.path=" + copy.string()});
-  EXPECT_EQ(r.code, 2) << r.out;
-  EXPECT_TRUE(contains(r.out, "calib.txt")) << r.out;
-  EXPECT_TRUE(contains(r.out, "P1")) << r.out;
+  expectDamagedCopyRefused(tmp, kKittiData, "00", kKitti,
+                           [&](const fs::path& copy) {
+                             replace(copy / "calib.txt",
+                                     withoutLines(data(kKittiData) + "/calib.txt", "P1:"));
+                           },
+                           {"calib.txt", "P1"});
 }
 
 // ---- KITTI raw -----------------------------------------------------------------------------
@@ -267,21 +279,18 @@ TEST(CameraDatasets, EurocReadsEveryPairWithTheGroundTruthRows) {
 TEST(CameraDatasets, EurocSensorYamlWithoutIntrinsicsNamesFileAndKey) {
   SKIP_WITHOUT(kEurocData);
   TempDir tmp;
-  const fs::path copy = tmp.path() / "V101";
-  mirror(data(kEurocData), copy);
-  replace(copy / "mav0/cam1/sensor.yaml",
-          withoutLines(data(kEurocData) + "/mav0/cam1/sensor.yaml", "intrinsics:"));
-  const CliRun r = plugslam(tmp, "{type: io.EurocSource, path: unset}", {"source.path=" + copy.string()});
-  EXPECT_EQ(r.code, 2) << r.out;
-  EXPECT_TRUE(contains(r.out, "cam1/sensor.yaml")) << r.out;
-  EXPECT_TRUE(contains(r.out, "intrinsics")) << r.out;
+  expectDamagedCopyRefused(
+      tmp, kEurocData, "V101", "{type: io.EurocSource, path: unset}",
+      [&](const fs::path& copy) {
+        replace(copy / "mav0/cam1/sensor.yaml",
+                withoutLines(data(kEurocData) + "/mav0/cam1/sensor.yaml", "intrinsics:"));
+      },
+      {"cam1/sensor.yaml", "intrinsics"});
 }
 
 TEST(CameraDatasets, EurocCorruptImageNamesFileAndFrame) {
   SKIP_WITHOUT(kEurocData);
   TempDir tmp;
-  const fs::path copy = tmp.path() / "V101";
-  mirror(data(kEurocData), copy);
   // Frame 40's left image (data.csv row 40; stamps have 19 digits: read the name as text):
   // its bytes past the header overwritten (a flipped disk block).
   std::istringstream csv(slurp(data(kEurocData) + "/mav0/cam0/data.csv"));
@@ -294,11 +303,10 @@ TEST(CameraDatasets, EurocCorruptImageNamesFileAndFrame) {
   ASSERT_TRUE(fs::exists(real)) << real;
   std::string bytes = slurp(real);
   for (size_t i = 100; i < bytes.size(); i += 7) bytes[i] = static_cast<char>(0x5a);
-  replace(copy / "mav0/cam0/data" / name, bytes);
-  const CliRun r = plugslam(tmp, "{type: io.EurocSource, path: unset}", {"source.path=" + copy.string()});
-  EXPECT_EQ(r.code, 2) << r.out;
-  EXPECT_TRUE(contains(r.out, "frame 40 of 95")) << r.out;
-  EXPECT_TRUE(contains(r.out, "cam0/data/" + name)) << r.out;
+  expectDamagedCopyRefused(
+      tmp, kEurocData, "V101", "{type: io.EurocSource, path: unset}",
+      [&](const fs::path& copy) { replace(copy / "mav0/cam0/data" / name, bytes); },
+      {"frame 40 of 95", "cam0/data/" + name});
 }
 
 // ---- TUM RGB-D layout: 7-Scenes indexed as TUM ---------------------------------------------
@@ -324,46 +332,44 @@ TEST(CameraDatasets, SevenScenesReadsEveryFrameWithItsStampsAndPoses) {
 TEST(CameraDatasets, SevenScenesDepthOfTheWrongSizeNamesFileAndFrame) {
   SKIP_WITHOUT(kSevenScenesData);
   TempDir tmp;
-  const fs::path copy = tmp.path() / "7scenes";
-  mirror(data(kSevenScenesData), copy);
-  // Frame 10's depth at half the resolution (a depth stream recorded at 320x240).
-  const fs::path depth = copy / "frame-000010.depth.png";
-  fs::remove(depth);
-  io::writePng16(depth.string(), 320, 240, std::vector<uint16_t>(320 * 240, 1500));
-  const CliRun r = plugslam(tmp, kSevenScenes, {"source.path=" + copy.string()});
-  EXPECT_EQ(r.code, 2) << r.out;
-  EXPECT_TRUE(contains(r.out, "frame 10 of 300")) << r.out;
-  EXPECT_TRUE(contains(r.out, "frame-000010.depth.png")) << r.out;
-  EXPECT_TRUE(contains(r.out, "320x240")) << r.out;
+  expectDamagedCopyRefused(tmp, kSevenScenesData, "7scenes", kSevenScenes,
+                           [&](const fs::path& copy) {
+                             // Frame 10's depth at half the resolution (a depth stream recorded at
+                             // 320x240).
+                             const fs::path depth = copy / "frame-000010.depth.png";
+                             fs::remove(depth);
+                             io::writePng16(depth.string(), 320, 240,
+                                            std::vector<uint16_t>(320 * 240, 1500));
+                           },
+                           {"frame 10 of 300", "frame-000010.depth.png", "320x240"});
 }
 
 TEST(CameraDatasets, SevenScenesTruncatedJpegNamesFileAndFrame) {
   SKIP_WITHOUT(kSevenScenesData);
   TempDir tmp;
-  const fs::path copy = tmp.path() / "7scenes";
-  mirror(data(kSevenScenesData), copy);
-  replace(copy / "frame-000123.color.jpg",
-          truncated(data(kSevenScenesData) + "/frame-000123.color.jpg", 20000));
-  const CliRun r = plugslam(tmp, kSevenScenes, {"source.path=" + copy.string()});
-  EXPECT_EQ(r.code, 2) << r.out;
-  EXPECT_TRUE(contains(r.out, "frame 123 of 300")) << r.out;
-  EXPECT_TRUE(contains(r.out, "frame-000123.color.jpg")) << r.out;
+  expectDamagedCopyRefused(
+      tmp, kSevenScenesData, "7scenes", kSevenScenes,
+      [&](const fs::path& copy) {
+        replace(copy / "frame-000123.color.jpg",
+                truncated(data(kSevenScenesData) + "/frame-000123.color.jpg", 20000));
+      },
+      {"frame 123 of 300", "frame-000123.color.jpg"});
 }
 
 TEST(CameraDatasets, SevenScenesIntrinsicsFileCutShortIsNamed) {
   SKIP_WITHOUT(kSevenScenesData);
   TempDir tmp;
-  const fs::path copy = tmp.path() / "7scenes";
-  mirror(data(kSevenScenesData), copy);
-  // Two rows of K: the third is missing.
-  std::istringstream in(slurp(data(kSevenScenesData) + "/camera-intrinsics.txt"));
-  std::string a, b;
-  std::getline(in, a);
-  std::getline(in, b);
-  replace(copy / "camera-intrinsics.txt", a + "\n" + b + "\n");
-  const CliRun r = plugslam(tmp, kSevenScenes, {"source.path=" + copy.string()});
-  EXPECT_EQ(r.code, 2) << r.out;
-  EXPECT_TRUE(contains(r.out, "camera-intrinsics.txt")) << r.out;
+  expectDamagedCopyRefused(
+      tmp, kSevenScenesData, "7scenes", kSevenScenes,
+      [&](const fs::path& copy) {
+        // Two rows of K: the third is missing.
+        std::istringstream in(slurp(data(kSevenScenesData) + "/camera-intrinsics.txt"));
+        std::string a, b;
+        std::getline(in, a);
+        std::getline(in, b);
+        replace(copy / "camera-intrinsics.txt", a + "\n" + b + "\n");
+      },
+      {"camera-intrinsics.txt"});
 }
 
 // ---- RGB-D folders: ICL-NUIM in slambook's layout ------------------------------------------
@@ -397,13 +403,9 @@ TEST(CameraDatasets, IclFolderReadsEveryFrameWithItsPoses) {
 TEST(CameraDatasets, IclMissingDepthNamesFileAndFrame) {
   SKIP_WITHOUT(kIclData);
   TempDir tmp;
-  const fs::path copy = tmp.path() / "icl";
-  mirror(data(kIclData), copy);
-  fs::remove(copy / "depth/4.png");
-  const CliRun strict = plugslam(tmp, kIcl, {"source.path=" + copy.string()});
-  EXPECT_EQ(strict.code, 2) << strict.out;
-  EXPECT_TRUE(contains(strict.out, "frame 3 of 5")) << strict.out;
-  EXPECT_TRUE(contains(strict.out, "depth/4.png")) << strict.out;
+  const fs::path copy = expectDamagedCopyRefused(
+      tmp, kIclData, "icl", kIcl, [&](const fs::path& copy) { fs::remove(copy / "depth/4.png"); },
+      {"frame 3 of 5", "depth/4.png"});
 
   // Skipped: the other four frames keep their stamps and their lines of pose.txt.
   TempDir tmp2;
