@@ -2,6 +2,10 @@
 #include "plugslam/mcap/records.h"
 
 #include <array>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <vector>
 
 namespace plugslam {
 inline namespace abi_v1 {
@@ -75,6 +79,168 @@ void endRecord(std::string& o, size_t at) {
   for (int i = 0; i < 8; ++i) o[at + i] = static_cast<char>((n >> (8 * i)) & 0xFF);
 }
 
+// Little-endian readers of the same types, bounds-checked against the content.
+class Cursor {
+ public:
+  // `record` begins each field's name in messages ("footer" + " summary_start").
+  Cursor(const uint8_t* p, size_t n, const char* record) : p_(p), n_(n), record_(record) {}
+  template <typename T>
+  T uint(const char* field) {
+    need(sizeof(T), field);
+    T v = 0;
+    for (size_t k = 0; k < sizeof(T); ++k) v |= static_cast<T>(T{p_[i_ + k]} << (8 * k));
+    i_ += sizeof(T);
+    return v;
+  }
+  std::string str(const char* field) {
+    const size_t at = i_;
+    const auto len = uint<uint32_t>(field);
+    if (len > n_ - i_) {
+      throw RecordError(at, name(field) + " of " + std::to_string(len) +
+                                " bytes exceeds the " + std::to_string(n_ - i_) +
+                                " bytes left in the record");
+    }
+    std::string s(reinterpret_cast<const char*>(p_ + i_), len);
+    i_ += len;
+    return s;
+  }
+  std::vector<std::pair<uint16_t, uint64_t>> u16u64Map(const char* field) {
+    const size_t at = i_;
+    const auto len = uint<uint32_t>(field);
+    if (len > n_ - i_ || len % 10 != 0) {
+      throw RecordError(at, name(field) + ": map of " + std::to_string(len) +
+                                " bytes (a multiple of 10 within the record expected)");
+    }
+    std::vector<std::pair<uint16_t, uint64_t>> out;
+    for (size_t k = 0; k < len / 10; ++k) {
+      const auto key = uint<uint16_t>(field);
+      out.emplace_back(key, uint<uint64_t>(field));
+    }
+    return out;
+  }
+  size_t at() const { return i_; }
+  size_t left() const { return n_ - i_; }
+  void skip(size_t n, const char* field) {
+    need(n, field);
+    i_ += n;
+  }
+
+ private:
+  std::string name(const char* field) const { return std::string(record_) + " " + field; }
+  void need(size_t k, const char* field) const {
+    if (n_ - i_ < k) {
+      throw RecordError(i_, name(field) + " needs " + std::to_string(k) + " bytes, " +
+                                std::to_string(n_ - i_) + " left in the record");
+    }
+  }
+  const uint8_t* p_;
+  size_t n_, i_ = 0;
+  const char* record_;
+};
+
+// The two directions of a record's field list (below): Writer appends each field, Reader reads
+// it back, each by the field's own type.
+struct Writer {
+  std::string& o;
+  void operator()(uint16_t v, const char*) { u16(o, v); }
+  void operator()(uint32_t v, const char*) { u32(o, v); }
+  void operator()(uint64_t v, const char*) { u64(o, v); }
+  void operator()(const std::string& v, const char*) { str(o, v); }
+  void operator()(const std::vector<std::pair<uint16_t, uint64_t>>& v, const char*) {
+    u16u64Map(o, v);
+  }
+};
+
+struct Reader {
+  Cursor& c;
+  template <class T>
+  void operator()(T& v, const char* field) {
+    if constexpr (std::is_same_v<T, std::string>)
+      v = c.str(field);
+    else if constexpr (std::is_same_v<T, std::vector<std::pair<uint16_t, uint64_t>>>)
+      v = c.u16u64Map(field);
+    else
+      v = c.uint<T>(field);
+  }
+};
+
+// Each record's fields in their byte order, listed once for writing and reading (R is the record,
+// const when written).
+template <class Io, class R>
+void headerFields(Io& io, R& r) {
+  io(r.profile, "profile");
+  io(r.library, "library");
+}
+
+template <class Io, class R>
+void footerFields(Io& io, R& r) {
+  io(r.summary_start, "summary_start");
+  io(r.summary_offset_start, "summary_offset_start");
+  io(r.summary_crc, "summary_crc");
+}
+
+template <class Io, class R>
+void schemaFields(Io& io, R& r) {
+  io(r.id, "id");
+  io(r.name, "name");
+  io(r.encoding, "encoding");
+  io(r.data, "data");  // uint32 length-prefixed bytes: the same layout as a string
+}
+
+// The fields before the metadata map.
+template <class Io, class R>
+void channelFields(Io& io, R& r) {
+  io(r.id, "id");
+  io(r.schema_id, "schema_id");
+  io(r.topic, "topic");
+  io(r.message_encoding, "message_encoding");
+}
+
+template <class Io, class R>
+void chunkIndexFields(Io& io, R& r) {
+  io(r.message_start_time, "message_start_time");
+  io(r.message_end_time, "message_end_time");
+  io(r.chunk_start_offset, "chunk_start_offset");
+  io(r.chunk_length, "chunk_length");
+  io(r.message_index_offsets, "message_index_offsets");
+  io(r.message_index_length, "message_index_length");
+  io(r.compression, "compression");
+  io(r.compressed_size, "compressed_size");
+  io(r.uncompressed_size, "uncompressed_size");
+}
+
+template <class Io, class R>
+void statisticsFields(Io& io, R& r) {
+  io(r.message_count, "message_count");
+  io(r.schema_count, "schema_count");
+  io(r.channel_count, "channel_count");
+  io(r.attachment_count, "attachment_count");
+  io(r.metadata_count, "metadata_count");
+  io(r.chunk_count, "chunk_count");
+  io(r.message_start_time, "message_start_time");
+  io(r.message_end_time, "message_end_time");
+  io(r.channel_message_counts, "channel_message_counts");
+}
+
+// The fields before the message's data.
+template <class Io, class R>
+void messageFields(Io& io, R& r) {
+  io(r.channel_id, "channel_id");
+  io(r.sequence, "sequence");
+  io(r.log_time, "log_time");
+  io(r.publish_time, "publish_time");
+}
+
+// The fields before the records' size and the records.
+template <class Io, class R>
+void chunkFields(Io& io, R& r) {
+  io(r.message_start_time, "message_start_time");
+  io(r.message_end_time, "message_end_time");
+  io(r.uncompressed_size, "uncompressed_size");
+  io(r.uncompressed_crc, "uncompressed_crc");
+  io(r.compression, "compression");
+}
+
 }  // namespace
 
 uint32_t crc32(const void* data, size_t size, uint32_t crc) {
@@ -93,34 +259,29 @@ uint32_t crc32(const void* data, size_t size, uint32_t crc) {
 
 void appendRecord(std::string& o, const Header& r) {
   const size_t at = beginRecord(o, Op::kHeader);
-  str(o, r.profile);
-  str(o, r.library);
+  Writer w{o};
+  headerFields(w, r);
   endRecord(o, at);
 }
 
 void appendRecord(std::string& o, const Footer& r) {
   const size_t at = beginRecord(o, Op::kFooter);
-  u64(o, r.summary_start);
-  u64(o, r.summary_offset_start);
-  u32(o, r.summary_crc);
+  Writer w{o};
+  footerFields(w, r);
   endRecord(o, at);
 }
 
 void appendRecord(std::string& o, const Schema& r) {
   const size_t at = beginRecord(o, Op::kSchema);
-  u16(o, r.id);
-  str(o, r.name);
-  str(o, r.encoding);
-  str(o, r.data);  // uint32 length-prefixed bytes: the same layout as a string
+  Writer w{o};
+  schemaFields(w, r);
   endRecord(o, at);
 }
 
 void appendRecord(std::string& o, const Channel& r) {
   const size_t at = beginRecord(o, Op::kChannel);
-  u16(o, r.id);
-  u16(o, r.schema_id);
-  str(o, r.topic);
-  str(o, r.message_encoding);
+  Writer w{o};
+  channelFields(w, r);
   const size_t map = beginLength32(o);
   for (const auto& [k, v] : r.metadata) {
     str(o, k);
@@ -143,29 +304,15 @@ void appendRecord(std::string& o, const MessageIndex& r) {
 
 void appendRecord(std::string& o, const ChunkIndex& r) {
   const size_t at = beginRecord(o, Op::kChunkIndex);
-  u64(o, r.message_start_time);
-  u64(o, r.message_end_time);
-  u64(o, r.chunk_start_offset);
-  u64(o, r.chunk_length);
-  u16u64Map(o, r.message_index_offsets);
-  u64(o, r.message_index_length);
-  str(o, r.compression);
-  u64(o, r.compressed_size);
-  u64(o, r.uncompressed_size);
+  Writer w{o};
+  chunkIndexFields(w, r);
   endRecord(o, at);
 }
 
 void appendRecord(std::string& o, const Statistics& r) {
   const size_t at = beginRecord(o, Op::kStatistics);
-  u64(o, r.message_count);
-  u16(o, r.schema_count);
-  u32(o, r.channel_count);
-  u32(o, r.attachment_count);
-  u32(o, r.metadata_count);
-  u32(o, r.chunk_count);
-  u64(o, r.message_start_time);
-  u64(o, r.message_end_time);
-  u16u64Map(o, r.channel_message_counts);
+  Writer w{o};
+  statisticsFields(w, r);
   endRecord(o, at);
 }
 
@@ -185,168 +332,80 @@ void appendDataEnd(std::string& o, uint32_t data_section_crc) {
 
 void appendMessage(std::string& o, const MessageHeader& h, const void* data, size_t size) {
   const size_t at = beginRecord(o, Op::kMessage);
-  u16(o, h.channel_id);
-  u32(o, h.sequence);
-  u64(o, h.log_time);
-  u64(o, h.publish_time);
+  Writer w{o};
+  messageFields(w, h);
   o.append(static_cast<const char*>(data), size);
   endRecord(o, at);
 }
 
 void appendChunk(std::string& o, ChunkHeader h, const std::string& records) {
   const size_t at = beginRecord(o, Op::kChunk);
-  u64(o, h.message_start_time);
-  u64(o, h.message_end_time);
-  u64(o, h.uncompressed_size);
-  u32(o, h.uncompressed_crc);
-  str(o, h.compression);
+  Writer w{o};
+  chunkFields(w, h);
   u64(o, records.size());
   o += records;
   endRecord(o, at);
 }
 
-namespace {
-
-// Little-endian readers of the same types, bounds-checked against the content.
-class Cursor {
- public:
-  Cursor(const uint8_t* p, size_t n) : p_(p), n_(n) {}
-  template <typename T>
-  T uint(const char* field) {
-    need(sizeof(T), field);
-    T v = 0;
-    for (size_t k = 0; k < sizeof(T); ++k) v |= static_cast<T>(T{p_[i_ + k]} << (8 * k));
-    i_ += sizeof(T);
-    return v;
-  }
-  std::string str(const char* field) {
-    const size_t at = i_;
-    const auto len = uint<uint32_t>(field);
-    if (len > n_ - i_) {
-      throw RecordError(at, std::string(field) + " of " + std::to_string(len) +
-                                " bytes exceeds the " + std::to_string(n_ - i_) +
-                                " bytes left in the record");
-    }
-    std::string s(reinterpret_cast<const char*>(p_ + i_), len);
-    i_ += len;
-    return s;
-  }
-  std::vector<std::pair<uint16_t, uint64_t>> u16u64Map(const char* field) {
-    const size_t at = i_;
-    const auto len = uint<uint32_t>(field);
-    if (len > n_ - i_ || len % 10 != 0) {
-      throw RecordError(at, std::string(field) + ": map of " + std::to_string(len) +
-                                " bytes (a multiple of 10 within the record expected)");
-    }
-    std::vector<std::pair<uint16_t, uint64_t>> out;
-    for (size_t k = 0; k < len / 10; ++k) {
-      const auto key = uint<uint16_t>(field);
-      out.emplace_back(key, uint<uint64_t>(field));
-    }
-    return out;
-  }
-  size_t at() const { return i_; }
-  size_t left() const { return n_ - i_; }
-  void skip(size_t n, const char* field) {
-    need(n, field);
-    i_ += n;
-  }
-
- private:
-  void need(size_t k, const char* field) const {
-    if (n_ - i_ < k) {
-      throw RecordError(i_, std::string(field) + " needs " + std::to_string(k) + " bytes, " +
-                                std::to_string(n_ - i_) + " left in the record");
-    }
-  }
-  const uint8_t* p_;
-  size_t n_, i_ = 0;
-};
-
-}  // namespace
 
 void parseRecord(const uint8_t* p, size_t n, Header& r) {
-  Cursor c(p, n);
-  r.profile = c.str("header profile");
-  r.library = c.str("header library");
+  Cursor c(p, n, "header");
+  Reader in{c};
+  headerFields(in, r);
 }
 
 void parseRecord(const uint8_t* p, size_t n, Footer& r) {
-  Cursor c(p, n);
-  r.summary_start = c.uint<uint64_t>("footer summary_start");
-  r.summary_offset_start = c.uint<uint64_t>("footer summary_offset_start");
-  r.summary_crc = c.uint<uint32_t>("footer summary_crc");
+  Cursor c(p, n, "footer");
+  Reader in{c};
+  footerFields(in, r);
 }
 
 void parseRecord(const uint8_t* p, size_t n, Schema& r) {
-  Cursor c(p, n);
-  r.id = c.uint<uint16_t>("schema id");
-  r.name = c.str("schema name");
-  r.encoding = c.str("schema encoding");
-  r.data = c.str("schema data");
+  Cursor c(p, n, "schema");
+  Reader in{c};
+  schemaFields(in, r);
 }
 
 void parseRecord(const uint8_t* p, size_t n, Channel& r) {
-  Cursor c(p, n);
-  r.id = c.uint<uint16_t>("channel id");
-  r.schema_id = c.uint<uint16_t>("channel schema_id");
-  r.topic = c.str("channel topic");
-  r.message_encoding = c.str("channel message_encoding");
+  Cursor c(p, n, "channel");
+  Reader in{c};
+  channelFields(in, r);
   const size_t at = c.at();
-  const auto len = c.uint<uint32_t>("channel metadata");
+  const auto len = c.uint<uint32_t>("metadata");
   if (len > c.left()) throw RecordError(at, "channel metadata exceeds the record");
-  Cursor m(p + c.at(), len);
+  Cursor m(p + c.at(), len, "channel");
   r.metadata.clear();
   while (m.left() > 0) {
-    std::string key = m.str("channel metadata key");
-    r.metadata.emplace_back(std::move(key), m.str("channel metadata value"));
+    std::string key = m.str("metadata key");
+    r.metadata.emplace_back(std::move(key), m.str("metadata value"));
   }
 }
 
 void parseRecord(const uint8_t* p, size_t n, ChunkIndex& r) {
-  Cursor c(p, n);
-  r.message_start_time = c.uint<uint64_t>("chunk index message_start_time");
-  r.message_end_time = c.uint<uint64_t>("chunk index message_end_time");
-  r.chunk_start_offset = c.uint<uint64_t>("chunk index chunk_start_offset");
-  r.chunk_length = c.uint<uint64_t>("chunk index chunk_length");
-  r.message_index_offsets = c.u16u64Map("chunk index message_index_offsets");
-  r.message_index_length = c.uint<uint64_t>("chunk index message_index_length");
-  r.compression = c.str("chunk index compression");
-  r.compressed_size = c.uint<uint64_t>("chunk index compressed_size");
-  r.uncompressed_size = c.uint<uint64_t>("chunk index uncompressed_size");
+  Cursor c(p, n, "chunk index");
+  Reader in{c};
+  chunkIndexFields(in, r);
 }
 
 void parseRecord(const uint8_t* p, size_t n, Statistics& r) {
-  Cursor c(p, n);
-  r.message_count = c.uint<uint64_t>("statistics message_count");
-  r.schema_count = c.uint<uint16_t>("statistics schema_count");
-  r.channel_count = c.uint<uint32_t>("statistics channel_count");
-  r.attachment_count = c.uint<uint32_t>("statistics attachment_count");
-  r.metadata_count = c.uint<uint32_t>("statistics metadata_count");
-  r.chunk_count = c.uint<uint32_t>("statistics chunk_count");
-  r.message_start_time = c.uint<uint64_t>("statistics message_start_time");
-  r.message_end_time = c.uint<uint64_t>("statistics message_end_time");
-  r.channel_message_counts = c.u16u64Map("statistics channel_message_counts");
+  Cursor c(p, n, "statistics");
+  Reader in{c};
+  statisticsFields(in, r);
 }
 
 size_t parseMessage(const uint8_t* p, size_t n, MessageHeader& r) {
-  Cursor c(p, n);
-  r.channel_id = c.uint<uint16_t>("message channel_id");
-  r.sequence = c.uint<uint32_t>("message sequence");
-  r.log_time = c.uint<uint64_t>("message log_time");
-  r.publish_time = c.uint<uint64_t>("message publish_time");
+  Cursor c(p, n, "message");
+  Reader in{c};
+  messageFields(in, r);
   return c.at();
 }
 
 size_t parseChunk(const uint8_t* p, size_t n, ChunkHeader& r) {
-  Cursor c(p, n);
-  r.message_start_time = c.uint<uint64_t>("chunk message_start_time");
-  r.message_end_time = c.uint<uint64_t>("chunk message_end_time");
-  r.uncompressed_size = c.uint<uint64_t>("chunk uncompressed_size");
-  r.uncompressed_crc = c.uint<uint32_t>("chunk uncompressed_crc");
-  r.compression = c.str("chunk compression");
+  Cursor c(p, n, "chunk");
+  Reader in{c};
+  chunkFields(in, r);
   const size_t at = c.at();
-  r.records_size = c.uint<uint64_t>("chunk records_size");
+  r.records_size = c.uint<uint64_t>("records_size");
   if (r.records_size > c.left()) {
     throw RecordError(at, "chunk records of " + std::to_string(r.records_size) +
                               " bytes exceed the " + std::to_string(c.left()) +
