@@ -370,22 +370,25 @@ void RosbagReader::parseInner(const std::uint8_t* data, std::size_t size, std::u
     fail(base, "inside the chunk at byte " + std::to_string(inner) + ": " + m);
   };
   std::size_t i = 0;
+  std::size_t start = 0;
+  // The record's header or data (`what`) at i: a uint32 length `n`, then n bytes of the chunk.
+  auto block = [&](const char* what, std::uint32_t& n) {
+    if (size - i < 4)
+      failInner(i, std::string("record ") + what + " length needs 4 bytes (chunk truncated)");
+    n = le32(data + i);
+    i += 4;
+    if (n > size - i)
+      failInner(start, std::string("record ") + what + " of " + std::to_string(n) +
+                           " bytes exceeds the chunk");
+    const std::uint8_t* p = data + i;
+    i += n;
+    return p;
+  };
   while (i < size) {
-    std::size_t start = i;
-    if (size - i < 4) failInner(i, "record header length needs 4 bytes (chunk truncated)");
-    std::uint32_t hl = le32(data + i);
-    i += 4;
-    if (hl > size - i)
-      failInner(start, "record header of " + std::to_string(hl) + " bytes exceeds the chunk");
-    const std::uint8_t* header = data + i;
-    i += hl;
-    if (size - i < 4) failInner(i, "record data length needs 4 bytes (chunk truncated)");
-    std::uint32_t dl = le32(data + i);
-    i += 4;
-    if (dl > size - i)
-      failInner(start, "record data of " + std::to_string(dl) + " bytes exceeds the chunk");
-    const std::uint8_t* body = data + i;
-    i += dl;
+    start = i;
+    std::uint32_t hl = 0, dl = 0;
+    const std::uint8_t* header = block("header", hl);
+    const std::uint8_t* body = block("data", dl);
     auto fields = parseFields(header, hl, start + 4, failInner);
     const Field* op = findField(fields, "op");
     if (!op || op->size != 1) failInner(start, "record without a 1-byte 'op' field");
