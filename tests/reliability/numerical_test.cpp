@@ -14,7 +14,11 @@
 namespace plugslam::testing {
 namespace {
 
-Landmarks grid(double step, double extent) { return jitteredGrid(step, extent, 11); }
+// The landmarks both tests drive among: a 1.5 m grid over 24 x 24 m.
+const Landmarks& world() {
+  static const Landmarks w = jitteredGrid(1.5, 12.0, 11);
+  return w;
+}
 
 Eigen::Isometry2d se2(double x, double y, double a) {
   Eigen::Isometry2d t = Eigen::Isometry2d::Identity();
@@ -38,7 +42,6 @@ Landmarks onlyOne(Landmarks seen) {
 TEST(TrackerRobustness, UnsolvableFrameIsCountedAndStartsANewLocalMap) {
   auto tracker = landmarkTracker(100.0);
   auto pipeline = trackingOnly(tracker);
-  const Landmarks world = grid(1.5, 12.0);
   // After the failure the new local map is anchored at the motion prediction, so the world
   // estimate keeps that offset (only a back-end could remove it); tracking must still reproduce
   // every later motion exactly.
@@ -47,7 +50,7 @@ TEST(TrackerRobustness, UnsolvableFrameIsCountedAndStartsANewLocalMap) {
   for (int i = 0; i < 40; ++i) {
     Frame f = sequenceFrame(i);
     const Eigen::Isometry2d pose = se2(0.1 * i, 0.02 * i, 0.01 * i);
-    Landmarks seen = observe(world, pose, 6.0);
+    Landmarks seen = observe(world(), pose, 6.0);
     f.measurement.set<Landmarks>("landmarks", i == 20 ? onlyOne(seen) : seen);
     pipeline->process(f);
     ASSERT_TRUE(f.estimate.world.matrix().allFinite()) << "frame " << i;
@@ -74,10 +77,9 @@ TEST(TrackerRobustness, UnsolvableFrameIsCountedAndStartsANewLocalMap) {
 TEST(TrackerRobustness, OverflowingMeasurementsNeverReachTheEstimate) {
   auto tracker = landmarkTracker(100.0);
   auto pipeline = trackingOnly(tracker);
-  const Landmarks world = grid(1.5, 12.0);
   for (int i = 0; i < 30; ++i) {
     Frame f = sequenceFrame(i);
-    Landmarks seen = observe(world, se2(0.1 * i, 0, 0), 6.0);
+    Landmarks seen = observe(world(), se2(0.1 * i, 0, 0), 6.0);
     // Finite but absurd: squared residuals overflow to inf inside the normal equations.
     if (i == 10)
       for (auto& p : seen)

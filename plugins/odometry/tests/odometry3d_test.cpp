@@ -193,17 +193,12 @@ TEST(PriorSlice3D, InATrackerTheCameraFollowsTheOdometry) {
     m->configure();
   const Eigen::Isometry2d start = se2(3.0, -2.0, 0.7);
   const Eigen::Isometry3d camera_in_base = baseInCamera().inverse();
-  Eigen::Isometry2d odom = start;
-  for (uint64_t i = 0; i < 8; ++i) {
-    if (i > 0) odom = odom * se2(0.9, 0.02, 0.1);
-    Frame f = odomFrame(i, odom);
-    tracker.track(f);
-    ASSERT_TRUE(f.estimate.valid);
-    ASSERT_EQ(f.estimate.local_map, 0);
-    const Eigen::Isometry3d expected =
-        (Space2D::to3D(start) * camera_in_base).inverse() * Space2D::to3D(odom) * camera_in_base;
-    expectPose(expected, f.estimate.in_map, 1e-9);
-  }
+  trackOdometry(
+      tracker, start, se2(0.9, 0.02, 0.1), [&](const Eigen::Isometry2d& odom, const Frame& f) {
+        const Eigen::Isometry3d expected = (Space2D::to3D(start) * camera_in_base).inverse() *
+                                           Space2D::to3D(odom) * camera_in_base;
+        expectPose(expected, f.estimate.in_map, 1e-9);
+      });
   EXPECT_EQ(tracker.stats().aligned, 6u);
 }
 

@@ -43,6 +43,23 @@ void setStepSigmas(Slice& slice) {
   slice.sigma_rotation_per_m = 0.05;
 }
 
+/// Tracks 8 frames of odometry from `start`, `step` apart, each of which must stay in the first
+/// local map (the tracker has no splitter, and its frame is the run's); `check(odom, frame)`
+/// checks each frame's estimate against its odometry reading.
+template <class Tracker, class Check>
+void trackOdometry(Tracker& tracker, const Eigen::Isometry2d& start, const Eigen::Isometry2d& step,
+                   const Check& check) {
+  Eigen::Isometry2d odom = start;
+  for (uint64_t i = 0; i < 8; ++i) {
+    if (i > 0) odom = odom * step;
+    plugslam::Frame f = odomFrame(i, odom);
+    tracker.track(f);
+    ASSERT_TRUE(f.estimate.valid) << i;
+    ASSERT_EQ(f.estimate.local_map, 0) << i;
+    check(odom, f);
+  }
+}
+
 /// What a Multi-Aligner with `slice` alone returns for the second of two frames with the
 /// odometry readings odom0 and odom1 (the first has no delta yet, so no factor).
 template <class S, class Slice>

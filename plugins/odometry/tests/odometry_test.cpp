@@ -295,16 +295,10 @@ TEST(PriorSlice, InATrackerThePosesFollowTheOdometry) {
            tracker.motion.get(), &aligner->slices[0], aligner.get(), &tracker})
     m->configure();
   const Eigen::Isometry2d start = se2(3.0, -2.0, 0.7);
-  Eigen::Isometry2d odom = start;
-  for (uint64_t i = 0; i < 8; ++i) {
-    if (i > 0) odom = odom * se2(0.4, 0.05, 0.1);
-    Frame f = odomFrame(i, odom);
-    tracker.track(f);
-    ASSERT_TRUE(f.estimate.valid);
-    // One local map (no splitter), started at the first frame: its frame is the run's.
-    ASSERT_EQ(f.estimate.local_map, 0);
-    expectPose(start.inverse() * odom, Space2D::from3D(f.estimate.in_map), 1e-9);
-  }
+  trackOdometry(tracker, start, se2(0.4, 0.05, 0.1),
+                [&](const Eigen::Isometry2d& odom, const Frame& f) {
+                  expectPose(start.inverse() * odom, Space2D::from3D(f.estimate.in_map), 1e-9);
+                });
   // Frame 1 is the prior's first reading: no factor, the prediction stands (not aligned).
   EXPECT_EQ(tracker.stats().aligned, 6u);
 }
