@@ -96,9 +96,8 @@ class Cursor {
     const size_t at = i_;
     const auto len = uint<uint32_t>(field);
     if (len > n_ - i_) {
-      throw RecordError(at, name(field) + " of " + std::to_string(len) +
-                                " bytes exceeds the " + std::to_string(n_ - i_) +
-                                " bytes left in the record");
+      throw RecordError(at, name(field) + " of " + std::to_string(len) + " bytes exceeds the " +
+                                std::to_string(n_ - i_) + " bytes left in the record");
     }
     std::string s(reinterpret_cast<const char*>(p_ + i_), len);
     i_ += len;
@@ -241,6 +240,24 @@ void chunkFields(Io& io, R& r) {
   io(r.compression, "compression");
 }
 
+// A whole record whose content is what `fields` writes of r.
+template <class R>
+void appendFields(std::string& o, Op op, const R& r, void (*fields)(Writer&, const R&)) {
+  const size_t at = beginRecord(o, op);
+  Writer w{o};
+  fields(w, r);
+  endRecord(o, at);
+}
+
+// A record's content read into r by `fields`; messages name the `record`.
+template <class R>
+void parseFields(const uint8_t* p, size_t n, const char* record, R& r,
+                 void (*fields)(Reader&, R&)) {
+  Cursor c(p, n, record);
+  Reader in{c};
+  fields(in, r);
+}
+
 }  // namespace
 
 uint32_t crc32(const void* data, size_t size, uint32_t crc) {
@@ -258,24 +275,15 @@ uint32_t crc32(const void* data, size_t size, uint32_t crc) {
 }
 
 void appendRecord(std::string& o, const Header& r) {
-  const size_t at = beginRecord(o, Op::kHeader);
-  Writer w{o};
-  headerFields(w, r);
-  endRecord(o, at);
+  appendFields(o, Op::kHeader, r, headerFields<Writer, const Header>);
 }
 
 void appendRecord(std::string& o, const Footer& r) {
-  const size_t at = beginRecord(o, Op::kFooter);
-  Writer w{o};
-  footerFields(w, r);
-  endRecord(o, at);
+  appendFields(o, Op::kFooter, r, footerFields<Writer, const Footer>);
 }
 
 void appendRecord(std::string& o, const Schema& r) {
-  const size_t at = beginRecord(o, Op::kSchema);
-  Writer w{o};
-  schemaFields(w, r);
-  endRecord(o, at);
+  appendFields(o, Op::kSchema, r, schemaFields<Writer, const Schema>);
 }
 
 void appendRecord(std::string& o, const Channel& r) {
@@ -303,17 +311,11 @@ void appendRecord(std::string& o, const MessageIndex& r) {
 }
 
 void appendRecord(std::string& o, const ChunkIndex& r) {
-  const size_t at = beginRecord(o, Op::kChunkIndex);
-  Writer w{o};
-  chunkIndexFields(w, r);
-  endRecord(o, at);
+  appendFields(o, Op::kChunkIndex, r, chunkIndexFields<Writer, const ChunkIndex>);
 }
 
 void appendRecord(std::string& o, const Statistics& r) {
-  const size_t at = beginRecord(o, Op::kStatistics);
-  Writer w{o};
-  statisticsFields(w, r);
-  endRecord(o, at);
+  appendFields(o, Op::kStatistics, r, statisticsFields<Writer, const Statistics>);
 }
 
 void appendRecord(std::string& o, const SummaryOffset& r) {
@@ -347,23 +349,16 @@ void appendChunk(std::string& o, ChunkHeader h, const std::string& records) {
   endRecord(o, at);
 }
 
-
 void parseRecord(const uint8_t* p, size_t n, Header& r) {
-  Cursor c(p, n, "header");
-  Reader in{c};
-  headerFields(in, r);
+  parseFields(p, n, "header", r, headerFields<Reader, Header>);
 }
 
 void parseRecord(const uint8_t* p, size_t n, Footer& r) {
-  Cursor c(p, n, "footer");
-  Reader in{c};
-  footerFields(in, r);
+  parseFields(p, n, "footer", r, footerFields<Reader, Footer>);
 }
 
 void parseRecord(const uint8_t* p, size_t n, Schema& r) {
-  Cursor c(p, n, "schema");
-  Reader in{c};
-  schemaFields(in, r);
+  parseFields(p, n, "schema", r, schemaFields<Reader, Schema>);
 }
 
 void parseRecord(const uint8_t* p, size_t n, Channel& r) {
@@ -382,15 +377,11 @@ void parseRecord(const uint8_t* p, size_t n, Channel& r) {
 }
 
 void parseRecord(const uint8_t* p, size_t n, ChunkIndex& r) {
-  Cursor c(p, n, "chunk index");
-  Reader in{c};
-  chunkIndexFields(in, r);
+  parseFields(p, n, "chunk index", r, chunkIndexFields<Reader, ChunkIndex>);
 }
 
 void parseRecord(const uint8_t* p, size_t n, Statistics& r) {
-  Cursor c(p, n, "statistics");
-  Reader in{c};
-  statisticsFields(in, r);
+  parseFields(p, n, "statistics", r, statisticsFields<Reader, Statistics>);
 }
 
 size_t parseMessage(const uint8_t* p, size_t n, MessageHeader& r) {
