@@ -33,16 +33,23 @@ double rotationError(const SE2& a, const SE2& b) {
   return std::abs(angleOf((a.inverse() * b).linear()));
 }
 
+// The scan of `world` from `at` as the frame's measurement, and the one from `scene_at` as the
+// scene, both as "front".
+template <class World>
+void scanPair(const World& world, const SE2& at, const SE2& scene_at, const test::ScanSpec& spec,
+              Frame& frame, PropertyContainer& scene) {
+  frame.measurement.set("front", cloudOf(test::castScan(world, at, spec)));
+  scene.set("front", cloudOf(test::castScan(world, scene_at, spec)));
+}
+
 template <class SliceT>
 AlignResult<Space2D> alignRoom(const SE2& offset, const std::string& association,
                                SliceT** slice_out = nullptr) {
   const auto world = test::room(8, 6);
   const SE2 a = se2(3.0, 2.0, 0.2);
-  test::ScanSpec spec;
   Frame frame;
-  frame.measurement.set("front", cloudOf(test::castScan(world, a * offset, spec)));
   PropertyContainer scene;
-  scene.set("front", cloudOf(test::castScan(world, a, spec)));
+  scanPair(world, a * offset, a, test::ScanSpec{}, frame, scene);
 
   MultiAligner<Space2D> aligner;
   auto slice = std::make_shared<SliceT>();
@@ -76,9 +83,8 @@ TEST(MultiAligner, TheSearchRecoversAHeadingErrorTheCovarianceAllows) {
   test::ScanSpec spec;
   spec.range_max = 60;
   Frame frame;
-  frame.measurement.set("front", cloudOf(test::castScan(world, a * offset, spec)));
   PropertyContainer scene;
-  scene.set("front", cloudOf(test::castScan(world, a, spec)));
+  scanPair(world, a * offset, a, spec, frame, scene);
   MultiAligner<Space2D> aligner;
   auto slice = std::make_shared<PointToLineSlice>();
   slice->max_distance = 0.3;
@@ -172,10 +178,7 @@ TEST(PointToLineSlice, PointsPastTheEndOfASurfaceAreNotPaired) {
 
 // A scan of the room as the measurement and one 0.1 m, 0.05 rad away as the scene ("front").
 void offsetScans(Frame& frame, PropertyContainer& scene) {
-  const auto world = test::room(8, 6);
-  test::ScanSpec spec;
-  frame.measurement.set("front", cloudOf(test::castScan(world, se2(3.1, 2, 0.05), spec)));
-  scene.set("front", cloudOf(test::castScan(world, se2(3, 2, 0), spec)));
+  scanPair(test::room(8, 6), se2(3.1, 2, 0.05), se2(3, 2, 0), test::ScanSpec{}, frame, scene);
 }
 
 // Every factor the laser slices add passes the SDK's Jacobian check (central differences through
