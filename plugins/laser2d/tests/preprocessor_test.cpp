@@ -13,6 +13,14 @@ namespace {
 
 using test::Segment;
 
+// `pre` configured with the settings the test gave it, then `scan` converted.
+PointCloud2D configuredCloud(ScanPreprocessor& pre, const LaserScan& scan) {
+  pre.configure();
+  PointCloud2D cloud;
+  pre.convert(scan, cloud);
+  return cloud;
+}
+
 TEST(ScanPreprocessor, PointsOfAWallAreInTheRobotFrameWithPerpendicularNormals) {
   // A wall x = 3 in the robot frame, seen by a sensor mounted at (0.4, -0.2), rotated 0.3 rad.
   const std::vector<Segment> wall{{{3.0, -10.0}, {3.0, 10.0}}};
@@ -23,9 +31,7 @@ TEST(ScanPreprocessor, PointsOfAWallAreInTheRobotFrameWithPerpendicularNormals) 
   const LaserScan scan = test::castScan(wall, SE2::Identity(), spec);
 
   ScanPreprocessor pre;
-  pre.configure();
-  PointCloud2D cloud;
-  pre.convert(scan, cloud);
+  const PointCloud2D cloud = configuredCloud(pre, scan);
   ASSERT_GT(cloud.size(), 100u);
   EXPECT_EQ(cloud.normals.size(), cloud.size());
   EXPECT_EQ(cloud.weights.size(), cloud.size());
@@ -52,15 +58,11 @@ TEST(ScanPreprocessor, AFarWallKeepsItsPointsWhenTheRadiusFollowsTheBeamSpacing)
   ScanPreprocessor pre;
   pre.max_range = 80;
   pre.normal_spacing = 0;
-  pre.configure();
-  PointCloud2D fixed;
-  pre.convert(scan, fixed);
+  const PointCloud2D fixed = configuredCloud(pre, scan);
   EXPECT_EQ(fixed.size(), 0u);
 
   pre.normal_spacing = 2.5;
-  pre.configure();
-  PointCloud2D adaptive;
-  pre.convert(scan, adaptive);
+  const PointCloud2D adaptive = configuredCloud(pre, scan);
   EXPECT_GT(adaptive.size(), 75u);
   for (size_t i = 0; i < adaptive.size(); ++i) {
     EXPECT_NEAR(adaptive.points[i].x(), 70.0, 1e-9);
@@ -82,9 +84,7 @@ TEST(ScanPreprocessor, InvalidBeamsAreDropped) {
   scan.ranges[14] = 10.0;  // at range_max: no return
   scan.ranges[17] = -1.0;
   ScanPreprocessor pre;
-  pre.configure();
-  PointCloud2D cloud;
-  pre.convert(scan, cloud);
+  const PointCloud2D cloud = configuredCloud(pre, scan);
   EXPECT_EQ(cloud.size(), 16u);
   for (const auto& p : cloud.points) {
     EXPECT_TRUE(p.allFinite());
@@ -95,11 +95,10 @@ TEST(ScanPreprocessor, InvalidBeamsAreDropped) {
   pre.max_range = 2.01;
   pre.min_angle = -0.05;
   pre.max_angle = 0.05;
-  pre.configure();
-  pre.convert(scan, cloud);
-  for (const auto& p : cloud.points) EXPECT_LE(std::abs(std::atan2(p.y(), p.x())), 0.05 + 1e-9);
-  EXPECT_LT(cloud.size(), 11u);
-  EXPECT_GT(cloud.size(), 3u);
+  const PointCloud2D cut = configuredCloud(pre, scan);
+  for (const auto& p : cut.points) EXPECT_LE(std::abs(std::atan2(p.y(), p.x())), 0.05 + 1e-9);
+  EXPECT_LT(cut.size(), 11u);
+  EXPECT_GT(cut.size(), 3u);
 }
 
 TEST(ScanPreprocessor, MountParameterOverridesTheScanMount) {
@@ -113,9 +112,7 @@ TEST(ScanPreprocessor, MountParameterOverridesTheScanMount) {
 
   ScanPreprocessor pre;
   pre.mount = std::vector<double>{1.0, 0.0, M_PI / 2};
-  pre.configure();
-  PointCloud2D cloud;
-  pre.convert(scan, cloud);
+  const PointCloud2D cloud = configuredCloud(pre, scan);
   ASSERT_GT(cloud.size(), 50u);
   for (size_t i = 0; i < cloud.size(); ++i) {
     EXPECT_NEAR(cloud.points[i].y(), 5.0, 1e-9);
