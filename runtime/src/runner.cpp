@@ -83,6 +83,11 @@ std::string runReportJson(const RunReport& r) {
                 {"loop_detection_time_s", decimals(g.detection_time, 6)},
                 {"loop_validation_time_s", decimals(g.validation_time, 6)},
                 {"final_chi2", decimals(g.final_chi2, 6)}};
+  nlohmann::ordered_json components = nlohmann::ordered_json::array();
+  for (const auto& [first, maps] : r.graph_components)
+    components.push_back({{"first_map", first}, {"maps", maps}});
+  j["graph"]["components"] = components;
+  j["locked_on_after_frames"] = r.locked_on_after;
   nlohmann::ordered_json& modules = j["modules"] = nlohmann::ordered_json::object();
   for (const auto& m : r.modules) {
     modules[m.module] = {{"total_s", decimals(m.total_s, 6)},
@@ -300,7 +305,32 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
   } finishing(options_.finishing);
   pipeline.finish();
   RunResult result = pipeline.result();
-  if (pipeline.graph) report.graph = pipeline.graph->stats();
+  report.locked_on_after = pipeline.lockedOnAfter();
+  if (report.locked_on_after < 0)
+    spdlog::warn("localization never locked on: place recognition found no place of the "
+                 "session in {} frames (another place, or too little seen of it)",
+                 report.frames);
+  else if (report.locked_on_after > 0)
+    spdlog::info("localization locked on after {} frames (lost before that)",
+                 report.locked_on_after);
+  if (pipeline.graph) {
+    report.graph = pipeline.graph->stats();
+    const std::vector<int64_t> components =
+        graphComponents(result.local_maps.size(), result.edges);
+    for (size_t i = 0; i < components.size(); ++i) {
+      if (components[i] == static_cast<int64_t>(i))
+        report.graph_components.emplace_back(static_cast<int64_t>(i), 0);
+      for (auto& [first, maps] : report.graph_components)
+        if (first == components[i]) ++maps;
+    }
+    // Maps no loop joined to map 0's have no common frame with them: their poses in the outputs
+    // are where a weak prior left them, not measured.
+    for (size_t c = 1; c < report.graph_components.size(); ++c)
+      spdlog::warn("graph component of maps {}.. ({} maps) is not joined to map 0's: no loop "
+                   "links them (a session's start unknown and no shared place recognized, or a "
+                   "tracker reset); its poses are not in map 0's frame",
+                   report.graph_components[c].first, report.graph_components[c].second);
+  }
   // Every sink gets its end() even when one fails, and run.json is written; the first failure
   // is rethrown after.
   std::exception_ptr sink_failure;

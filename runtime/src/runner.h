@@ -41,6 +41,12 @@ struct RunReport {
   uint64_t module_errors = 0;       ///< frames a module failed on, skipped (on_module_error: skip)
   std::string error;                ///< the error that stopped the run, if one did
   GraphStats graph;                 ///< loops accepted/rejected, optimization time
+  /// Each graph component's first map and number of maps, in order (one while every map is
+  /// joined; a session or a tracker reset no loop joined adds one).
+  std::vector<std::pair<int64_t, uint64_t>> graph_components;
+  /// Localization from an unknown start: frames before it locked on (-1: it never did; 0: the
+  /// start was known or it locked on at once).
+  int64_t locked_on_after = 0;
   /// Against the source's ground truth, when it has one (SE2/SE3-aligned ATE, RPE over 1 m).
   std::optional<double> ate_rmse, ate_max, rpe_rmse;
   std::string rpe_unavailable;  ///< why rpe_rmse is empty when ate_rmse is set (a short run)

@@ -49,8 +49,8 @@ TEST(RunReportJson, KeysInOrderAndFiguresWithTheirDecimals) {
                          "stopped_by", "error", "tracked_frames", "local_maps", "tracking_failures",
                          "tracking_failure_reasons", "tracking_searched", "tracking_ambiguous",
                          "tracking_hypotheses", "tracking_unchecked", "tracking_unchecked_frames",
-                         "tracking_time_s", "module_errors", "reference", "graph", "modules",
-                         "statistics"}));
+                         "tracking_time_s", "module_errors", "reference", "graph",
+                         "locked_on_after_frames", "modules", "statistics"}));
   // Every reason is a key, in the tracker's order, a zero count included (issue 20).
   EXPECT_EQ(keys(j["tracking_failure_reasons"]),
             (std::vector<std::string>{"no_data", "too_few_inliers", "degenerate"}));
@@ -61,7 +61,7 @@ TEST(RunReportJson, KeysInOrderAndFiguresWithTheirDecimals) {
             (std::vector<std::string>{"nodes", "edges", "loop_candidates", "loops_accepted",
                                       "loops_rejected", "loops_restored", "optimizations",
                                       "optimization_time_s", "loop_detection_time_s",
-                                      "loop_validation_time_s", "final_chi2"}));
+                                      "loop_validation_time_s", "final_chi2", "components"}));
   EXPECT_EQ(keys(j["modules"]), (std::vector<std::string>{"source", "pipeline.tracker"}));
   EXPECT_EQ(j["frames"].get<uint64_t>(), 996u);
   // Seconds keep 6 decimals, rates 3, mean_ms 4: the values the hand-written writer printed.

@@ -140,6 +140,77 @@ TEST_F(Merge, ASessionOfAnotherBuildingIsReportedNotMerged) {
   EXPECT_FALSE(fs::exists(dir_ / "merged" / "session"));
 }
 
+TEST_F(Merge, ARunStartedElsewhereJoinsTheSessionByPlaceRecognition) {
+  if (const std::string why = pluginsMissing(); !why.empty()) GTEST_SKIP() << why;
+  const Trajectory truth0 = mapAndSave("s0", {"source.session=stage-0"});
+  // `plugslam run CONFIG --session s0 --start-anywhere`: a tour starting 4.75 m away.
+  ConfigDocument doc =
+      loadConfigFile(plugslam::testing::sourceDir() + "/configs/sim2d_single_laser.yaml");
+  for (const char* s : {"outputs=[]", "pipeline.graph.deterministic=true",
+                        "source.session=stage-1", "source.seed=1",
+                        "pipeline.graph.join_by_estimate=false"})
+    applyOverride(doc, s);
+  auto run = buildRun(doc, plugins_);
+  const SessionMaps saved = loadSessionMaps(readSessionManifest((dir_ / "s0").string()));
+  run->pipeline->restoreSession(saved.maps, saved.edges, false);
+  RunOptions o;
+  o.out_dir = (dir_ / "run_s1").string();
+  const RunReport report = runPipeline(*run, o);
+  ASSERT_EQ(report.graph_components.size(), 1u) << "the run was not joined to the session";
+  // The run's poses are in the session's frame: the session's alignment to its truth fits them.
+  AteOptions se2;
+  se2.alignment = Alignment::SE2;
+  const AteResult session = computeAte(
+      truth0, readTumTrajectory((dir_ / "s0" / "trajectory.tum").string()), se2);
+  AteOptions none;
+  none.alignment = Alignment::None;
+  const RunResult result = run->pipeline->result();
+  const AteResult joined =
+      computeAte(result.reference, moved(result.trajectory, session.transform), none);
+  std::cout << "run joined to the session: ATE " << joined.translation.rmse
+            << " m in the session's frame\n";
+  EXPECT_LT(joined.translation.rmse, 0.05);
+}
+
+TEST_F(Merge, LocalizationFromAnUnknownStartLocksOnAndFollowsTheTruth) {
+  if (const std::string why = pluginsMissing(); !why.empty()) GTEST_SKIP() << why;
+  const Trajectory truth1 = mapAndSave("s1", {"source.session=stage-1", "source.seed=1"});
+  // `plugslam run CONFIG --session s1 --localize --start-anywhere`: a tour starting 4.75 m from
+  // the session's start.
+  ConfigDocument doc =
+      loadConfigFile(plugslam::testing::sourceDir() + "/configs/sim2d_single_laser.yaml");
+  for (const char* s : {"outputs=[]", "pipeline.graph.deterministic=true",
+                        "source.session=stage-0", "pipeline.graph.join_by_estimate=false"})
+    applyOverride(doc, s);
+  auto run = buildRun(doc, plugins_);
+  const SessionMaps saved = loadSessionMaps(readSessionManifest((dir_ / "s1").string()));
+  run->pipeline->restoreSession(saved.maps, saved.edges, true, false);
+  RunOptions o;
+  o.out_dir = (dir_ / "run_localize").string();
+  const RunReport report = runPipeline(*run, o);
+  ASSERT_GE(report.locked_on_after, 0) << "never locked on";
+  std::cout << "locked on after " << report.locked_on_after << " of " << report.frames
+            << " frames\n";
+  // Every pose from the lock-on on, in the session's frame, against the truth (the session's
+  // alignment to its own truth).
+  AteOptions se2;
+  se2.alignment = Alignment::SE2;
+  const AteResult session = computeAte(
+      truth1, readTumTrajectory((dir_ / "s1" / "trajectory.tum").string()), se2);
+  const RunResult result = run->pipeline->result();
+  std::vector<StampedPose> after;
+  for (size_t i = static_cast<size_t>(report.locked_on_after); i < result.trajectory.size(); ++i)
+    after.push_back(result.trajectory[i]);
+  AteOptions none;
+  none.alignment = Alignment::None;
+  const AteResult localized =
+      computeAte(result.reference, moved(Trajectory(std::move(after)), session.transform), none);
+  std::cout << "after lock-on: ATE " << localized.translation.rmse << " m, max "
+            << localized.translation.max << " m\n";
+  EXPECT_LT(localized.translation.rmse, 0.05);
+  EXPECT_LT(localized.translation.max, 0.2);
+}
+
 TEST_F(Merge, SessionsOfOtherCuesAreRefused) {
   if (const std::string why = pluginsMissing(); !why.empty()) GTEST_SKIP() << why;
   mapAndSave("laser", {"source.session=stage-0", "max_frames=50"});

@@ -219,6 +219,11 @@ void addRunCommand(CLI::App& root, int& exit_code) {
                   "restore a saved session first: new maps extend it (multi-session mapping)");
   cmd->add_flag("--localize", localize,
                 "with --session: track against the saved maps, frozen; no new maps or edges");
+  static bool anywhere = false;
+  cmd->add_flag("--start-anywhere", anywhere,
+                "with --session: the run may start anywhere; only place recognition joins its "
+                "maps to the saved ones, and --localize tracks in them once it has (else the run "
+                "is assumed to start where the session did)");
   cmd->add_option("--checkpoint-every", checkpoint_every,
                   "save the session into OUTDIR/checkpoint every this many seconds of the run, "
                   "atomically, so even a killed run leaves a loadable session (0: never); removed "
@@ -232,6 +237,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
   addViewerOptions(*cmd, viewer_options, /*run_options=*/true);
   cmd->callback([&exit_code] {
     if (localize && session_dir.empty()) throw InputError("--localize needs --session DIR");
+    if (anywhere && session_dir.empty()) throw InputError("--start-anywhere needs --session DIR");
     std::optional<SessionManifest> manifest;
     if (!session_dir.empty()) manifest = readSessionManifest(session_dir);
     PluginManager plugins;
@@ -239,6 +245,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
                          : manifest  ? loadConfigText(manifest->config_text, manifest->config_path)
                                      : loadConfigFile(defaultConfigPath());
     for (const auto& s : sets) applyOverride(doc, s);
+    if (anywhere) applyOverride(doc, "pipeline.graph.join_by_estimate=false");
     auto run = buildRun(doc, plugins);
     // A typo in an action fails now, not after a run of minutes.
     std::vector<ActionCall> calls;
@@ -253,7 +260,7 @@ void addRunCommand(CLI::App& root, int& exit_code) {
     if (manifest) {
       // After buildRun: the config's plugins register the value types the scenes hold.
       SessionMaps maps = loadSessionMaps(*manifest);
-      run->pipeline->restoreSession(maps.maps, maps.edges, localize);
+      run->pipeline->restoreSession(maps.maps, maps.edges, localize, !anywhere);
       spdlog::info("session {}: {} local maps, {} edges ({})", session_dir, maps.maps.size(),
                    maps.edges.size(), localize ? "localization" : "mapping");
     }

@@ -41,22 +41,6 @@ std::string cueNames(const std::vector<std::pair<std::string, std::string>>& cue
   return out.empty() ? "none" : out;
 }
 
-// Union-find over the maps: odometry and loop edges join them.
-std::vector<int64_t> componentsOf(size_t maps, const std::vector<GraphEdge>& edges) {
-  std::vector<int64_t> parent(maps);
-  std::iota(parent.begin(), parent.end(), 0);
-  const auto root = [&parent](int64_t c) {
-    while (parent[c] != c) c = parent[c] = parent[parent[c]];
-    return c;
-  };
-  for (const auto& e : edges) {
-    const int64_t a = root(e.from), b = root(e.to);
-    parent[std::max(a, b)] = std::min(a, b);
-  }
-  for (size_t i = 0; i < maps; ++i) parent[i] = root(static_cast<int64_t>(i));
-  return parent;
-}
-
 // Poses of a session's trajectory re-expressed in the merged frame: each pose moves with the
 // local map whose frames span its stamp (the nearest in time when none does).
 std::vector<StampedPose> reexpressed(const Trajectory& trajectory,
@@ -190,7 +174,7 @@ MergeReport mergeSessions(const MergeOptions& options, PluginManager& plugins) {
     const auto edges = run->pipeline->graph->edges();
     size_t total = 0;
     for (size_t k : in) total += loaded[k].maps.maps.size();
-    const auto components = componentsOf(total, edges);
+    const auto components = graphComponents(total, edges);
     std::vector<size_t> out;
     for (size_t i = 0; i < in.size(); ++i)
       if (components[static_cast<size_t>(ids[i])] == components[0]) out.push_back(in[i]);

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <vector>
 
 namespace plugslam {
 inline namespace abi_v1 {
@@ -20,6 +21,10 @@ struct GraphEdge {
 /// An edge's information in the error coordinates of the solver's between factors (identical in
 /// 2D; in 3D the rotation part is the quaternion's vector part, half the rotation vector).
 Eigen::MatrixXd betweenFactorInformation(const GraphEdge& edge, int dimension);
+
+/// The graph component of each of maps 0..maps-1 that `edges` join (odometry and loops alike),
+/// named by its lowest map id: maps of one component have a common frame, others none.
+std::vector<int64_t> graphComponents(size_t maps, const std::vector<GraphEdge>& edges);
 
 }  // namespace abi_v1
 }  // namespace plugslam

@@ -43,6 +43,7 @@ class Localizer : public Tracker {
   void continueSession(int64_t next_id) override;
   std::shared_ptr<Tracker> localizer(
       std::vector<std::shared_ptr<const LocalMap>> maps) const override;
+  void relocate(const Eigen::Isometry3d& world) override;
   /// The frozen maps to localize in (before the first frame); throws InputError when there
   /// are none or one is of the other dimension.
   void setMaps(std::vector<std::shared_ptr<const LocalMap>> maps);

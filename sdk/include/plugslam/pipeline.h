@@ -49,8 +49,16 @@ class Pipeline : public Configurable {
   /// edges. Mapping (`localize` false) appends new maps after them, joined by loops; localization
   /// tracks against them frozen with the tracker's localizer (Tracker::localizer), which takes
   /// the tracker's place, and adds nothing to the graph. Throws InputError.
+  /// With `localize` and not `start_known`, the robot may start anywhere: the mapping tracker
+  /// and the graph run (new maps, their own component) until a loop found by place recognition
+  /// joins them to the saved maps (the graph's join_by_estimate false), then the localizer
+  /// takes over from the pose that join gives; frames before are `lost`.
   void restoreSession(const std::vector<std::shared_ptr<LocalMap>>& maps,
-                      const std::vector<GraphEdge>& edges, bool localize);
+                      const std::vector<GraphEdge>& edges, bool localize,
+                      bool start_known = true);
+  /// Frames processed before localization from an unknown start locked on (-1: it has not;
+  /// 0: the start was known).
+  int64_t lockedOnAfter() const { return locked_on_after_; }
   /// The local map `id` the tracker started or the session restored (its scene, its current
   /// origin), nullptr if none. Read it only between frames.
   std::shared_ptr<const LocalMap> findLocalMap(int64_t id) const;
@@ -79,10 +87,16 @@ class Pipeline : public Configurable {
   std::unique_ptr<detail::PoseLog> tracked_;
   std::unique_ptr<detail::PoseLog> reference_;
   std::map<int64_t, std::shared_ptr<LocalMap>> local_maps_;
+  // Localization from an unknown start: the saved maps, while not locked on; frames so far.
+  std::vector<std::shared_ptr<const LocalMap>> searching_in_;
+  int64_t locked_on_after_ = 0, frames_ = 0;
 
  private:
   // The local map `id` the tracker started (or the session restored); throws ModuleError.
   const LocalMap& localMap(int64_t id) const;
+  // Localization from an unknown start: hands over to the localizer once the frame's map is
+  // joined to the saved ones, else marks the frame lost.
+  void lockOn(Frame& frame);
   Timings timings_;
 };
 

@@ -77,6 +77,9 @@ class Tracker : public Configurable {
   /// localize.
   virtual std::shared_ptr<Tracker> localizer(
       std::vector<std::shared_ptr<const LocalMap>> maps) const;
+  /// Continues from the robot's pose `world` in the maps' world frame, velocity unknown (a
+  /// localizer that locked on by place recognition). The default throws InputError.
+  virtual void relocate(const Eigen::Isometry3d& world);
 
  protected:
   TrackerStats stats_;

@@ -40,8 +40,29 @@ void Pipeline::process(Frame& frame) {
     for (const auto& map : events.closed) guarded(*graph, [&] { graph->mapClosed(map); });
     guarded(*graph, [&] { return graph->poll(); });
   }
+  ++frames_;
+  if (!searching_in_.empty() && frame.estimate.valid) lockOn(frame);
   if (frame.estimate.valid)
     tracked_->push_back({frame.stamp, frame.estimate.local_map, frame.estimate.in_map});
+}
+
+void Pipeline::lockOn(Frame& frame) {
+  // Until a loop joins the run's maps to the saved ones, its poses are in a frame of its own.
+  std::vector<GraphEdge> edges = graph->edges();
+  const std::vector<int64_t> components = graphComponents(local_maps_.size(), edges);
+  const auto here = static_cast<size_t>(frame.estimate.local_map);
+  if (here >= components.size() || components[here] != components[0]) {
+    frame.estimate.lost = true;
+    return;
+  }
+  // Joined (and optimized): the frame's pose is in the saved maps' frame; localize from there.
+  const Eigen::Isometry3d world = localMap(frame.estimate.local_map).origin * frame.estimate.in_map;
+  std::shared_ptr<Tracker> localizer = tracker->localizer(searching_in_);
+  localizer->relocate(world);
+  tracker.assign(localizer);
+  searching_in_.clear();
+  locked_on_after_ = frames_ - 1;
+  frame.estimate.world = world;
 }
 
 std::shared_ptr<const LocalMap> Pipeline::findLocalMap(int64_t id) const {
@@ -66,7 +87,8 @@ void Pipeline::configure() {
 }
 
 void Pipeline::restoreSession(const std::vector<std::shared_ptr<LocalMap>>& maps,
-                              const std::vector<GraphEdge>& edges, bool localize) {
+                              const std::vector<GraphEdge>& edges, bool localize,
+                              bool start_known) {
   if (!tracker) throw InputError("restoring a session needs a pipeline with a tracker");
   if (!tracked_->empty() || !local_maps_.empty())
     throw InputError("a session can only be restored before the first frame");
@@ -75,7 +97,16 @@ void Pipeline::restoreSession(const std::vector<std::shared_ptr<LocalMap>>& maps
       throw InputError("the session's maps are " + std::to_string(m->dimension) +
                        "D but the tracker is " + std::to_string(tracker->dimension()) + "D");
   if (graph) graph->restore(maps, edges);
-  if (localize) {
+  if (localize && !start_known) {
+    if (!graph)
+      throw InputError("localization from an unknown start needs a graph back-end with place "
+                       "recognition among its loop detectors");
+    // Checked now: the localizer that takes over must exist.
+    tracker->localizer({maps.begin(), maps.end()});
+    searching_in_.assign(maps.begin(), maps.end());
+    locked_on_after_ = -1;
+    tracker->continueSession(static_cast<int64_t>(maps.size()));
+  } else if (localize) {
     tracker.assign(tracker->localizer({maps.begin(), maps.end()}));
   } else {
     tracker->continueSession(static_cast<int64_t>(maps.size()));

@@ -307,8 +307,9 @@ void GraphSlam<S>::searchRestored(int64_t first) {
   for (int64_t id = first; id < n; ++id) {
     st.search.enqueue(id);
     detail::LoopJob job = st.search.take(st.graph, information_scale());
-    // The restored sessions' own loops are in the graph already.
+    // The restored sessions' own loops are in the graph already: only pairs across sessions.
     job.linked = detail::LoopSearch::linkedPairs(st.graph, true);
+    job.chains = st.graph.components();
     st.search.run(job);
     st.applyLoops(job, true);
   }

@@ -81,6 +81,9 @@ void LoopSearch::run(LoopJob& job) const {
       for (const LoopCandidate& c : candidates) {
         const int64_t id = c.id;
         if (id < 0 || id >= static_cast<int64_t>(view.maps.size()) || id == query_id) continue;
+        if (!job.chains.empty() && job.chains[static_cast<size_t>(id)] ==
+                                       job.chains[static_cast<size_t>(query_id)])
+          continue;
         // Components whose relative pose is unknown: the estimate relates nothing between them.
         if (!job.join_by_estimate && !c.global && view.component(id) != view.component(query_id))
           continue;

@@ -19,6 +19,9 @@ struct LoopJob {
   std::vector<int64_t> queries;
   bool final_pass = false;  // the final detectors over every map this run added
   bool join_by_estimate = true;  // candidates from the estimate may join components
+  // When set, each map's chain (session) component: only pairs of different chains are tried
+  // (sessions restored together already hold their own loops).
+  std::vector<int> chains;
   std::vector<std::pair<int64_t, int64_t>> linked;  // (newer, older) pairs to skip, sorted
   int dof = 3;                     // of the closures' information
   double information_scale = 1.0;  // applied to the closures' information

@@ -170,22 +170,24 @@ GraphView PoseGraph::view() const {
   view.origins.reserve(maps_.size());
   for (const auto& m : maps_) view.origins.push_back(m->origin);
   view.travelled = travelled_;
-  // The chain's components, merged by the active loops (union-find), each named by its
-  // lowest chain component.
-  std::vector<int> parent(components_.empty() ? 0 : components_.back() + 1);
-  for (size_t c = 0; c < parent.size(); ++c) parent[c] = static_cast<int>(c);
-  const auto root = [&parent](int c) {
-    while (parent[c] != c) c = parent[c] = parent[parent[c]];
-    return c;
+  for (const auto& l : loops_)
+    if (l.active)
+      view.last_loop_travelled = std::max(view.last_loop_travelled, travelled_[l.edge.to]);
+  // What joins maps, without the information matrices (views are taken at every map closing).
+  std::vector<GraphEdge> joins;
+  joins.reserve(odometry_.size() + loops_.size());
+  const auto join = [&joins](const GraphEdge& e) {
+    GraphEdge j;
+    j.from = e.from;
+    j.to = e.to;
+    joins.push_back(j);
   };
-  for (const auto& l : loops_) {
-    if (!l.active) continue;
-    view.last_loop_travelled = std::max(view.last_loop_travelled, travelled_[l.edge.to]);
-    const int a = root(components_[l.edge.from]), b = root(components_[l.edge.to]);
-    parent[std::max(a, b)] = std::min(a, b);
-  }
-  view.components.reserve(components_.size());
-  for (int c : components_) view.components.push_back(root(c));
+  for (const auto& e : odometry_) join(e);
+  for (const auto& l : loops_)
+    if (l.active) join(l.edge);
+  view.components.reserve(maps_.size());
+  for (int64_t c : graphComponents(maps_.size(), joins))
+    view.components.push_back(static_cast<int>(c));
   return view;
 }
 

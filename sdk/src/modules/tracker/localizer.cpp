@@ -65,6 +65,19 @@ std::shared_ptr<Tracker> Localizer<S>::localizer(
 }
 
 template <class S>
+void Localizer<S>::relocate(const Eigen::Isometry3d& world) {
+  State& st = *state_;
+  if (st.maps.empty()) throw InputError("localization: no saved maps to relocate in");
+  // In the saved map whose origin is nearest; the next frame's candidates are chosen from there.
+  st.located = *std::min_element(st.maps.begin(), st.maps.end(), [&](const auto& a, const auto& b) {
+    return (a->origin.translation() - world.translation()).squaredNorm() <
+           (b->origin.translation() - world.translation()).squaredNorm();
+  });
+  st.pose = S::normalized(S::from3D(st.located->origin.inverse() * world));
+  st.prediction.reset();
+}
+
+template <class S>
 TrackEvents Localizer<S>::track(Frame& frame) {
   // The frame is aligned against the map it is in and the maps whose origins are nearest its
   // predicted world pose; the valid alignment explaining most of the frame wins (maps of

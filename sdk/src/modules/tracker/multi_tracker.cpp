@@ -300,7 +300,8 @@ void MultiTracker<S>::continueSession(int64_t next_id) {
 template <class S>
 std::shared_ptr<Tracker> MultiTracker<S>::localizer(
     std::vector<std::shared_ptr<const LocalMap>> maps) const {
-  if (map_) throw InputError("localization can only start before the first frame");
+  // Also mid-run (localization from an unknown start hands over once it locked on): the
+  // localizer shares the aligner and the motion model, whose readings go on.
   return Localizer<S>::create(name(), aligner.shared(), motion.shared(), bounds(), localize_tie(),
                               std::move(maps));
 }

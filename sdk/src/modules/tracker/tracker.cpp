@@ -15,6 +15,10 @@ void Tracker::continueSession(int64_t) {
   throw InputError("tracker '" + name() + "' (" + typeName() + ") cannot extend a saved session");
 }
 
+void Tracker::relocate(const Eigen::Isometry3d&) {
+  throw InputError("tracker '" + name() + "' (" + typeName() + ") cannot be relocated");
+}
+
 std::shared_ptr<Tracker> Tracker::localizer(std::vector<std::shared_ptr<const LocalMap>>) const {
   throw InputError("tracker '" + name() + "' (" + typeName() + ") cannot localize in saved maps");
 }
