@@ -263,21 +263,21 @@ TEST(MultiTracker, AFrameWithoutDataStartsANewMapAndTrackingGoesOn) {
 // saved maps) and whether the frame was measured or only predicted (lost).
 TEST(MultiTracker, EstimatesSayWhetherTheMapIsFrozenAndWhetherTheFrameWasLost) {
   const Landmarks world = grid(1.5, 12.0);
-  auto frameAt = [&](int i, bool with_data) {
+  // Frame i of a drive along x through `pipeline`, without data at frame `lost`: the estimate is
+  // valid, lost at that frame only, and in a map `frozen` or not.
+  auto drive = [&](Pipeline& pipeline, int i, int lost, bool frozen) {
     Frame f = sequenceFrame(i);
-    if (with_data)
+    if (i != lost)
       f.measurement.set<Landmarks>("landmarks", observe(world, se2(0.1 * i, 0, 0), 6.0));
+    pipeline.process(f);
+    EXPECT_TRUE(f.estimate.valid) << i;
+    EXPECT_EQ(f.estimate.frozen, frozen) << i;
+    EXPECT_EQ(f.estimate.lost, i == lost) << i;
     return f;
   };
   auto mapper = landmarkTracker(1.0);
   auto mapping = trackingOnly(mapper);
-  for (int i = 0; i < 30; ++i) {
-    Frame f = frameAt(i, i != 15);
-    mapping->process(f);
-    ASSERT_TRUE(f.estimate.valid);
-    EXPECT_FALSE(f.estimate.frozen) << i;
-    EXPECT_EQ(f.estimate.lost, i == 15) << i;
-  }
+  for (int i = 0; i < 30; ++i) drive(*mapping, i, 15, false);
   // The session's maps, as a run saved and another loads them: localization swaps in the
   // tracker's localizer.
   std::vector<std::shared_ptr<LocalMap>> maps;
@@ -287,11 +287,7 @@ TEST(MultiTracker, EstimatesSayWhetherTheMapIsFrozenAndWhetherTheFrameWasLost) {
   ASSERT_TRUE(dynamic_cast<Localizer<Space2D>*>(localizing->tracker.get()));
   const Tracker& localizer = *localizing->tracker;
   for (int i = 0; i < 30; ++i) {
-    Frame f = frameAt(i, i != 20);
-    localizing->process(f);
-    ASSERT_TRUE(f.estimate.valid);
-    EXPECT_TRUE(f.estimate.frozen) << i;
-    EXPECT_EQ(f.estimate.lost, i == 20) << i;
+    const Frame f = drive(*localizing, i, 20, true);
     if (i != 20) {
       // Exact landmarks; the constant-velocity prior pulls by millimetres while the velocity
       // is still being learnt.
