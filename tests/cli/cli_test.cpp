@@ -77,11 +77,16 @@ void expectLogLinesStartClean(const std::string& out) {
 class Cli : public plugslam::testing::TempDirTest {
  protected:
   Cli() : TempDirTest("plugslam_cli") {}
+  // A config file `name` that loads the test fixture plugin, then says `body`.
+  std::string fixtureConfig(const std::string& name, const std::string& body) {
+    return write(name, "plugins: [" + buildDir() + "/tests/plugins/plugslam_fixture.so]\n" + body);
+  }
   std::string config(const std::string& extra = "") {
-    return write("run.yaml", "plugins: [" + buildDir() + "/tests/plugins/plugslam_fixture.so]\n" +
-                                 "source: {type: fixture.CountingSource, frames: 20}\n"
-                                 "pipeline:\n  preprocessors:\n    - {type: fixture.Scale, factor: 0.5}\n"
-                                 "outputs: [fixture.SumWriter]\n" + extra);
+    return fixtureConfig("run.yaml",
+                         "source: {type: fixture.CountingSource, frames: 20}\n"
+                         "pipeline:\n  preprocessors:\n    - {type: fixture.Scale, factor: 0.5}\n"
+                         "outputs: [fixture.SumWriter]\n" +
+                             extra);
   }
 };
 
@@ -135,9 +140,7 @@ TEST_F(Cli, ValidateGoodAndBroken) {
   auto r = run("validate " + good);
   EXPECT_EQ(r.code, 0) << r.out;
   expectHas(r.out, "OK");
-  auto bad = write("bad.yaml", "plugins: [" + buildDir() +
-                                   "/tests/plugins/plugslam_fixture.so]\n"
-                                   "source: {type: fixture.CountingSource, frams: 3}\n");
+  auto bad = fixtureConfig("bad.yaml", "source: {type: fixture.CountingSource, frams: 3}\n");
   r = run("validate " + bad);
   EXPECT_EQ(r.code, 2);
   expectHas(r.out, bad + ":2:40: source.frams: unknown key 'frams'");
@@ -153,13 +156,12 @@ TEST_F(Cli, ValidateGoodAndBroken) {
 // Item 17.31: validate lists every error of the file, each on its own line with file:line:column
 // and the key path, then a count; the missing source is one of them, not a later surprise.
 TEST_F(Cli, ValidateReportsEveryError) {
-  auto bad = write("bad.yaml", "plugins: [" + buildDir() +
-                                   "/tests/plugins/plugslam_fixture.so]\n"
-                                   "pipeline:\n"
-                                   "  preprocessors:\n"
-                                   "    - {type: fixture.Scale, factr: 0.5}\n"
-                                   "    - {type: fixture.Scale, factor: abc}\n"
-                                   "outputs: [fixture.SumWritr]\n");
+  auto bad = fixtureConfig("bad.yaml",
+                           "pipeline:\n"
+                           "  preprocessors:\n"
+                           "    - {type: fixture.Scale, factr: 0.5}\n"
+                           "    - {type: fixture.Scale, factor: abc}\n"
+                           "outputs: [fixture.SumWritr]\n");
   auto r = run("validate " + bad);
   EXPECT_EQ(r.code, 2) << r.out;
   expectHas(r.out, "[error] " + bad + ":1:1: source: missing 'source:'");
@@ -172,11 +174,10 @@ TEST_F(Cli, ValidateReportsEveryError) {
 // Item 17.7: a tracker that has nothing to align with (no aligner slices) is a configuration
 // error, not a run whose pose never moves.
 TEST_F(Cli, ValidateRejectsATrackerWithoutAlignerSlices) {
-  auto no_slices = write("no_slices.yaml", "plugins: [" + buildDir() +
-                                               "/tests/plugins/plugslam_fixture.so]\n"
-                                               "source: {type: fixture.CountingSource}\n"
-                                               "pipeline:\n"
-                                               "  tracker: {type: sdk.MultiTracker3D}\n");
+  auto no_slices = fixtureConfig("no_slices.yaml",
+                                 "source: {type: fixture.CountingSource}\n"
+                                 "pipeline:\n"
+                                 "  tracker: {type: sdk.MultiTracker3D}\n");
   auto r = run("validate " + no_slices);
   EXPECT_EQ(r.code, 2) << r.out;
   expectHas(r.out, "pipeline.tracker.aligner.slices: the aligner has no slices");
@@ -475,8 +476,8 @@ TEST_F(Cli, ConfigsFindTheDataFolderFromAnyFolder) {
   auto r = run("validate " + carmen, "cd " + dir_.string() + " && PLUGSLAM_DATA=/no/such/folder");
   EXPECT_EQ(r.code, 2) << r.out;
   expectHas(r.out, "/no/such/folder/laser2d/intel-gfs-corrected/intel-corrected.log.gz");
-  auto bad = write("bad.yaml", "plugins: [" + buildDir() + "/tests/plugins/plugslam_fixture.so]\n"
-                               "source: {type: fixture.CountingSource, sensor: '${HOME}/x'}\n");
+  auto bad =
+      fixtureConfig("bad.yaml", "source: {type: fixture.CountingSource, sensor: '${HOME}/x'}\n");
   r = run("validate " + bad);
   EXPECT_EQ(r.code, 2) << r.out;
   expectHas(r.out, bad + ":2:48: unknown variable '${HOME}': a config knows ${PLUGSLAM_DATA}");
