@@ -147,17 +147,25 @@ TEST(FeatureGrid, PairsALandmarkOnlyWithAKeypointOfItsPredictedScale) {
   EXPECT_EQ(matches.size(), 1u);
 }
 
+// A scene whose landmarks are `reference`'s keypoints seen from `pose`, as a tracker's
+// LandmarkMapSlice makes it.
 template <class S>
-AlignResult<S> alignOnce(const FeatureSet& reference, const FeatureSet& current,
-                         const typename S::Pose& reference_pose, const typename S::Pose& guess,
-                         ReprojectionSlice<S>** slice_out = nullptr,
-                         bool landmark_uncertainty = false) {
+PropertyContainer sceneOf(const FeatureSet& reference, const typename S::Pose& pose) {
   PropertyContainer scene;
   Frame ref;
   ref.measurement.set<FeatureSet>("features", reference);
   LandmarkMapSlice<S> merger;
   merger.configure();
-  merger.merge(ref, scene, reference_pose);
+  merger.merge(ref, scene, pose);
+  return scene;
+}
+
+template <class S>
+AlignResult<S> alignOnce(const FeatureSet& reference, const FeatureSet& current,
+                         const typename S::Pose& reference_pose, const typename S::Pose& guess,
+                         ReprojectionSlice<S>** slice_out = nullptr,
+                         bool landmark_uncertainty = false) {
+  const PropertyContainer scene = sceneOf<S>(reference, reference_pose);
   EXPECT_EQ(scene.get<LandmarkMap>("landmarks").size(), reference.size());
   MultiAligner<S> aligner;
   auto slice = std::make_shared<ReprojectionSlice<S>>();
@@ -260,12 +268,7 @@ template <class S>
 SliceJacobianCheck checkReprojectionJacobians(const FeatureSet& reference,
                                               const FeatureSet& current,
                                               const typename S::Pose& at) {
-  PropertyContainer scene;
-  Frame ref;
-  ref.measurement.set<FeatureSet>("features", reference);
-  LandmarkMapSlice<S> merger;
-  merger.configure();
-  merger.merge(ref, scene, S::Pose::Identity());
+  const PropertyContainer scene = sceneOf<S>(reference, S::Pose::Identity());
   ReprojectionSlice<S> slice;
   slice.configure();
   Frame frame;
@@ -437,12 +440,7 @@ TEST(ReprojectionSlice, RecoversAWideMotionByDescriptorMatching) {
   const Eigen::Isometry3d& truth = pair.truth;
   const FeatureSet &a = pair.a, &b = pair.b;
   const Eigen::Isometry3d id = Eigen::Isometry3d::Identity();
-  PropertyContainer scene;
-  Frame ref;
-  ref.measurement.set<FeatureSet>("features", a);
-  LandmarkMapSlice<Space3D> merger;
-  merger.configure();
-  merger.merge(ref, scene, id);
+  const PropertyContainer scene = sceneOf<Space3D>(a, id);
   for (bool recover : {false, true}) {
     MultiAligner<Space3D> aligner;
     auto slice = std::make_shared<ReprojectionSlice<Space3D>>();
