@@ -57,6 +57,9 @@ class GraphBackend : public Configurable {
   /// origins) and the edges exactly as edges() returned them. The default throws InputError.
   virtual void restore(const std::vector<std::shared_ptr<LocalMap>>& maps,
                        const std::vector<GraphEdge>& edges);
+  /// Optimizes now, inline, and applies the result, e.g. before reading a pose a new loop
+  /// changed. The default does nothing (a back-end whose estimate is always current).
+  virtual void optimizeNow();
   /// Searches loops from restored maps `first`.. now, one map at a time, each search on the
   /// estimate the closures before it optimized (sessions restored together, to be merged);
   /// finish()'s final pass then queries them as this run's maps. The default throws InputError.
@@ -146,7 +149,7 @@ class GraphSlam : public GraphBackend {
   void searchRestored(int64_t first) override;
 
   /// Optimizes now (inline), whatever the mode; the action "optimize_now".
-  void optimizeNow();
+  void optimizeNow() override;
   /// Writes the graph as g2o (vertices: map origins, map 0 fixed; edges: edges()), atomically;
   /// the action "save_graph PATH".
   void saveGraph(const std::string& path) const;

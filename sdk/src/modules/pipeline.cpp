@@ -55,7 +55,9 @@ void Pipeline::lockOn(Frame& frame) {
     frame.estimate.lost = true;
     return;
   }
-  // Joined (and optimized): the frame's pose is in the saved maps' frame; localize from there.
+  // Joined: once optimized with that loop (a threaded back-end may not have yet), the frame's
+  // pose is in the saved maps' frame; localize from there.
+  graph->optimizeNow();
   const Eigen::Isometry3d world = localMap(frame.estimate.local_map).origin * frame.estimate.in_map;
   std::shared_ptr<Tracker> localizer = tracker->localizer(searching_in_);
   localizer->relocate(world);

@@ -23,6 +23,8 @@ void GraphBackend::restore(const std::vector<std::shared_ptr<LocalMap>>&,
                    ") cannot restore a saved graph");
 }
 
+void GraphBackend::optimizeNow() {}
+
 void GraphBackend::searchRestored(int64_t) {
   throw InputError("graph back-end '" + name() + "' (" + typeName() +
                    ") cannot search loops between restored sessions");
