@@ -232,6 +232,49 @@ TEST_F(Render, MapPictureDrawsTrajectoryLoopsAndMapWhereTheyAre) {
   EXPECT_EQ(p.notes[0], "ATE RMSE 0.000 m (se2 alignment)");
 }
 
+TEST_F(Render, AMergedRunDrawsEachSessionInItsColourAndTheLinks) {
+  // What `plugslam merge` adds to an output folder: a trajectory per session and merge.json.
+  const std::vector<Eigen::Vector2d> first(path.begin(), path.begin() + path.size() / 2),
+      second(path.begin() + path.size() / 2, path.end());
+  writeTumTrajectory(toTrajectory(first, Eigen::Isometry3d::Identity()),
+                     (tmp.path() / "trajectory_1.tum").string());
+  std::vector<StampedPose> later;
+  for (const auto& p : toTrajectory(second, Eigen::Isometry3d::Identity()))
+    later.push_back({p.t + 1000, p.pose});
+  writeTumTrajectory(Trajectory(later), (tmp.path() / "trajectory_2.tum").string());
+  std::ofstream(tmp.path() / "merge.json")
+      << R"({"sessions": [{"session": "/x/robot1/session", "joined": true,
+                           "trajectory": "/y/trajectory_1.tum"},
+                          {"session": "/x/robot2", "joined": true,
+                           "trajectory": "/y/trajectory_2.tum"},
+                          {"session": "/x/elsewhere", "joined": false, "trajectory": null}],
+            "link_list": [{"from": 0, "to": 3}]})";
+  const RunData run = loadRun(tmp.path().string());
+  ASSERT_EQ(run.sessions.size(), 2u) << "the session that did not join is not drawn";
+  EXPECT_EQ(run.sessions[0].first, "robot1");
+  EXPECT_EQ(run.sessions[1].first, "robot2");
+  ASSERT_EQ(run.link_ends.size(), 2u);
+  EXPECT_EQ(run.link_ends[0], run.nodes[0]);
+  EXPECT_EQ(run.link_ends[1], run.nodes[3]);
+  renderRun(tmp.path().string(), tmp.path().string());
+  const Figure fig = mapFigure(run);
+  const Panel& p = fig.panels[0];
+  const std::string svg = slurp(tmp.path() / "render_map.svg");
+  // Each session's path in its colour, through its own poses only.
+  const auto one = longestPath(svg, kEstimateColour), two = longestPath(svg, {44, 160, 44});
+  ASSERT_GE(one.size(), 2u);
+  ASSERT_GE(two.size(), 2u);
+  for (const auto& q : first) EXPECT_LT(toPolyline(p.toPixel(q), one), 0.01);
+  for (const auto& q : second) EXPECT_LT(toPolyline(p.toPixel(q), two), 0.01);
+  // The link, in the reference's orange, from map 0 to map 3.
+  const auto links = svgPaths(svg, {255, 127, 14});
+  bool found = false;
+  for (const auto& l : links)
+    found |= l.size() >= 2 && (l.front() - p.toPixel(run.nodes[0])).norm() < 0.05 &&
+             (l.back() - p.toPixel(run.nodes[3])).norm() < 0.05;
+  EXPECT_TRUE(found) << "no link drawn from map 0 to map 3";
+}
+
 TEST_F(Render, ErrorPlotsShowTheErrorOfEachPose) {
   // Without alignment, a reference 0.1 m off in y for the first half and 0.3 m for the second
   // half gives ATE 0.1 then 0.3 at every pose: the curve must sit at those heights.

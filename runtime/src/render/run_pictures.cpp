@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "plugslam/errors.h"
 #include "plugslam/eval/rpe.h"
@@ -220,6 +221,31 @@ RunData loadRun(const std::string& dir, const RenderOptions& options) {
     }
   }
   run.map = readMap(d / "map.yaml");
+  // A merged run: its sessions' trajectories in the merged frame and the links between them.
+  const fs::path merge = d / "merge.json";
+  if (fs::exists(merge)) {
+    nlohmann::json j;
+    try {
+      std::ifstream in(merge.string());
+      j = nlohmann::json::parse(in);
+      for (const auto& s : j.at("sessions")) {
+        if (!s.at("joined").get<bool>() || s.at("trajectory").is_null()) continue;
+        const fs::path t = d / fs::path(s.at("trajectory").get<std::string>()).filename();
+        // Named by its folder (a run's saved session is RUN/session: the run's folder).
+        fs::path name = fs::path(s.at("session").get<std::string>());
+        if (name.filename() == "session" && name.has_parent_path()) name = name.parent_path();
+        if (fs::exists(t)) run.sessions.emplace_back(name.filename().string(), readTrajectory(t.string()));
+      }
+      for (const auto& l : j.at("link_list")) {
+        const auto from = l.at("from").get<size_t>(), to = l.at("to").get<size_t>();
+        if (from >= run.nodes.size() || to >= run.nodes.size()) continue;
+        run.link_ends.push_back(run.nodes[from]);
+        run.link_ends.push_back(run.nodes[to]);
+      }
+    } catch (const std::exception& e) {
+      throw InputError("'" + merge.string() + "' is not a merge report: " + e.what());
+    }
+  }
   return run;
 }
 
@@ -300,7 +326,22 @@ Figure mapFigure(const RunData& run, const RenderOptions& o) {
              ? "reference"
              : "reference (" + fs::path(run.reference_path).filename().string() + ")",
          "reference", Series::Kind::Line, kReference, 2.0, 0.9, ref});
-  p.series.push_back({"estimate", "estimate", Series::Kind::Line, kEstimate, 2.0, 1.0, est});
+  if (run.sessions.empty()) {
+    p.series.push_back({"estimate", "estimate", Series::Kind::Line, kEstimate, 2.0, 1.0, est});
+  } else {
+    // A merged run: one colour per session, and the links that joined them.
+    static const Rgb palette[] = {kEstimate, {44, 160, 44}, {148, 103, 189}, {140, 86, 75},
+                                  {227, 119, 194}, {23, 190, 207}};
+    if (!run.link_ends.empty()) {
+      const double alpha = std::clamp(10.0 / std::sqrt(run.link_ends.size() / 2.0), 0.15, 0.8);
+      p.series.push_back({"links across sessions", "links", Series::Kind::Segments, kReference,
+                          1.5, alpha, run.link_ends});
+    }
+    for (size_t i = 0; i < run.sessions.size(); ++i)
+      p.series.push_back({run.sessions[i].first, "session", Series::Kind::Line,
+                          palette[i % (sizeof(palette) / sizeof(palette[0]))], 2.0, 1.0,
+                          topView(run.sessions[i].second)});
+  }
   if (!run.nodes.empty())
     p.series.push_back({"", "nodes", Series::Kind::Points, kNode, 3.0, 0.8, run.nodes});
   p.series.push_back({"", "start", Series::Kind::Points, kStart, 9.0, 1.0, {est.front()}});

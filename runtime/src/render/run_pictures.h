@@ -23,6 +23,9 @@ struct RunData {
   std::vector<Eigen::Vector2d> nodes;      ///< graph vertices (local maps), top view
   std::vector<Eigen::Vector2d> loop_ends;  ///< loop-closure edges, two points each
   std::optional<GreyRaster> map;           ///< map.yaml + its image, when present
+  /// A merged run (`plugslam merge`, merge.json): each joined session's trajectory, by name.
+  std::vector<std::pair<std::string, Trajectory>> sessions;
+  std::vector<Eigen::Vector2d> link_ends;  ///< links across sessions, two points each
 };
 
 /// Options of the pictures.
