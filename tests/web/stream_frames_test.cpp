@@ -339,3 +339,75 @@ TEST(StreamFrames, AMonoCameraHasOneFrameAndOneCalibration) {
 }
 
 }  // namespace
+
+namespace {
+
+// A hall of seven unequal sides with three pillars, in `path`: no place of the office.
+void writeHall(const std::string& path) {
+  std::ofstream out(path);
+  const double r[7] = {7, 6, 8, 5.5, 7.5, 6.5, 5};
+  for (int i = 0; i < 7; ++i) {
+    const double a0 = 2 * M_PI * i / 7, a1 = 2 * M_PI * (i + 1) / 7;
+    out << r[i] * std::cos(a0) << " " << r[i] * std::sin(a0) << " "
+        << r[(i + 1) % 7] * std::cos(a1) << " " << r[(i + 1) % 7] * std::sin(a1) << "\n";
+  }
+  for (const auto& [x, y] : {std::pair{2.0, 1.0}, std::pair{-2.0, 2.5}, std::pair{0.5, -3.0}})
+    out << x << " " << y << " " << x + 0.6 << " " << y << "\n"
+        << x + 0.6 << " " << y << " " << x + 0.6 << " " << y + 0.6 << "\n"
+        << x + 0.6 << " " << y + 0.6 << " " << x << " " << y + 0.6 << "\n"
+        << x << " " << y + 0.6 << " " << x << " " << y << "\n";
+}
+
+}  // namespace
+
+TEST(StreamFrames, TheGraphDrawsEachComponentInItsOwnColour) {
+  // A run of another building on a restored session of the office, started anywhere: place
+  // recognition finds nothing to join, so the graph has two components.
+  plugslam::testing::TempDir dir("plugslam_stream_components");
+  PluginManager plugins;
+  const auto office = [&](const std::vector<std::string>& sets) {
+    ConfigDocument doc =
+        loadConfigFile(plugslam::testing::sourceDir() + "/configs/sim2d_single_laser.yaml");
+    for (const std::string& s : {std::string("outputs=[]"), std::string("max_frames=150"),
+                                 std::string("pipeline.graph.deterministic=true"),
+                                 std::string("pipeline.graph.join_by_estimate=false")})
+      applyOverride(doc, s);
+    for (const auto& s : sets) applyOverride(doc, s);
+    return buildRun(doc, plugins);
+  };
+  auto first = office({});
+  RunOptions options;
+  options.out_dir = dir.file("first");
+  runPipeline(*first, options);
+  const RunResult saved = first->pipeline->result();
+  std::vector<std::shared_ptr<LocalMap>> maps;
+  for (const auto& m : saved.local_maps) maps.push_back(std::make_shared<LocalMap>(*m));
+
+  writeHall(dir.file("hall.txt"));
+  auto second = office({"source.world=" + dir.file("hall.txt"), "source.start=[0, 0]"});
+  second->pipeline->restoreSession(maps, saved.edges, false);
+  Recorder recorder;
+  view::installPublisher(&recorder);
+  StreamObserver observer;
+  options.out_dir = dir.file("second");
+  options.observer = &observer;
+  const RunReport report = runPipeline(*second, options);
+  view::installPublisher(nullptr);
+  ASSERT_EQ(report.graph_components.size(), 2u) << "the hall was joined to the office";
+
+  const auto graph = recorder.of<view::SceneUpdate>("/graph");
+  ASSERT_EQ(graph.size(), 1u);
+  const view::SceneEntity* odometry = nullptr;
+  for (const auto& e : graph.begin()->second.entities)
+    if (e.id == "odometry") odometry = &e;
+  ASSERT_NE(odometry, nullptr);
+  ASSERT_EQ(odometry->lines.size(), 2u) << "one set of lines per component";
+  const auto& a = odometry->lines[0].color;
+  const auto& b = odometry->lines[1].color;
+  EXPECT_TRUE(a.r != b.r || a.g != b.g || a.b != b.b) << "the components share a colour";
+  // Each component's lines join its own maps: the office's first, then the hall's.
+  const size_t office_maps = saved.local_maps.size();
+  EXPECT_EQ(odometry->lines[0].points.size(), 2 * (office_maps - 1));
+  EXPECT_EQ(odometry->lines[1].points.size(),
+            2 * (observer.result.local_maps.size() - office_maps - 1));
+}

@@ -1,5 +1,6 @@
 #include "view/view_stream.h"
 
+#include <algorithm>
 #include <optional>
 #include <utility>
 
@@ -248,22 +249,40 @@ void ViewStream::publishGraph(const Pipeline& pipeline) {
   odometry.id = "odometry";
   loops.id = "loops";
   odometry.stamp = loops.stamp = state_.stamp;
-  view::Lines odo_lines, loop_lines;
-  odo_lines.color = rgba(0.3f, 0.6f, 1.0f);
+  view::Lines loop_lines;
   loop_lines.color = rgba(1.0f, 0.35f, 0.2f);
   auto origin = [&](int64_t id) -> const LocalMap* {
     return id >= 0 && static_cast<size_t>(id) < maps_.size() ? maps_[static_cast<size_t>(id)].get()
                                                              : nullptr;
   };
-  for (const auto& e : pipeline.graph->edges()) {
+  const std::vector<GraphEdge> edges = pipeline.graph->edges();
+  // The odometry of each graph component in its own colour (sessions merged or not yet joined,
+  // tracker resets): map 0's blue, the others after it.
+  const std::vector<int64_t> components = graphComponents(maps_.size(), edges);
+  static const float palette[][3] = {{0.3f, 0.6f, 1.0f}, {0.2f, 0.75f, 0.3f}, {0.65f, 0.45f, 0.9f},
+                                     {0.6f, 0.4f, 0.3f}, {0.95f, 0.5f, 0.8f}, {0.1f, 0.8f, 0.85f}};
+  std::vector<int64_t> roots;  // components in order of their first map
+  std::vector<view::Lines> odo_lines;
+  for (const auto& e : edges) {
     const LocalMap* a = origin(e.from);
     const LocalMap* b = origin(e.to);
     if (!a || !b) continue;
-    auto& lines = e.loop ? loop_lines : odo_lines;
-    lines.points.push_back(a->origin.translation());
-    lines.points.push_back(b->origin.translation());
+    view::Lines* lines = &loop_lines;
+    if (!e.loop) {
+      const int64_t root = components[static_cast<size_t>(e.from)];
+      size_t k = std::find(roots.begin(), roots.end(), root) - roots.begin();
+      if (k == roots.size()) {
+        roots.push_back(root);
+        const float* c = palette[k % (sizeof(palette) / sizeof(palette[0]))];
+        odo_lines.emplace_back();
+        odo_lines.back().color = rgba(c[0], c[1], c[2]);
+      }
+      lines = &odo_lines[k];
+    }
+    lines->points.push_back(a->origin.translation());
+    lines->points.push_back(b->origin.translation());
   }
-  odometry.lines.push_back(std::move(odo_lines));
+  for (auto& l : odo_lines) odometry.lines.push_back(std::move(l));
   loops.lines.push_back(std::move(loop_lines));
   view::SceneUpdate update;
   update.stamp = state_.stamp;
