@@ -16,6 +16,7 @@
 #include "run_config.h"
 #include "runner.h"
 #include "session/session.h"
+#include "sim_worlds.h"
 #include "temp_dir_test.h"
 #include "test_paths.h"
 
@@ -105,22 +106,9 @@ TEST_F(Merge, TwoOfficeSessionsStartedApartJoinInOneFrame) {
 
 TEST_F(Merge, ASessionOfAnotherBuildingIsReportedNotMerged) {
   if (const std::string why = pluginsMissing(); !why.empty()) GTEST_SKIP() << why;
-  // A hall of seven unequal sides with pillars: nothing like the office's rooms and corridors.
+  // Another building: nothing like the office's rooms and corridors.
   const fs::path world = dir_ / "hall.txt";
-  {
-    std::ofstream out(world);
-    const double r[7] = {7, 6, 8, 5.5, 7.5, 6.5, 5};
-    for (int i = 0; i < 7; ++i) {
-      const double a0 = 2 * M_PI * i / 7, a1 = 2 * M_PI * (i + 1) / 7;
-      out << r[i] * std::cos(a0) << " " << r[i] * std::sin(a0) << " "
-          << r[(i + 1) % 7] * std::cos(a1) << " " << r[(i + 1) % 7] * std::sin(a1) << "\n";
-    }
-    for (const auto& [x, y] : {std::pair{2.0, 1.0}, std::pair{-2.0, 2.5}, std::pair{0.5, -3.0}})
-      out << x << " " << y << " " << x + 0.6 << " " << y << "\n"
-          << x + 0.6 << " " << y << " " << x + 0.6 << " " << y + 0.6 << "\n"
-          << x + 0.6 << " " << y + 0.6 << " " << x << " " << y + 0.6 << "\n"
-          << x << " " << y + 0.6 << " " << x << " " << y << "\n";
-  }
+  plugslam::testing::writeSevenSidedHall(world.string());
   mapAndSave("s0", {"source.session=stage-0"});
   mapAndSave("s1", {"source.session=stage-1", "source.seed=1"});
   mapAndSave("hall", {"source.session=stage-0", "source.world=" + world.string(),

@@ -26,6 +26,7 @@
 #include "plugslam/view/publisher.h"
 #include "run_config.h"
 #include "runner.h"
+#include "sim_worlds.h"
 #include "temp_dir.h"
 #include "test_paths.h"
 #include "view/view_json.h"
@@ -340,25 +341,6 @@ TEST(StreamFrames, AMonoCameraHasOneFrameAndOneCalibration) {
 
 }  // namespace
 
-namespace {
-
-// A hall of seven unequal sides with three pillars, in `path`: no place of the office.
-void writeHall(const std::string& path) {
-  std::ofstream out(path);
-  const double r[7] = {7, 6, 8, 5.5, 7.5, 6.5, 5};
-  for (int i = 0; i < 7; ++i) {
-    const double a0 = 2 * M_PI * i / 7, a1 = 2 * M_PI * (i + 1) / 7;
-    out << r[i] * std::cos(a0) << " " << r[i] * std::sin(a0) << " "
-        << r[(i + 1) % 7] * std::cos(a1) << " " << r[(i + 1) % 7] * std::sin(a1) << "\n";
-  }
-  for (const auto& [x, y] : {std::pair{2.0, 1.0}, std::pair{-2.0, 2.5}, std::pair{0.5, -3.0}})
-    out << x << " " << y << " " << x + 0.6 << " " << y << "\n"
-        << x + 0.6 << " " << y << " " << x + 0.6 << " " << y + 0.6 << "\n"
-        << x + 0.6 << " " << y + 0.6 << " " << x << " " << y + 0.6 << "\n"
-        << x << " " << y + 0.6 << " " << x << " " << y << "\n";
-}
-
-}  // namespace
 
 TEST(StreamFrames, TheGraphDrawsEachComponentInItsOwnColour) {
   // A run of another building on a restored session of the office, started anywhere: place
@@ -383,7 +365,7 @@ TEST(StreamFrames, TheGraphDrawsEachComponentInItsOwnColour) {
   std::vector<std::shared_ptr<LocalMap>> maps;
   for (const auto& m : saved.local_maps) maps.push_back(std::make_shared<LocalMap>(*m));
 
-  writeHall(dir.file("hall.txt"));
+  plugslam::testing::writeSevenSidedHall(dir.file("hall.txt"));
   auto second = office({"source.world=" + dir.file("hall.txt"), "source.start=[0, 0]"});
   second->pipeline->restoreSession(maps, saved.edges, false);
   Recorder recorder;

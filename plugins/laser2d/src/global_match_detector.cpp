@@ -86,6 +86,28 @@ MatchGrid rasterizeClouds(const std::vector<PlacedCloud>& clouds, double resolut
   return out;
 }
 
+std::vector<PlacedCloud> placeClouds(const GraphView& view, const Input<PointCloud2D>& scene,
+                                     const std::vector<int64_t>& ids, double max_range,
+                                     const std::function<SE2(int64_t)>& place) {
+  std::vector<PlacedCloud> clouds;
+  const double range2 = max_range * max_range;
+  for (int64_t k : ids) {
+    const auto* cloud = scene.find(view.maps[static_cast<size_t>(k)]->scene);
+    if (!cloud) continue;
+    const SE2 t = place(k);
+    PlacedCloud placed;
+    placed.origin = t.translation();
+    for (size_t i = 0; i < cloud->size(); ++i) {
+      if (cloud->points[i].squaredNorm() > range2) continue;
+      placed.points.push_back(t * cloud->points[i]);
+      if (i < cloud->normals.size()) placed.normals.push_back(t.linear() * cloud->normals[i]);
+    }
+    if (placed.normals.size() != placed.points.size()) placed.normals.clear();
+    clouds.push_back(std::move(placed));
+  }
+  return clouds;
+}
+
 void GlobalMatchDetector::configure() {
   cache_.clear();
   last_query_ = -1e300;
@@ -106,22 +128,10 @@ std::shared_ptr<const MatchGrid> GlobalMatchDetector::gridOf(const GraphView& vi
   // Only maps older than the query: they are closed, nothing modifies them any more.
   while (last + 1 < before && view.travelled[last + 1] - at <= neighbourhood())
     ++last;
-  std::vector<PlacedCloud> clouds;
-  const double range2 = max_range() * max_range();
-  for (int64_t k = first; k <= last; ++k) {
-    const auto* cloud = scene.find(view.maps[k]->scene);
-    if (!cloud) continue;
-    const SE2 t = Space2D::from3D(view.relative(id, k));
-    PlacedCloud placed;
-    placed.origin = t.translation();
-    for (size_t i = 0; i < cloud->size(); ++i) {
-      if (cloud->points[i].squaredNorm() > range2) continue;
-      placed.points.push_back(t * cloud->points[i]);
-      if (i < cloud->normals.size()) placed.normals.push_back(t.linear() * cloud->normals[i]);
-    }
-    if (placed.normals.size() != placed.points.size()) placed.normals.clear();
-    clouds.push_back(std::move(placed));
-  }
+  std::vector<int64_t> ids;
+  for (int64_t k = first; k <= last; ++k) ids.push_back(k);
+  const std::vector<PlacedCloud> clouds = placeClouds(
+      view, scene, ids, max_range(), [&](int64_t k) { return Space2D::from3D(view.relative(id, k)); });
   const double r = resolution();
   const int levels = correlativeLevels(max_radius(), r, kMaxLevels);
   auto grid = std::make_shared<const MatchGrid>(rasterizeClouds(

@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <list>
 #include <memory>
 #include <string>
@@ -44,6 +45,12 @@ struct PlacedCloud {
 /// ray crossed score 0; unobserved cells (and the outside) score `unknown` (0..255).
 MatchGrid rasterizeClouds(const std::vector<PlacedCloud>& clouds, double resolution, int levels,
                           uint8_t unknown);
+
+/// The clouds (entry `scene`) of maps `ids`, each without its points beyond `max_range` of its
+/// origin, placed by `place(id)`: the map's frame in the grid's.
+std::vector<PlacedCloud> placeClouds(const GraphView& view, const Input<PointCloud2D>& scene,
+                                     const std::vector<int64_t>& ids, double max_range,
+                                     const std::function<SE2(int64_t)>& place);
 
 /// Loop detector by global scan-to-map matching ("laser2d.GlobalMatchDetector"): for maps
 /// within a drift-grown radius, matches the query's points against the candidate's

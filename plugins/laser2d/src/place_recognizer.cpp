@@ -19,30 +19,6 @@ constexpr size_t kCachedGrids = 4;
 
 int floorCell(double v) { return static_cast<int>(std::floor(v)); }
 
-// The clouds of maps `ids`, each within `max_range` of its origin, placed by `place(id)`.
-template <class Place>
-std::vector<PlacedCloud> placeClouds(const GraphView& view, const Input<PointCloud2D>& scene,
-                                     const std::vector<int64_t>& ids, double max_range,
-                                     Place place) {
-  std::vector<PlacedCloud> clouds;
-  const double range2 = max_range * max_range;
-  for (int64_t k : ids) {
-    const auto* cloud = scene.find(view.maps[static_cast<size_t>(k)]->scene);
-    if (!cloud) continue;
-    const SE2 t = place(k);
-    PlacedCloud placed;
-    placed.origin = t.translation();
-    for (size_t i = 0; i < cloud->size(); ++i) {
-      if (cloud->points[i].squaredNorm() > range2) continue;
-      placed.points.push_back(t * cloud->points[i]);
-      if (i < cloud->normals.size()) placed.normals.push_back(t.linear() * cloud->normals[i]);
-    }
-    if (placed.normals.size() != placed.points.size()) placed.normals.clear();
-    clouds.push_back(std::move(placed));
-  }
-  return clouds;
-}
-
 }  // namespace
 
 void PlaceRecognizer::configure() {
@@ -105,7 +81,8 @@ std::vector<LoopCandidate> PlaceRecognizer::detect(const GraphView& view, const 
   std::vector<Eigen::Vector2d> all;
   for (const auto& c : clouds) all.insert(all.end(), c.points.begin(), c.points.end());
   const double r = resolution();
-  const std::vector<Eigen::Vector2d> points = correlativeQuery(all, max_range() + query_path(), r);
+  const std::vector<Eigen::Vector2d> points =
+      correlativeQuery(all, max_range() + query_path(), std::max(r, query_voxel()));
   if (points.empty()) return out;
   const SE2 own_pose = Space2D::from3D(view.origins[static_cast<size_t>(q)]);
 

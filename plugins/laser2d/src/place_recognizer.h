@@ -40,6 +40,11 @@ class PlaceRecognizer final : public LoopDetector {
                            "the query is its map and the maps up to this much path before it: a "
                            "view of the place wide enough to be told from others",
                            Range{0, 1e3}};
+  Param<double> query_voxel{this, "query_voxel", 0.25, "m",
+                            "one query point per cell of this size (at least `resolution`): the "
+                            "search's cost grows with the points, and a place is told by its "
+                            "layout more than by its density",
+                            Range{0.01, 10}};
   Param<double> query_spacing{this, "query_spacing", 2.0, "m",
                               "search from at most one query map per this much path (each search "
                               "covers whole maps)",

@@ -4,36 +4,10 @@
 
 #include <gtest/gtest.h>
 
-#include "point_map_slice.h"
-#include "scan_preprocessor.h"
-#include "synthetic.h"
+#include "synthetic_maps.h"
 
 namespace plugslam::laser2d {
 namespace {
-
-// A local map with `id` whose origin is `origin` (world frame), built from scans at the world
-// poses `robots`.
-std::shared_ptr<LocalMap> makeMap(int64_t id, const std::vector<test::Segment>& world,
-                                  const SE2& origin, const std::vector<SE2>& robots,
-                                  uint32_t seed) {
-  ScanPreprocessor pre;
-  pre.configure();
-  PointMapSlice slice;
-  slice.configure();
-  auto map = std::make_shared<LocalMap>();
-  map->id = id;
-  map->origin = Space2D::to3D(origin);
-  for (const SE2& robot : robots) {
-    test::ScanSpec spec;
-    spec.noise = 0.01;
-    spec.seed = seed++;
-    Frame frame;
-    frame.raw.set("front_laser", test::castScan(world, robot, spec));
-    pre.process(frame);
-    slice.merge(frame, map->scene, origin.inverse() * robot);
-  }
-  return map;
-}
 
 // Three candidate maps along a short path, then (30 m of path later) the query map.
 struct Scenario {
@@ -52,8 +26,8 @@ Scenario revisit(const std::vector<test::Segment>& query_world, const SE2& query
   Scenario s;
   const SE2 c[3] = {se2(2, 2, 0.1), se2(3, 2.3, 0.3), se2(4, 2.8, 0.5)};
   for (int i = 0; i < 3; ++i)
-    s.add(makeMap(i, world, c[i], {c[i], c[i] * se2(0.4, 0, 0.1)}, 10 * i + 1), 1.0 * i);
-  auto q = makeMap(3, query_world, query_truth, {query_truth, query_truth * se2(0.4, 0.1, -0.1)},
+    s.add(test::mapOfScans(i, world, c[i], {c[i], c[i] * se2(0.4, 0, 0.1)}, 10 * i + 1), 1.0 * i);
+  auto q = test::mapOfScans(3, query_world, query_truth, {query_truth, query_truth * se2(0.4, 0.1, -0.1)},
                    77);
   q->origin = Space2D::to3D(query_estimate);  // where the drifted estimate has it
   s.add(q, 32.0);

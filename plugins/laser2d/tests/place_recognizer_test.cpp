@@ -5,35 +5,10 @@
 
 #include <gtest/gtest.h>
 
-#include "point_map_slice.h"
-#include "scan_preprocessor.h"
-#include "synthetic.h"
+#include "synthetic_maps.h"
 
 namespace plugslam::laser2d {
 namespace {
-
-// A local map with `id` at `estimate` (its component's frame) built from two scans taken at
-// the world pose `truth` and a little ahead of it.
-std::shared_ptr<LocalMap> makeMap(int64_t id, const std::vector<test::Segment>& world,
-                                  const SE2& truth, const SE2& estimate, uint32_t seed) {
-  ScanPreprocessor pre;
-  pre.configure();
-  PointMapSlice slice;
-  slice.configure();
-  auto map = std::make_shared<LocalMap>();
-  map->id = id;
-  map->origin = Space2D::to3D(estimate);
-  for (const SE2& robot : {truth, truth * se2(0.3, 0.05, 0.1)}) {
-    test::ScanSpec spec;
-    spec.noise = 0.01;
-    spec.seed = seed++;
-    Frame frame;
-    frame.raw.set("front_laser", test::castScan(world, robot, spec));
-    pre.process(frame);
-    slice.merge(frame, map->scene, truth.inverse() * robot);
-  }
-  return map;
-}
 
 // Robot A mapped `a` (world poses, component 0); robot B then drove `b`, whose estimates are in
 // its own frame: the world seen from `b_frame` (component 1, ids after A's).
@@ -50,7 +25,10 @@ struct TwoRobots {
   void add(const std::vector<test::Segment>& world, const SE2& t, const SE2& estimate,
            int component, double travelled) {
     const auto id = static_cast<int64_t>(view.maps.size());
-    auto m = makeMap(id, world, t, estimate, static_cast<uint32_t>(10 * id + 1));
+    // Two scans, at the place and a little ahead; the map where its component's frame has it.
+    auto m = test::mapOfScans(id, world, t, {t, t * se2(0.3, 0.05, 0.1)},
+                              static_cast<uint32_t>(10 * id + 1));
+    m->origin = Space2D::to3D(estimate);
     view.maps.push_back(m);
     view.origins.push_back(m->origin);
     view.travelled.push_back(travelled);
