@@ -126,7 +126,7 @@ std::vector<LoopCandidate> PlaceRecognizer::detect(const GraphView& view, const 
       const double path = std::abs(here - w.travelled);
       const Eigen::Vector3d d = toVector((offset * w.own).inverse() * w.found);
       if (d.head<2>().norm() <= agreement()[0] + drift() * path &&
-          std::abs(d.z()) <= agreement()[1] + drift() * path)
+          std::abs(d.z()) <= agreement()[1] + angular_drift() * path)
         ++agree;
     }
     waiting.push_back(Match{q, here, m.pose, own_pose});

@@ -72,10 +72,14 @@ class PlaceRecognizer final : public LoopDetector {
       "two matches agree when one's relative pose of the components puts the other's query "
       "within this of where that match found it (a few grid cells)"};
   Param<double> drift{this, "drift", 0.05, "",
-                      "the agreement tolerance grows by this fraction of the path between the "
-                      "two queries (in metres, and in radians per metre): the tracker's drift "
-                      "between them",
+                      "the agreement's translation tolerance grows by this fraction of the path "
+                      "between the two queries: the tracker's drift between them",
                       Range{0, 1}};
+  Param<double> angular_drift{this, "angular_drift", 0.01, "rad/m",
+                              "the agreement's rotation tolerance grows by this per metre of path "
+                              "between the two queries: a scan matcher's heading drift (well "
+                              "under a degree per metre); looser lets look-alikes agree",
+                              Range{0, 1}};
   Param<int> max_candidates{this, "max_candidates", 3, "",
                              "maps of the other component proposed per recognized place, nearest "
                              "first (a local map holds a metre of scans and may face elsewhere)",
