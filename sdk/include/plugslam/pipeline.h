@@ -90,6 +90,7 @@ class Pipeline : public Configurable {
   // Localization from an unknown start: the saved maps, while not locked on; frames so far.
   std::vector<std::shared_ptr<const LocalMap>> searching_in_;
   int64_t locked_on_after_ = 0, frames_ = 0;
+  uint64_t loops_seen_ = 0;  // the graph's loops when its components were last looked at
 
  private:
   // The local map `id` the tracker started (or the session restored); throws ModuleError.

@@ -48,10 +48,17 @@ void Pipeline::process(Frame& frame) {
 
 void Pipeline::lockOn(Frame& frame) {
   // Until a loop joins the run's maps to the saved ones, its poses are in a frame of its own.
-  std::vector<GraphEdge> edges = graph->edges();
-  const std::vector<int64_t> components = graphComponents(local_maps_.size(), edges);
-  const auto here = static_cast<size_t>(frame.estimate.local_map);
-  if (here >= components.size() || components[here] != components[0]) {
+  // Only a new loop can join them: the graph's components are looked at when one came.
+  const GraphStats stats = graph->stats();
+  const uint64_t loops = stats.loops_accepted + stats.loops_rejected;
+  bool joined = false;
+  if (loops != loops_seen_) {
+    loops_seen_ = loops;
+    const std::vector<int64_t> components = graphComponents(local_maps_.size(), graph->edges());
+    const auto here = static_cast<size_t>(frame.estimate.local_map);
+    joined = here < components.size() && components[here] == components[0];
+  }
+  if (!joined) {
     frame.estimate.lost = true;
     return;
   }
