@@ -197,6 +197,7 @@ CorrelativeMatch matchCorrelative(const CorrelativeGrid& grid,
   m.pose = found.pose;
   m.score = found.score;
   m.second_score = found.rival_score;
+  m.second_pose = found.rival;
   return m;
 }
 

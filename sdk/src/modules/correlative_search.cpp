@@ -60,9 +60,10 @@ struct Node {
 // best leaf so far prunes it and all it stands for.
 class BranchAndBound {
  public:
+  // `period`: headings in a full turn when the lattice spans one (its ends are neighbours), else 0.
   BranchAndBound(const std::vector<const LatticeScorer*>& scorers, int cells, int angles,
-                 int levels)
-      : scorers_(scorers), cells_(cells), angles_(angles), levels_(levels) {}
+                 int levels, int period)
+      : scorers_(scorers), cells_(cells), angles_(angles), levels_(levels), period_(period) {}
 
   // The best leaf scoring above `threshold` (score < 0: none); leaves within `radius` cells and
   // `turn` headings of `center` are skipped; with `first`, the first leaf found above it.
@@ -96,7 +97,10 @@ class BranchAndBound {
   }
   // Whether every pose of the node lies within the excluded neighbourhood.
   bool excluded(const Node& n, int size) const {
-    if (!center_ || std::abs(n.a - center_->a) > turn_) return false;
+    if (!center_) return false;
+    int turned = std::abs(n.a - center_->a);
+    if (period_ > 0) turned = std::min(turned, std::abs(period_ - turned));
+    if (turned > turn_) return false;
     for (int dx : {0, size - 1})
       for (int dy : {0, size - 1}) {
         const double ex = n.x + dx - center_->x, ey = n.y + dy - center_->y;
@@ -130,7 +134,7 @@ class BranchAndBound {
   }
 
   const std::vector<const LatticeScorer*>& scorers_;
-  int cells_, angles_, levels_;
+  int cells_, angles_, levels_, period_;
   const Node* center_ = nullptr;
   double radius_ = 0;
   int turn_ = 0;
@@ -149,7 +153,13 @@ SearchResult<S> correlativeSearch(const std::vector<const LatticeScorer*>& score
   double total = 0;
   for (const LatticeScorer* s : scorers) total += s->maxScore();
   if (scorers.empty() || !(total > 0)) return r;
-  BranchAndBound search(scorers, lattice.cells, lattice.angles, lattice.levels);
+  // A search over a full turn meets the same heading at both ends of its range: a pose there is
+  // no rival of itself.
+  const int period =
+      lattice.angular_step > 0 && (2 * lattice.angles + 1) * lattice.angular_step >= 2 * M_PI
+          ? static_cast<int>(std::lround(2 * M_PI / lattice.angular_step))
+          : 0;
+  BranchAndBound search(scorers, lattice.cells, lattice.angles, lattice.levels, period);
   // Scores are compared as sums; a threshold just below s * total admits a sum of s * total.
   const auto below = [total](double s) { return s * total * (1 - 1e-12) - 1e-9; };
   const Node best = search.run(below(options.min_score), false);
