@@ -179,6 +179,8 @@ TEST_F(Merge, LocalizationFromAnUnknownStartLocksOnAndFollowsTheTruth) {
   ASSERT_GE(report.locked_on_after, 0) << "never locked on";
   std::cout << "locked on after " << report.locked_on_after << " of " << report.frames
             << " frames\n";
+  // The place it sees is searched from the first frame on, not once a local map closed.
+  EXPECT_LE(report.locked_on_after, 20);
   // Every pose from the lock-on on, in the session's frame, against the truth (the session's
   // alignment to its own truth).
   AteOptions se2;
@@ -197,6 +199,28 @@ TEST_F(Merge, LocalizationFromAnUnknownStartLocksOnAndFollowsTheTruth) {
             << localized.translation.max << " m\n";
   EXPECT_LT(localized.translation.rmse, 0.05);
   EXPECT_LT(localized.translation.max, 0.2);
+}
+
+TEST_F(Merge, LocalizationInAnotherBuildingNeverLocksOn) {
+  if (const std::string why = pluginsMissing(); !why.empty()) GTEST_SKIP() << why;
+  const fs::path world = dir_ / "hall.txt";
+  plugslam::testing::writeSevenSidedHall(world.string());
+  mapAndSave("hall", {"source.session=stage-0", "source.world=" + world.string(),
+                      "source.start=[0, 0]"});
+  // A tour of the office localized in the hall's session: no place of it is there.
+  ConfigDocument doc =
+      loadConfigFile(plugslam::testing::sourceDir() + "/configs/sim2d_single_laser.yaml");
+  for (const char* s : {"outputs=[]", "pipeline.graph.deterministic=true",
+                        "source.session=stage-0", "pipeline.graph.join_by_estimate=false"})
+    applyOverride(doc, s);
+  auto run = buildRun(doc, plugins_);
+  const SessionMaps saved = loadSessionMaps(readSessionManifest((dir_ / "hall").string()));
+  run->pipeline->restoreSession(saved.maps, saved.edges, true, false);
+  RunOptions o;
+  o.out_dir = (dir_ / "run_localize").string();
+  const RunReport report = runPipeline(*run, o);
+  EXPECT_EQ(report.locked_on_after, -1) << "locked on in a building it is not in";
+  EXPECT_GT(report.frames, 100);
 }
 
 TEST_F(Merge, SessionsOfOtherCuesAreRefused) {

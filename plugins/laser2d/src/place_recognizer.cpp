@@ -66,7 +66,8 @@ std::vector<LoopCandidate> PlaceRecognizer::detect(const GraphView& view, const 
   if (others.empty()) return out;
   const double here = view.travelled.at(static_cast<size_t>(q));
   const auto last = last_query_.find(own);
-  if (last != last_query_.end() && here - last->second < query_spacing()) return out;
+  if (!view.localizing && last != last_query_.end() && here - last->second < query_spacing())
+    return out;
   last_query_[own] = here;
 
   // The query's place: its map and the maps of its component just before it, in its frame.
@@ -99,8 +100,11 @@ std::vector<LoopCandidate> PlaceRecognizer::detect(const GraphView& view, const 
     const SE2 center = se2(g.origin().x() + half.x(), g.origin().y() + half.y(), 0);
     const CorrelativeMatch m = matchCorrelative(g, points, center, o);
     if (!m.found || m.ambiguous) {
+      const Eigen::Vector3d apart = toVector(m.pose.inverse() * m.second_pose);
       spdlog::debug("place recognition {} -> component {}: {} ({} leaves)", q, other,
-                    m.found ? fmt::format("ambiguous, {:.3f} vs {:.3f}", m.score, m.second_score)
+                    m.found ? fmt::format("ambiguous, {:.3f} vs {:.3f} at {:.2f} m, {:.2f} rad",
+                                          m.score, m.second_score, apart.head<2>().norm(),
+                                          apart.z())
                             : "no pose scores enough",
                     m.leaves);
       continue;
@@ -133,7 +137,9 @@ std::vector<LoopCandidate> PlaceRecognizer::detect(const GraphView& view, const 
     if (waiting.size() > static_cast<size_t>(max_pending())) waiting.erase(waiting.begin());
     spdlog::debug("place recognition {} -> component {}: score {:.3f}, observed {:.2f}, {} agree",
                   q, other, m.score, observed, agree);
-    if (agree < agreeing()) continue;
+    if (agree < (view.localizing && other == view.component(0) ? agreeing_localizing()
+                                                                : agreeing()))
+      continue;
     // Proposed against the other component's maps nearest where the query was found: a local
     // map holds a metre of scans, so the nearest may face elsewhere; the validators decide.
     std::vector<std::pair<double, int64_t>> near;

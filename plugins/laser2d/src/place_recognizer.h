@@ -47,7 +47,8 @@ class PlaceRecognizer final : public LoopDetector {
                             Range{0.01, 10}};
   Param<double> query_spacing{this, "query_spacing", 2.0, "m",
                               "search from at most one query map per this much path (each search "
-                              "covers whole maps)",
+                              "covers whole maps); a run localizing from an unknown start is "
+                              "searched whenever its view changed (sdk.Pipeline)",
                               Range{0, 1e6}};
   Param<double> min_score{this, "min_score", 0.6, "",
                           "mean grid score (0..1) of the query's points at the best pose",
@@ -67,6 +68,12 @@ class PlaceRecognizer final : public LoopDetector {
                       "matches from different query places that must put the two components in "
                       "the same relative pose before one is proposed",
                       Range{1, 100}};
+  Param<int> agreeing_localizing{
+      this, "agreeing_localizing", 1, "",
+      "`agreeing` while a run localizes in saved maps from an unknown start: its place is among "
+      "them, so a look-alike must outscore the true place by `min_score_margin`, which each "
+      "match checks",
+      Range{1, 100}};
   Param<std::vector<double>> agreement{
       this, "agreement", {0.5, 0.05}, "m, rad",
       "two matches agree when one's relative pose of the components puts the other's query "

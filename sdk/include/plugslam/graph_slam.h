@@ -64,6 +64,10 @@ class GraphBackend : public Configurable {
   /// estimate the closures before it optimized (sessions restored together, to be merged);
   /// finish()'s final pass then queries them as this run's maps. The default throws InputError.
   virtual void searchRestored(int64_t first);
+  /// Localization from an unknown start: searches loops from map `query` (the tracker's open
+  /// map, its scene as it stands) inline, the view marked `localizing`, and applies and
+  /// optimizes what it finds; returns the loops added. The default finds none.
+  virtual size_t relocalize(int64_t query);
 };
 
 /// Pose-graph SLAM over local maps ("sdk.GraphSlam2D/3D"). Loop detection and validation, and
@@ -147,6 +151,7 @@ class GraphSlam : public GraphBackend {
   void restore(const std::vector<std::shared_ptr<LocalMap>>& maps,
                const std::vector<GraphEdge>& edges) override;
   void searchRestored(int64_t first) override;
+  size_t relocalize(int64_t query) override;
 
   /// Optimizes now (inline), whatever the mode; the action "optimize_now".
   void optimizeNow() override;

@@ -28,6 +28,10 @@ struct GraphView {
   /// a tracker reset starts a new one, whose origins say nothing of where it lies in the others
   /// until a loop joins them. Empty: one component.
   std::vector<int> components;
+  /// Set while a run localizes in restored maps from an unknown start (GraphBackend::relocalize):
+  /// the query's place is among map 0's component, so a look-alike there must outscore the true
+  /// place, and the caller searches only when the robot's view changed.
+  bool localizing = false;
   /// The component of map `id`.
   int component(int64_t id) const {
     return components.empty() ? 0 : components[static_cast<size_t>(id)];

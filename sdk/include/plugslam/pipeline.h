@@ -3,6 +3,8 @@
 // back-end. It knows nothing of how many cues there are.
 #include <map>
 #include <memory>
+#include <optional>
+#include <vector>
 
 #include "plugslam/configurable.h"
 #include "plugslam/errors.h"
@@ -34,6 +36,11 @@ class Pipeline : public Configurable {
                                "ground truth, or another system's estimate"};
   Slot<GraphBackend> graph{this, "graph", "",
                            "pose graph of local maps, loop closing (optional; needs a tracker)"};
+  Param<std::vector<double>> lost_search_spacing{
+      this, "lost_search_spacing", {0.25, 0.25}, "m, rad",
+      "localization from an unknown start searches the saved maps from the frame's map, then "
+      "again once the robot moved or turned this much since (its view changed; each search "
+      "covers the whole saved map)"};
 
   void configure() override;
 
@@ -91,6 +98,8 @@ class Pipeline : public Configurable {
   std::vector<std::shared_ptr<const LocalMap>> searching_in_;
   int64_t locked_on_after_ = 0, frames_ = 0;
   uint64_t loops_seen_ = 0;  // the graph's loops when its components were last looked at
+  // Localization from an unknown start: the pose of the last search, in the run's own frame.
+  std::optional<Eigen::Isometry3d> last_search_;
 
  private:
   // The local map `id` the tracker started (or the session restored); throws ModuleError.

@@ -48,6 +48,16 @@ void Pipeline::process(Frame& frame) {
 
 void Pipeline::lockOn(Frame& frame) {
   // Until a loop joins the run's maps to the saved ones, its poses are in a frame of its own.
+  // The place the robot sees is searched at once, and again whenever its view changed, rather
+  // than once its map closes: a robot switched on anywhere should know where it is in a few
+  // frames.
+  const Eigen::Isometry3d pose = frame.estimate.world;
+  const Eigen::Isometry3d moved = last_search_ ? last_search_->inverse() * pose : pose;
+  if (!last_search_ || moved.translation().norm() >= lost_search_spacing()[0] ||
+      Eigen::AngleAxisd(moved.rotation()).angle() >= lost_search_spacing()[1]) {
+    last_search_ = pose;
+    guarded(*graph, [&] { return graph->relocalize(frame.estimate.local_map); });
+  }
   // Only a new loop can join them: the graph's components are looked at when one came.
   const GraphStats stats = graph->stats();
   const uint64_t loops = stats.loops_accepted + stats.loops_rejected;
@@ -88,6 +98,9 @@ const LocalMap& Pipeline::localMap(int64_t id) const {
 }
 
 void Pipeline::configure() {
+  if (lost_search_spacing().size() != 2 || !(lost_search_spacing()[0] >= 0) ||
+      !(lost_search_spacing()[1] >= 0))
+    throw ParamError("lost_search_spacing", "expected 2 values >= 0 (translation m, rotation rad)");
   if (graph && !tracker) throw ParamError("graph", "a graph back-end needs a tracker");
   if (graph && graph->dimension() != tracker->dimension())
     throw ParamError("graph", "a " + std::to_string(graph->dimension()) +

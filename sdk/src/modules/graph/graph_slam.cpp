@@ -30,6 +30,8 @@ void GraphBackend::searchRestored(int64_t) {
                    ") cannot search loops between restored sessions");
 }
 
+size_t GraphBackend::relocalize(int64_t) { return 0; }
+
 LoopFilter::~LoopFilter() = default;
 void LoopFilter::loopsAdded(detail::PoseGraph&) {}
 bool LoopFilter::optimized(detail::PoseGraph&, const detail::Solution&) { return false; }
@@ -315,6 +317,25 @@ void GraphSlam<S>::searchRestored(int64_t first) {
     st.search.run(job);
     st.applyLoops(job, true);
   }
+}
+
+template <class S>
+size_t GraphSlam<S>::relocalize(int64_t query) {
+  State& st = *state_;
+  const auto n = static_cast<int64_t>(st.graph.size());
+  if (query < 0 || query >= n)
+    throw InputError("relocalize: no map " + std::to_string(query) + " (" + std::to_string(n) +
+                     " maps)");
+  if (loop_detectors.empty() || validators.empty()) return 0;
+  // Searched on the estimate of every loop so far; maps waiting for the search go along.
+  if (st.search.running()) st.applyLoops(st.search.collect());
+  st.search.enqueue(query);
+  detail::LoopJob job = st.search.take(st.graph, information_scale());
+  job.view.localizing = true;
+  st.search.run(job);
+  const size_t found = job.closures.size();
+  st.applyLoops(job, true);
+  return found;
 }
 
 template <class S>
