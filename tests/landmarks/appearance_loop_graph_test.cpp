@@ -136,5 +136,84 @@ TEST(AppearanceLoop, GraphSlam3DClosesASyntheticLoopAndRemovesTheDrift) {
   EXPECT_LT(worst, 0.1) << "every accepted loop is a true one";
 }
 
+// Two robots map parts of the square from unknown starts (join_by_estimate false): the second's
+// maps form their own component until appearance loops from two of its places agree on where it
+// lies; then both are in one frame. A third robot in another building (other landmarks, but one
+// place that looks exactly like one of the square's: a single loop validates) is never joined.
+// Robot A maps 0..19 of the square from its start; robot B maps 12..31, its own frame at its first
+// map; robot C the other building's maps 0..9, its own frame too, its map 4 a copy of A's map 5.
+// With join_by_estimate false and `agreeing` places required; the maps and the final components.
+struct ThreeRobots {
+  std::vector<std::shared_ptr<LocalMap>> maps;
+  std::vector<int64_t> components;
+};
+ThreeRobots driveThreeRobots(const World& w, const World& elsewhere, int agreeing) {
+  auto graph_ptr =
+      std::dynamic_pointer_cast<GraphSlam<Space3D>>(Registry::instance().create("sdk.GraphSlam3D"));
+  GraphSlam<Space3D>& graph = *graph_ptr;
+  graph.deterministic = true;
+  graph.join_by_estimate = false;
+  graph.join_agreeing = agreeing;
+  auto detector = std::make_shared<AppearanceDetector>();
+  detector->min_travel = 50.0;
+  detector->configure();
+  graph.loop_detectors.assign(detector);
+  auto validator = std::make_shared<AppearanceValidator>();
+  validator->configure();
+  graph.validators.assign(validator);
+  graph.configure();
+  std::mt19937 rng(5);
+  ThreeRobots r;
+  auto& maps = r.maps;
+  const auto drive = [&](const World& world, size_t first, size_t last, size_t look_alike) {
+    const auto start = static_cast<int64_t>(maps.size());
+    for (size_t k = first; k <= last; ++k) {
+      auto m = k == look_alike ? mapOf(w, 5, rng) : mapOf(world, k, rng);
+      m->id = static_cast<int64_t>(maps.size());
+      if (k > first) {
+        m->previous = m->id - 1;
+        m->relative = world.origins[k - 1].inverse() * world.origins[k];
+        m->information = Eigen::Matrix<double, 6, 6>::Identity() * 1e4;
+        m->origin = maps.back()->origin * m->relative;
+      }
+      maps.push_back(m);
+      graph.mapStarted(m);
+      if (m->id > start) graph.mapClosed(maps[static_cast<size_t>(m->id - 1)]);
+    }
+    graph.mapClosed(maps.back());
+  };
+  drive(w, 0, 19, 99);
+  drive(w, 12, 31, 99);
+  drive(elsewhere, 0, 9, 4);
+  graph.finish();
+  r.components = graphComponents(maps.size(), graph.edges());
+  return r;
+}
+
+// Place recognition by appearance joins a robot started elsewhere once two of its places agree
+// on where it lies; a third robot in another building is never joined although one of its places
+// looks exactly like one of the square's (that single loop validates: trusted alone, it welds the
+// buildings together).
+TEST(AppearanceLoop, PlaceRecognitionJoinsARobotStartedElsewhere) {
+  const World w = makeWorld();
+  World elsewhere = makeWorld();
+  std::mt19937 other_rng(77);
+  for (auto& d : elsewhere.descriptors) d = testing::randomDescriptor(other_rng);
+  const ThreeRobots r = driveThreeRobots(w, elsewhere, 2);
+  for (size_t i = 20; i < 40; ++i) EXPECT_EQ(r.components[i], 0) << "B's map " << i;
+  for (size_t i = 40; i < 50; ++i) EXPECT_EQ(r.components[i], 40) << "C's map " << i;
+  // B in A's frame (A's first map is its origin): where the truth has it.
+  double worst = 0;
+  for (size_t i = 20; i < 40; ++i) {
+    const Eigen::Isometry3d truth = w.origins[0].inverse() * w.origins[i - 8];
+    worst = std::max(worst, (r.maps[i]->origin.translation() - truth.translation()).norm());
+  }
+  std::printf("robot B joined: worst map origin %.3f m from the truth\n", worst);
+  EXPECT_LT(worst, 0.1);
+  // The look-alike place alone: with one loop enough, C is welded to the square.
+  const ThreeRobots trusting = driveThreeRobots(w, elsewhere, 1);
+  EXPECT_EQ(trusting.components[40], 0) << "the look-alike loop did not validate: no test";
+}
+
 }  // namespace
 }  // namespace plugslam

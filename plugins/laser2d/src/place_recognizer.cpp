@@ -7,7 +7,6 @@
 #include <set>
 
 #include "correlative_matcher.h"
-#include "plugslam/errors.h"
 #include "plugslam/pose_space.h"
 
 namespace plugslam {
@@ -22,10 +21,7 @@ int floorCell(double v) { return static_cast<int>(std::floor(v)); }
 }  // namespace
 
 void PlaceRecognizer::configure() {
-  if (agreement().size() != 2 || !(agreement()[0] > 0) || !(agreement()[1] > 0))
-    throw ParamError("agreement", "expected 2 values > 0 (translation m, rotation rad)");
   cache_.clear();
-  pending_.clear();
   last_query_.clear();
 }
 
@@ -85,7 +81,6 @@ std::vector<LoopCandidate> PlaceRecognizer::detect(const GraphView& view, const 
   const std::vector<Eigen::Vector2d> points =
       correlativeQuery(all, max_range() + query_path(), std::max(r, query_voxel()));
   if (points.empty()) return out;
-  const SE2 own_pose = Space2D::from3D(view.origins[static_cast<size_t>(q)]);
 
   for (int other : others) {
     const auto grid = gridOf(view, other, q);
@@ -120,26 +115,6 @@ std::vector<LoopCandidate> PlaceRecognizer::detect(const GraphView& view, const 
                     other, m.score, observed);
       continue;
     }
-    // Agreement: the relative pose of the two components this match implies puts each earlier
-    // match's query where that match found it.
-    auto& waiting = pending_[{own, other}];
-    const SE2 offset = m.pose * own_pose.inverse();  // own component's world -> other's
-    int agree = 1;
-    for (const Match& w : waiting) {
-      if (w.query == q) continue;
-      const double path = std::abs(here - w.travelled);
-      const Eigen::Vector3d d = toVector((offset * w.own).inverse() * w.found);
-      if (d.head<2>().norm() <= agreement()[0] + drift() * path &&
-          std::abs(d.z()) <= agreement()[1] + angular_drift() * path)
-        ++agree;
-    }
-    waiting.push_back(Match{q, here, m.pose, own_pose});
-    if (waiting.size() > static_cast<size_t>(max_pending())) waiting.erase(waiting.begin());
-    spdlog::debug("place recognition {} -> component {}: score {:.3f}, observed {:.2f}, {} agree",
-                  q, other, m.score, observed, agree);
-    if (agree < (view.localizing && other == view.component(0) ? agreeing_localizing()
-                                                                : agreeing()))
-      continue;
     // Proposed against the other component's maps nearest where the query was found: a local
     // map holds a metre of scans, so the nearest may face elsewhere; the validators decide.
     std::vector<std::pair<double, int64_t>> near;
@@ -160,9 +135,9 @@ std::vector<LoopCandidate> PlaceRecognizer::detect(const GraphView& view, const 
       c.score = m.score;
       out.push_back(c);
     }
-    spdlog::info("place recognized: map {} is in component {} (near map {}), score {:.2f}, "
-                 "{} matches agree",
-                 q, other, n > 0 ? near[0].second : -1, m.score, agree);
+    spdlog::debug("place recognized: map {} is in component {} (near map {}), score {:.2f}, "
+                  "observed {:.2f}",
+                  q, other, n > 0 ? near[0].second : -1, m.score, observed);
   }
   return out;
 }

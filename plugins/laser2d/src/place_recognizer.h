@@ -4,9 +4,9 @@
 // The query's place (its map and the maps just before it, as the tracker placed them) is matched
 // against the whole of every other component by branch and bound over all translations and a
 // full turn (Hess et al., ICRA 2016, as for global localization). Maps of different components
-// have no common frame, so a single match is not trusted: a candidate is proposed only once
-// `agreeing` matches from different places of the query's component put the two components in
-// the same relative pose. One look-alike corridor must not weld two buildings together.
+// have no common frame, so a single match is not trusted: the graph joins two components only
+// once loops from several places agree on their relative pose (GraphSlam's join_agreeing). One
+// look-alike corridor must not weld two buildings together.
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <list>
@@ -64,37 +64,10 @@ class PlaceRecognizer final : public LoopDetector {
                              "fraction of the query's points that must fall in cells the other "
                              "component observed at the best pose",
                              Range{0, 1}};
-  Param<int> agreeing{this, "agreeing", 2, "",
-                      "matches from different query places that must put the two components in "
-                      "the same relative pose before one is proposed",
-                      Range{1, 100}};
-  Param<int> agreeing_localizing{
-      this, "agreeing_localizing", 1, "",
-      "`agreeing` while a run localizes in saved maps from an unknown start: its place is among "
-      "them, so a look-alike must outscore the true place by `min_score_margin`, which each "
-      "match checks",
-      Range{1, 100}};
-  Param<std::vector<double>> agreement{
-      this, "agreement", {0.5, 0.05}, "m, rad",
-      "two matches agree when one's relative pose of the components puts the other's query "
-      "within this of where that match found it (a few grid cells)"};
-  Param<double> drift{this, "drift", 0.05, "",
-                      "the agreement's translation tolerance grows by this fraction of the path "
-                      "between the two queries: the tracker's drift between them",
-                      Range{0, 1}};
-  Param<double> angular_drift{this, "angular_drift", 0.01, "rad/m",
-                              "the agreement's rotation tolerance grows by this per metre of path "
-                              "between the two queries: a scan matcher's heading drift (well "
-                              "under a degree per metre); looser lets look-alikes agree",
-                              Range{0, 1}};
   Param<int> max_candidates{this, "max_candidates", 3, "",
                              "maps of the other component proposed per recognized place, nearest "
                              "first (a local map holds a metre of scans and may face elsewhere)",
                              Range{1, 100}};
-  Param<int> max_pending{this, "max_pending", 64, "",
-                         "matches kept per pair of components while waiting for agreement",
-                         Range{1, 100000}};
-
   std::vector<LoopCandidate> detect(const GraphView& view, const LocalMap& query) override;
   void configure() override;
 
@@ -109,16 +82,7 @@ class PlaceRecognizer final : public LoopDetector {
     double checksum;  // sum of the maps' origin coordinates: changes when an optimization moves them
     std::shared_ptr<const MatchGrid> grid;
   };
-  // A match waiting for agreement: the query's pose in the other component's world frame, and
-  // the query's origin in its own component's world frame when it was made.
-  struct Match {
-    int64_t query;
-    double travelled;
-    Eigen::Isometry2d found;
-    Eigen::Isometry2d own;
-  };
   std::list<Cached> cache_;
-  std::map<std::pair<int, int>, std::vector<Match>> pending_;  // (query's, other) component
   std::map<int, double> last_query_;                            // per query component
 };
 

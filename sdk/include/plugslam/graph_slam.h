@@ -114,6 +114,31 @@ class GraphSlam : public GraphBackend {
       "where the estimate puts them (the run started where the session did): any detector may "
       "join them. false: their relative pose is unknown (a run started anywhere, merged "
       "sessions) and only candidates found without the estimate (place recognition) join them"};
+  Param<int> join_agreeing{
+      this, "join_agreeing", 2, "",
+      "with join_by_estimate false, validated loops from this many query maps must put two "
+      "components in the same relative pose before they join: one look-alike place must not "
+      "weld two buildings together",
+      Range{1, 100}};
+  Param<int> join_agreeing_localizing{
+      this, "join_agreeing_localizing", 1, "",
+      "join_agreeing for a robot localizing from an unknown start (relocalize): it is among the "
+      "saved maps, so a look-alike must outscore the true place in the detector's search",
+      Range{1, 100}};
+  Param<std::vector<double>> join_agreement{
+      this, "join_agreement", {0.5, 0.05}, "m, rad",
+      "two such loops agree when the components' relative pose one implies puts the other's "
+      "query map within this of where that loop found it (a few grid cells)"};
+  Param<double> join_drift{this, "join_drift", 0.05, "",
+                           "the agreement's translation tolerance grows by this fraction of the "
+                           "path between the two query maps: the tracker's drift between them",
+                           Range{0, 1}};
+  Param<double> join_angular_drift{
+      this, "join_angular_drift", 0.01, "rad/m",
+      "the agreement's rotation tolerance grows by this per metre of path between the two query "
+      "maps: a tracker's heading drift (well under a degree per metre); looser lets look-alikes "
+      "agree",
+      Range{0, 1}};
   Param<std::string> solver{this, "solver", "gn", "", "global optimizer", Choices{{"gn", "lm"}}};
   Param<int> iterations{this, "iterations", 20, "", "max iterations per optimization",
                         Range{1, 1000}};
@@ -140,6 +165,7 @@ class GraphSlam : public GraphBackend {
       "at a closing the front-end waits for work not yet done",
       Range{0, 1000}};
 
+  void configure() override;
   int dimension() const override { return S::kDim; }
   void mapStarted(const std::shared_ptr<LocalMap>& map) override;
   void mapClosed(const std::shared_ptr<LocalMap>& map) override;

@@ -171,7 +171,10 @@ std::vector<LoopCandidate> AppearanceDetector::detect(const GraphView& view,
     for (size_t id = 0; id < votes.size(); ++id) {
       if (static_cast<int64_t>(id) == query.id || votes[id] < min_matches()) continue;
       if (static_cast<double>(votes[id]) < min_ratio() * static_cast<double>(used)) continue;
-      if (std::abs(here - view.travelled[id]) < min_travel()) continue;
+      // Maps of another component (a session, a run started elsewhere) are never neighbours.
+      if (view.component(static_cast<int64_t>(id)) == view.component(query.id) &&
+          std::abs(here - view.travelled[id]) < min_travel())
+        continue;
       ranked.emplace_back(weight[id], static_cast<int64_t>(id));
     }
     std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) {
@@ -183,10 +186,13 @@ std::vector<LoopCandidate> AppearanceDetector::detect(const GraphView& view,
       LoopCandidate c;
       c.id = id;
       c.score = static_cast<double>(v) / static_cast<double>(std::max<size_t>(used, 1));
+      // Found by the descriptors alone, whatever the estimate: place recognition.
+      c.global = true;
       out.push_back(c);
     }
   }
-  add(query);
+  // A localizing robot's query is the map it is still building: indexed once it closes.
+  if (!view.localizing) add(query);
   return out;
 }
 

@@ -14,7 +14,8 @@ namespace plugslam {
 inline namespace abi_v1 {
 
 /// Proposes the older local maps whose landmark descriptors match the query's most
-/// ("sdk.AppearanceDetector"); it finds revisits whatever the drift of the estimate.
+/// ("sdk.AppearanceDetector"); it finds revisits whatever the drift of the estimate, and places
+/// of other graph components (its candidates are `global`: place recognition).
 class AppearanceDetector : public LoopDetector {
  public:
   AppearanceDetector();
@@ -38,7 +39,7 @@ class AppearanceDetector : public LoopDetector {
                           Range{0, 1}};
   Param<double> min_travel{this, "min_travel", 10.0, "m",
                            "ignore maps fewer metres back along the path (they are neighbours, "
-                           "which the tracker already joins)",
+                           "which the tracker already joins); not applied across components",
                            Range{0, 1e9}};
   Param<int> max_candidates{this, "max_candidates", 3, "", "best-voted candidates proposed",
                             Range{1, 1000}};

@@ -37,6 +37,22 @@ void LoopFilter::loopsAdded(detail::PoseGraph&) {}
 bool LoopFilter::optimized(detail::PoseGraph&, const detail::Solution&) { return false; }
 size_t LoopFilter::runEnds(detail::PoseGraph&, detail::GraphOptimizer&) { return 0; }
 
+namespace {
+template <class S>
+detail::JoinRule joinRuleOf(const GraphSlam<S>& g) {
+  detail::JoinRule r;
+  r.agreeing = g.join_agreeing();
+  r.agreeing_localizing = g.join_agreeing_localizing();
+  if (g.join_agreement().size() == 2) {
+    r.translation = g.join_agreement()[0];
+    r.rotation = g.join_agreement()[1];
+  }
+  r.drift = g.join_drift();
+  r.angular_drift = g.join_angular_drift();
+  return r;
+}
+}  // namespace
+
 template <class S>
 struct GraphSlam<S>::State final : detail::GraphOptimizer {
   using Optimizer = detail::GlobalOptimizer<S>;
@@ -57,7 +73,8 @@ struct GraphSlam<S>::State final : detail::GraphOptimizer {
   explicit State(GraphSlam& o)
       : owner(o),
         graph(S::kDim, o.weak_edge_ratio()),
-        search(o.loop_detectors, o.final_detectors, o.validators, o.join_by_estimate) {}
+        search(o.loop_detectors, o.final_detectors, o.validators, o.join_by_estimate,
+               [&o] { return joinRuleOf(o); }) {}
 
   detail::OptimizerSettings settings() const {
     return {owner.solver(), owner.iterations(), owner.loop_kernel(), owner.loop_kernel_scale()};
@@ -193,6 +210,13 @@ GraphSlam<S>::GraphSlam() : state_(std::make_unique<State>(*this)) {
 
 template <class S>
 GraphSlam<S>::~GraphSlam() = default;
+
+template <class S>
+void GraphSlam<S>::configure() {
+  if (join_agreement().size() != 2 || !(join_agreement()[0] > 0) || !(join_agreement()[1] > 0))
+    throw ParamError("join_agreement", "expected 2 values > 0 (translation m, rotation rad)");
+}
+
 
 template <class S>
 GraphStats GraphSlam<S>::stats() const {

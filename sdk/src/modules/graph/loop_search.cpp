@@ -20,11 +20,13 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 LoopSearch::LoopSearch(const SlotList<LoopDetector>& online,
                        const SlotList<LoopDetector>& final_detectors,
                        const SlotList<LoopValidator>& validators,
-                       const Param<bool>& join_by_estimate)
+                       const Param<bool>& join_by_estimate,
+                       std::function<JoinRule()> join_rule)
     : online_(online),
       final_(final_detectors),
       validators_(validators),
-      join_by_estimate_(join_by_estimate) {}
+      join_by_estimate_(join_by_estimate),
+      join_rule_(std::move(join_rule)) {}
 
 LoopSearch::~LoopSearch() {
   if (searching_.valid()) searching_.wait();
@@ -34,6 +36,7 @@ LoopJob LoopSearch::take(const PoseGraph& graph, double information_scale) {
   LoopJob job;
   job.queries.swap(queued_);
   job.join_by_estimate = join_by_estimate_();
+  job.join = join_rule_();
   job.view = graph.view();
   job.dof = graph.dof();
   job.information_scale = information_scale;
@@ -47,6 +50,7 @@ LoopJob LoopSearch::finalPass(const PoseGraph& graph, double information_scale) 
   job.information_scale = information_scale;
   job.final_pass = true;
   job.join_by_estimate = join_by_estimate_();
+  job.join = join_rule_();
   for (size_t id = graph.restoredMaps(); id < graph.size(); ++id)
     job.queries.push_back(static_cast<int64_t>(id));
   // Pairs ever closed, kept or rejected (a detector may propose either order); but a pair the
@@ -66,7 +70,7 @@ std::vector<std::pair<int64_t, int64_t>> LoopSearch::linkedPairs(const PoseGraph
   return linked;
 }
 
-void LoopSearch::run(LoopJob& job) const {
+void LoopSearch::run(LoopJob& job) {
   const GraphView& view = job.view;
   for (int64_t query_id : job.queries) {
     const LocalMap& query = *view.maps[query_id];
@@ -122,11 +126,16 @@ void LoopSearch::run(LoopJob& job) const {
         closure.edge.loop = true;
         closure.edge.information =
             job.information_scale * conditionedInformation(closure.edge.information, job.dof);
-        job.closures.push_back(closure.edge);
-        closed.push_back(id);
-        job.view.last_loop_travelled = view.travelled[query_id];
         spdlog::debug("loop {} -> {} validated (overlap {:.2f}{})", query_id, id,
                       closure.overlap, c.matched ? ", found by global search" : "");
+        // Components whose relative pose is unknown join only once loops agree on it.
+        const std::vector<GraphEdge> add =
+            job.join_by_estimate ? std::vector<GraphEdge>{closure.edge}
+                                 : joins_.decide(view, closure.edge, job.join, job.joined);
+        if (add.empty()) continue;
+        job.closures.insert(job.closures.end(), add.begin(), add.end());
+        closed.push_back(id);
+        job.view.last_loop_travelled = view.travelled[query_id];
       }
     }
   }

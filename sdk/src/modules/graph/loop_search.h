@@ -1,10 +1,12 @@
 #pragma once
 // The loop search (SDK-private): which closed maps wait for it, the detector -> validator chain
 // on a snapshot of the graph, and the back-end thread it may run on.
+#include <functional>
 #include <future>
 #include <utility>
 #include <vector>
 
+#include "modules/graph/component_join.h"
 #include "modules/graph/pose_graph.h"
 #include "plugslam/configurable.h"
 #include "plugslam/loop_closure.h"
@@ -23,6 +25,8 @@ struct LoopJob {
   // (sessions restored together already hold their own loops).
   std::vector<int> chains;
   std::vector<std::pair<int64_t, int64_t>> linked;  // (newer, older) pairs to skip, sorted
+  JoinRule join;  // when loops join components whose relative pose is unknown
+  std::vector<std::pair<int, int>> joined;  // component pairs this job joined
   int dof = 3;                     // of the closures' information
   double information_scale = 1.0;  // applied to the closures' information
   std::vector<GraphEdge> closures;  // validated, in order
@@ -34,7 +38,8 @@ struct LoopJob {
 class LoopSearch {
  public:
   LoopSearch(const SlotList<LoopDetector>& online, const SlotList<LoopDetector>& final_detectors,
-             const SlotList<LoopValidator>& validators, const Param<bool>& join_by_estimate);
+             const SlotList<LoopValidator>& validators, const Param<bool>& join_by_estimate,
+             std::function<JoinRule()> join_rule);
   ~LoopSearch();
 
   /// A closed map waits for the search.
@@ -51,8 +56,9 @@ class LoopSearch {
   /// skipping the pairs ever closed (but those the odometry audit rejected).
   LoopJob finalPass(const PoseGraph& graph, double information_scale) const;
   /// Runs the detectors (online or final) and the validators over the job's queries: the only
-  /// user of them.
-  void run(LoopJob& job) const;
+  /// user of them. Loops joining components of unknown relative pose wait for agreement
+  /// (ComponentJoin) across jobs; jobs run one at a time.
+  void run(LoopJob& job);
 
   /// Starts a job on the back-end thread.
   void start(LoopJob job);
@@ -68,6 +74,8 @@ class LoopSearch {
   const SlotList<LoopDetector>& final_;
   const SlotList<LoopValidator>& validators_;
   const Param<bool>& join_by_estimate_;
+  std::function<JoinRule()> join_rule_;
+  ComponentJoin joins_;
   std::vector<int64_t> queued_;
   std::future<LoopJob> searching_;
 };
