@@ -230,6 +230,7 @@ for k in range(20):
         wrong += max(e) > 0.5
 frames.sort()
 rows.append(f"| localization from 20 random starts (300 scans each) | locked on: {locked} of 20, "
+            f"{sum(n <= 20 for n in frames)} within 20 frames; "
             f"after {frames[len(frames) // 2] if frames else 'n/a'} frames (median; max "
             f"{max(frames) if frames else 'n/a'}); {wrong} wrong lock-ons (>0.5 m); RMSE after "
             f"lock-on {math.sqrt(sum(errs) / len(errs)) if errs else float('nan'):.3f} m | | "
