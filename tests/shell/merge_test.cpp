@@ -30,20 +30,22 @@ class Merge : public plugslam::testing::TempDirTest {
  protected:
   Merge() : TempDirTest("plugslam_merge") {}
   // Why the test cannot run: a plugin it needs is not built (empty: it can).
-  std::string pluginsMissing() {
+  std::string pluginsMissing(const std::vector<std::string>& cues = {"laser2d", "odometry"}) {
     const std::string plugin_dir = plugslam::testing::buildDir() + "/plugins";
-    for (const char* p : {"sim", "io", "laser2d", "odometry"})
+    std::vector<std::string> needed = {"sim", "io"};
+    needed.insert(needed.end(), cues.begin(), cues.end());
+    for (const std::string& p : needed)
       if (!fs::exists(plugin_dir + "/plugslam_" + p + ".so"))
         return "plugin '" + std::string(p) + "' is not built in " + plugin_dir;
     plugins_.addSearchDir(plugin_dir);
     plugins_.addSearchDir(plugslam::testing::buildDir() + "/tests/plugins");
     return "";
   }
-  // The shipped simulated-office config with `sets`, mapped and saved as session `name`; its
-  // ground truth.
-  Trajectory mapAndSave(const std::string& name, const std::vector<std::string>& sets) {
-    ConfigDocument doc =
-        loadConfigFile(plugslam::testing::sourceDir() + "/configs/sim2d_single_laser.yaml");
+  // A shipped config (the simulated office's unless told) with `sets`, mapped and saved as
+  // session `name`; its ground truth.
+  Trajectory mapAndSave(const std::string& name, const std::vector<std::string>& sets,
+                        const std::string& config = "sim2d_single_laser.yaml") {
+    ConfigDocument doc = loadConfigFile(plugslam::testing::sourceDir() + "/configs/" + config);
     applyOverride(doc, "outputs=[]");
     applyOverride(doc, "pipeline.graph.deterministic=true");
     for (const auto& s : sets) applyOverride(doc, s);
@@ -102,6 +104,68 @@ TEST_F(Merge, TwoOfficeSessionsStartedApartJoinInOneFrame) {
   // Unmerged, the second run's own frame is its start's: metres off in that frame.
   const Trajectory own = readTumTrajectory((dir_ / "s1" / "trajectory.tum").string());
   EXPECT_GT(computeAte(truth1, moved(own, first.transform), none).translation.rmse, 1.0);
+}
+
+// The landmark cue: two RGB-D sessions of the rendered room, the second from the loop's 10th
+// second on, seen from 5 cm aside and turned 0.03 rad, each in its own start frame, join by
+// appearance place recognition (sdk.AppearanceDetector, configs/parts/appearance_loops.yaml);
+// the second tour localizes in the first session from its unknown start.
+TEST_F(Merge, RgbdSessionsJoinAndLocalizeByAppearance) {
+  if (const std::string why = pluginsMissing({"rgbd"}); !why.empty()) GTEST_SKIP() << why;
+  const std::string config = "sim3d_rgbd_slam.yaml";
+  const Trajectory truth0 = mapAndSave("r0", {}, config);
+  ASSERT_GT(truth0.size(), 600u);
+  Eigen::Isometry3d aside = Eigen::Isometry3d::Identity();
+  aside.translate(Eigen::Vector3d(0.05, 0, 0));
+  aside.rotate(Eigen::AngleAxisd(0.03, Eigen::Vector3d::UnitY()));  // the camera's vertical axis
+  std::vector<StampedPose> second;
+  for (size_t i = 300; i < truth0.size(); ++i)
+    second.push_back({truth0[i].t, truth0[i].pose * aside});
+  const std::string path = (dir_ / "second.tum").string();
+  writeTumTrajectory(Trajectory(std::move(second)), path);
+  const Trajectory truth1 =
+      mapAndSave("r1", {"source.trajectory=" + path, "source.anchor=false"}, config);
+  const MergeReport r = merge({"r0", "r1"});
+  ASSERT_EQ(r.inputs.size(), 2u);
+  ASSERT_TRUE(r.inputs[1].joined) << "the second session was not joined";
+  AteOptions se3;
+  se3.alignment = Alignment::SE3;
+  const AteResult first = computeAte(truth0, merged(1), se3);
+  AteOptions none;
+  none.alignment = Alignment::None;
+  const AteResult other = computeAte(truth1, moved(merged(2), first.transform), none);
+  std::cout << "merged room: ATE " << first.translation.rmse << " m and "
+            << other.translation.rmse << " m in one frame, " << r.links << " links\n";
+  EXPECT_LT(first.translation.rmse, 0.05);
+  EXPECT_LT(other.translation.rmse, 0.05);
+
+  // The second tour localized in the first session from its unknown start (`--localize
+  // --start-anywhere`): it locks on within a second and then follows the truth in that frame.
+  ConfigDocument doc = loadConfigFile(plugslam::testing::sourceDir() + "/configs/" + config);
+  for (const std::string& set :
+       {std::string("outputs=[]"), std::string("pipeline.graph.deterministic=true"),
+        std::string("pipeline.graph.join_by_estimate=false"), "source.trajectory=" + path,
+        std::string("source.anchor=false")})
+    applyOverride(doc, set);
+  auto run = buildRun(doc, plugins_);
+  const SessionMaps saved = loadSessionMaps(readSessionManifest((dir_ / "r0").string()));
+  run->pipeline->restoreSession(saved.maps, saved.edges, true, false);
+  RunOptions o;
+  o.out_dir = (dir_ / "run_localize").string();
+  const RunReport report = runPipeline(*run, o);
+  ASSERT_GE(report.locked_on_after, 0) << "never locked on";
+  EXPECT_LE(report.locked_on_after, 30);  // 1 s of the camera
+  const AteResult session = computeAte(
+      truth0, readTumTrajectory((dir_ / "r0" / "trajectory.tum").string()), se3);
+  const RunResult result = run->pipeline->result();
+  std::vector<StampedPose> after;
+  for (size_t i = static_cast<size_t>(report.locked_on_after); i < result.trajectory.size(); ++i)
+    after.push_back(result.trajectory[i]);
+  const AteResult localized =
+      computeAte(result.reference, moved(Trajectory(std::move(after)), session.transform), none);
+  std::cout << "localized from anywhere: locked on after " << report.locked_on_after
+            << " frames, then ATE " << localized.translation.rmse << " m\n";
+  EXPECT_LT(localized.translation.rmse, 0.05);
 }
 
 TEST_F(Merge, ASessionOfAnotherBuildingIsReportedNotMerged) {
