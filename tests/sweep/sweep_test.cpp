@@ -236,3 +236,46 @@ TEST(Report, RepeatsAggregateAndTheBestIsMarked) {
   EXPECT_NE(cmp.find("2 grid points in both"), std::string::npos) << cmp;
   EXPECT_NE(cmp.find("0.06 → 0.06 (+0.0 %)"), std::string::npos) << cmp;
 }
+
+// `sweep report --section`: the tables go between the section's markers of a document, with the
+// sweep file's title and notes; the rest of the document is kept, and a second report replaces
+// the section rather than adding one.
+TEST(Report, ASectionOfADocumentIsWrittenAndReplaced) {
+  const plugslam::testing::TempDir temp("sweep-section");
+  const fs::path dir = fs::path(temp.path().string()) / "sweep";
+  const SweepFile s = parseSweep(
+      "title: Splitter distance on the office\n"
+      "notes: \"Cells: ATE RMSE [m].\"\n"
+      "config: configs/sim2d_single_laser.yaml\n"
+      "grid: {pipeline.tracker.splitter.distance: [0.5, 1.0]}\nmetrics: [ate]\n",
+      "s.yaml");
+  EXPECT_EQ(s.title, "Splitter distance on the office");
+  const Plan plan = expandSweep(s);
+  writePlan(plan, dir.string(), "/bin/true");
+  for (size_t i = 0; i < plan.cases.size(); ++i)
+    std::ofstream(caseDir(dir.string(), plan.cases[i].id) + "/result.json")
+        << "{\"status\": \"ok\", \"exit_code\": 0, \"metrics\": {\"ate\": " << 0.1 + 0.1 * i
+        << "}}\n";
+  const std::string doc = (fs::path(temp.path().string()) / "benchmarks.md").string();
+  std::ofstream(doc) << "# Benchmarks\n\n<!-- other:begin -->\nkept\n<!-- other:end -->\n";
+  const SweepTable t = gatherResults(dir.string());
+  const std::string machine = "Machine: test.";
+  for (int pass = 0; pass < 2; ++pass)
+    writeSection(doc, "splitter", sectionMarkdown(t, dir.string(), "splitter", machine));
+  std::ifstream in(doc);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("<!-- other:begin -->\nkept\n<!-- other:end -->"), std::string::npos) << text;
+  EXPECT_NE(text.find("<!-- splitter:begin -->\n## Splitter distance on the office\n\n"
+                      "Machine: test.\n"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("Cells: ATE RMSE [m].\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("| sim2d_single_laser | default | 0.5 | 1 | **0.1** |"), std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("<!-- splitter:begin -->"), text.rfind("<!-- splitter:begin -->")) << text;
+  EXPECT_NE(text.find("<!-- splitter:end -->"), std::string::npos);
+  // The machine line of a real folder names the CPU and a commit (or says it has none).
+  const std::string line = machineLine(temp.path().string());
+  EXPECT_EQ(line.rfind("Machine: ", 0), 0u) << line;
+  EXPECT_NE(line.find("; commit "), std::string::npos) << line;
+}

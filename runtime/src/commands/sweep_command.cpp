@@ -27,7 +27,8 @@ namespace {
 namespace fs = boost::filesystem;
 
 struct SweepArgs {
-  std::string file, dir, engine = "local", compare, report_dir, list;
+  std::string file, dir, engine = "local", compare, report_dir, list, section,
+      document = "docs/benchmarks.md";
   int jobs = 0, index = -1;
   bool no_wait = false, no_plots = false;
   std::string hosts;
@@ -132,11 +133,23 @@ void addSweepCommand(CLI::App& root, int& exit_code) {
   report->add_option("-o,--output", a.report_dir, "where report.md, table.csv, cases.csv and plots/ go (default: DIR/report)");
   report->add_option("--compare", a.compare, "a sweep folder to compare with (before), grid point by grid point");
   report->add_flag("--no-plots", a.no_plots, "no pictures");
+  report->add_option("--section", a.section,
+                     "also write the tables into this section of --doc (title, machine, commands)");
+  report->add_option("--doc", a.document, "the Markdown document of --section")
+      ->capture_default_str();
   report->callback([&exit_code] {
     const std::string out = a.report_dir.empty() ? (fs::path(a.dir) / "report").string() : a.report_dir;
     std::cout << sweep::writeReport(a.dir, out, a.compare, !a.no_plots);
     std::cout << fmt::format("\nwrote {0}/report.md, {0}/table.csv, {0}/cases.csv{1}\n", out,
                              a.no_plots ? "" : ", " + out + "/plots/");
+    if (!a.section.empty()) {
+      const fs::path doc = fs::absolute(a.document);
+      const sweep::SweepTable t = sweep::gatherResults(a.dir);
+      sweep::writeSection(doc.string(), a.section,
+                          sweep::sectionMarkdown(t, a.dir, a.section,
+                                                 sweep::machineLine(doc.parent_path().string())));
+      std::cout << "wrote section '" << a.section << "' of " << a.document << "\n";
+    }
     exit_code = kOk;
   });
 

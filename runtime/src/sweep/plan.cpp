@@ -134,6 +134,8 @@ std::string shellQuote(const std::string& word) {
 Plan expandSweep(const SweepFile& sweep) {
   Plan plan;
   plan.sweep_file = sweep.file;
+  plan.title = sweep.title;
+  plan.notes = sweep.notes;
   plan.metrics = sweep.metrics;
   plan.timeout_s = sweep.timeout_s;
   plan.config_labels = configLabels(sweep.configs);
@@ -312,6 +314,7 @@ void writePlan(const Plan& plan, const std::string& dir, const std::string& self
   json doc{{"sweep_file", plan.sweep_file},   {"metrics", plan.metrics},
            {"swept_keys", plan.swept_keys},   {"configs", plan.config_labels},
            {"datasets", plan.datasets},       {"timeout_s", plan.timeout_s},
+           {"title", plan.title},             {"notes", plan.notes},
            {"self", self},                    {"cases", std::move(cases)}};
   writeSmallFile((root / "cases.tsv").string(), tsv);
   writeSmallFile((root / "commands.sh").string(), script);
@@ -335,6 +338,8 @@ Plan readPlan(const std::string& dir) {
   plan.config_labels = doc.value("configs", std::vector<std::string>{});
   plan.datasets = doc.value("datasets", std::vector<std::string>{});
   plan.timeout_s = doc.value("timeout_s", 0.0);
+  plan.title = doc.value("title", "");
+  plan.notes = doc.value("notes", "");
   for (const auto& j : doc.at("cases")) {
     Case c;
     c.id = j.at("id");

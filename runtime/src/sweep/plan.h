@@ -37,6 +37,7 @@ struct Plan {
   std::vector<std::string> swept_keys;
   std::vector<std::string> config_labels, datasets;  ///< in file order
   double timeout_s = 0;
+  std::string title, notes;  ///< the sweep file's, for the report's section
   std::vector<Case> cases;
 };
 

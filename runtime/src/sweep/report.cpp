@@ -2,11 +2,18 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <array>
 #include <boost/filesystem.hpp>
 #include <cmath>
+#include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
 #include <unordered_map>
 
 #include "plugslam/atomic_file.h"
@@ -362,6 +369,94 @@ std::string writeReport(const std::string& sweep_dir, const std::string& out_dir
   }
   writeFileAtomically((fs::path(out_dir) / "report.md").string(), text);
   return text;
+}
+
+namespace {
+
+// The first line a shell command prints (empty when it fails).
+std::string firstLineOf(const std::string& command) {
+  std::string out;
+  if (FILE* p = popen(command.c_str(), "r")) {
+    std::array<char, 256> buf{};
+    if (fgets(buf.data(), static_cast<int>(buf.size()), p)) out = buf.data();
+    pclose(p);
+  }
+  while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+  return out;
+}
+
+std::string quoted(const std::string& path) {
+  std::string q = "'";
+  for (char c : path) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+}  // namespace
+
+std::string machineLine(const std::string& repository) {
+  std::string cpu = "unknown CPU";
+  std::ifstream info("/proc/cpuinfo");
+  for (std::string line; std::getline(info, line);)
+    if (line.rfind("model name", 0) == 0 && line.find(':') != std::string::npos) {
+      cpu = line.substr(line.find(':') + 1);
+      cpu.erase(0, cpu.find_first_not_of(' '));
+      break;
+    }
+  const double gib = static_cast<double>(sysconf(_SC_PHYS_PAGES)) *
+                     static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0 * 1024.0);
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  std::array<char, 16> date{};
+  std::strftime(date.data(), date.size(), "%Y-%m-%d", &utc);
+  // The code that ran: the repository's commit, "+changes" when its files (not the documents
+  // the report writes) differ from it.
+  const std::string top =
+      firstLineOf("git -C " + quoted(repository) + " rev-parse --show-toplevel 2>/dev/null");
+  const std::string git = "git -C " + quoted(top.empty() ? repository : top);
+  std::string commit = top.empty() ? "" : firstLineOf(git + " rev-parse --short HEAD 2>/dev/null");
+  if (commit.empty()) commit = "unknown";
+  else if (!firstLineOf(git + " status --porcelain -uno -- . ':!docs' 2>/dev/null").empty())
+    commit += "+changes";
+  return fmt::format("Machine: {}, {} cores, {:.0f} GiB; date {}; commit {}.", cpu,
+                     std::thread::hardware_concurrency(), std::floor(gib), date.data(), commit);
+}
+
+std::string sectionMarkdown(const SweepTable& t, const std::string& sweep_dir,
+                            const std::string& section, const std::string& machine) {
+  const Plan& p = t.plan;
+  std::string out = "## " + (p.title.empty() ? "Sweep " + p.sweep_file : p.title) + "\n\n";
+  out += machine + "\n";
+  out += fmt::format("Commands: `plugslam sweep run {0} -o {1}`, then `plugslam sweep report {1} "
+                     "--section {2}` (any engine: docs/sweeps.md).\n",
+                     p.sweep_file, sweep_dir, section);
+  if (!p.notes.empty()) out += p.notes + (p.notes.back() == '\n' ? "" : "\n");
+  return out + "\n" + reportMarkdown(t, {});
+}
+
+void writeSection(const std::string& document, const std::string& section,
+                  const std::string& body) {
+  const std::string begin = "<!-- " + section + ":begin -->", end = "<!-- " + section + ":end -->";
+  std::string text;
+  if (std::ifstream in{document}) {
+    std::stringstream ss;
+    ss << in.rdbuf();
+    text = ss.str();
+  } else if (fs::exists(document)) {
+    throw InputError("cannot read '" + document + "'");
+  }
+  std::string block = begin + "\n" + body;
+  if (!block.empty() && block.back() != '\n') block += "\n";
+  block += end;
+  const size_t b = text.find(begin);
+  const size_t e = b == std::string::npos ? std::string::npos : text.find(end, b);
+  if (b != std::string::npos && e != std::string::npos) {
+    text = text.substr(0, b) + block + text.substr(e + end.size());
+  } else {
+    while (!text.empty() && text.back() == '\n') text.pop_back();
+    text += (text.empty() ? "" : "\n\n") + block + "\n";
+  }
+  writeFileAtomically(document, text);
 }
 
 }  // namespace plugslam::runtime::sweep

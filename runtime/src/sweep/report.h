@@ -62,4 +62,17 @@ std::vector<std::string> drawPlots(const SweepTable& t, const std::string& dir);
 std::string writeReport(const std::string& sweep_dir, const std::string& out_dir,
                         const std::string& compare_dir, bool plots);
 
+/// One line saying where and when: CPU, cores, memory, date, and the commit of the git
+/// repository holding folder `repository` ("+changes" when its tracked files other than docs/
+/// differ from it; "unknown" outside one).
+std::string machineLine(const std::string& repository);
+/// A document's section for the sweep: its title (`## `), `machine`, the commands that
+/// reproduce it, its notes, and the report's tables (no pictures).
+std::string sectionMarkdown(const SweepTable& t, const std::string& sweep_dir,
+                            const std::string& section, const std::string& machine);
+/// Replaces the text between `<!-- section:begin -->` and `<!-- section:end -->` in the Markdown
+/// file `document` with `body` (appends the section when absent; the rest is kept), atomically.
+void writeSection(const std::string& document, const std::string& section,
+                  const std::string& body);
+
 }  // namespace plugslam::runtime::sweep

@@ -21,8 +21,9 @@ namespace fs = boost::filesystem;
 
 namespace {
 
-const std::vector<std::string> kTopKeys{"config", "datasets", "set",     "grid",  "zip",
-                                        "repeat", "metrics",  "timeout", "slurm", "hosts"};
+const std::vector<std::string> kTopKeys{"config",  "datasets", "set",   "grid",  "zip",
+                                        "repeat",  "metrics",  "timeout", "slurm", "hosts",
+                                        "title",   "notes"};
 const std::vector<std::string> kDatasetKeys{"set", "reference", "relations", "log", "laser"};
 const std::vector<std::string> kSlurmKeys{"partition", "time",         "mem",  "account",
                                           "cpus",      "max_parallel", "extra"};
@@ -356,6 +357,8 @@ SweepFile parseSweep(const std::string& text, const std::string& name) {
 
   if (const YAML::Node n = root["repeat"]) r.number(n, "repeat", s.repeat, 1);
   if (const YAML::Node n = root["timeout"]) r.number(n, "timeout", s.timeout_s, 0.0);
+  if (const YAML::Node n = root["title"]) r.scalar(n, "title", s.title);
+  if (const YAML::Node n = root["notes"]) r.scalar(n, "notes", s.notes);
 
   if (const YAML::Node m = root["metrics"]) {
     std::vector<std::string> names;
@@ -440,7 +443,9 @@ std::string describeSweepFile() {
          "      recorded as timed out\n"
          "  slurm      map: partition, time, mem, account, cpus, max_parallel, extra (list of\n"
          "      sbatch arguments); the flags of `sweep run --engine slurm` win\n"
-         "  hosts      list of ssh logins for `--engine parallel` (or --hosts)\n";
+         "  hosts      list of ssh logins for `--engine parallel` (or --hosts)\n"
+         "  title      the heading of the report's section (`sweep report --section`)\n"
+         "  notes      text above the section's table: what is run and what the cells mean\n";
 }
 
 }  // namespace plugslam::runtime::sweep

@@ -65,6 +65,7 @@ struct SweepFile {
   double timeout_s = 0;  ///< per run (0: none)
   SlurmOptions slurm;
   std::vector<std::string> hosts;  ///< for --engine parallel
+  std::string title, notes;        ///< of the report's section in a document (not of any case)
 };
 
 /// Reads and checks a sweep file; throws ConfigError (one error) or ConfigErrorList. Relative
