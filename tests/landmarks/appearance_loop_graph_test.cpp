@@ -69,21 +69,31 @@ std::shared_ptr<LocalMap> mapOf(const World& w, size_t k, std::mt19937& rng) {
   return m;
 }
 
-TEST(AppearanceLoop, GraphSlam3DClosesASyntheticLoopAndRemovesTheDrift) {
-  const World w = makeWorld();
-  auto graph_ptr =
+// sdk.GraphSlam3D, deterministic, with the appearance detector and validator; `by_estimate`
+// and `agreeing` as its join_by_estimate and join_agreeing.
+std::shared_ptr<GraphSlam<Space3D>> appearanceGraph(bool by_estimate, int agreeing = 2) {
+  auto graph =
       std::dynamic_pointer_cast<GraphSlam<Space3D>>(Registry::instance().create("sdk.GraphSlam3D"));
-  ASSERT_TRUE(graph_ptr);
-  GraphSlam<Space3D>& graph = *graph_ptr;
-  graph.deterministic = true;
+  if (!graph) return graph;
+  graph->deterministic = true;
+  graph->join_by_estimate = by_estimate;
+  graph->join_agreeing = agreeing;
   auto detector = std::make_shared<AppearanceDetector>();
   detector->min_travel = 50.0;  // maps 15 m around share landmarks with their neighbours
   detector->configure();
-  graph.loop_detectors.assign(detector);
+  graph->loop_detectors.assign(detector);
   auto validator = std::make_shared<AppearanceValidator>();
   validator->configure();
-  graph.validators.assign(validator);
-  graph.configure();
+  graph->validators.assign(validator);
+  graph->configure();
+  return graph;
+}
+
+TEST(AppearanceLoop, GraphSlam3DClosesASyntheticLoopAndRemovesTheDrift) {
+  const World w = makeWorld();
+  auto graph_ptr = appearanceGraph(true);
+  ASSERT_TRUE(graph_ptr);
+  GraphSlam<Space3D>& graph = *graph_ptr;
 
   std::mt19937 rng(4);
   std::vector<std::shared_ptr<LocalMap>> maps;
@@ -148,20 +158,8 @@ struct ThreeRobots {
   std::vector<int64_t> components;
 };
 ThreeRobots driveThreeRobots(const World& w, const World& elsewhere, int agreeing) {
-  auto graph_ptr =
-      std::dynamic_pointer_cast<GraphSlam<Space3D>>(Registry::instance().create("sdk.GraphSlam3D"));
+  auto graph_ptr = appearanceGraph(false, agreeing);
   GraphSlam<Space3D>& graph = *graph_ptr;
-  graph.deterministic = true;
-  graph.join_by_estimate = false;
-  graph.join_agreeing = agreeing;
-  auto detector = std::make_shared<AppearanceDetector>();
-  detector->min_travel = 50.0;
-  detector->configure();
-  graph.loop_detectors.assign(detector);
-  auto validator = std::make_shared<AppearanceValidator>();
-  validator->configure();
-  graph.validators.assign(validator);
-  graph.configure();
   std::mt19937 rng(5);
   ThreeRobots r;
   auto& maps = r.maps;

@@ -26,6 +26,17 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// `t` moved by the similarity `s` (the alignment one trajectory found).
+Trajectory moved(const Trajectory& t, const SimilarityTransform& s) {
+  std::vector<StampedPose> out;
+  for (StampedPose p : t) {
+    p.pose.linear() = s.rotation * p.pose.linear();
+    p.pose.translation() = s.scale * s.rotation * p.pose.translation() + s.translation;
+    out.push_back(p);
+  }
+  return Trajectory(std::move(out));
+}
+
 class Merge : public plugslam::testing::TempDirTest {
  protected:
   Merge() : TempDirTest("plugslam_merge") {}
@@ -62,22 +73,45 @@ class Merge : public plugslam::testing::TempDirTest {
     o.out_dir = (dir_ / "merged").string();
     return mergeSessions(o, plugins_);
   }
+  // `plugslam run CONFIG --session SESSION --localize --start-anywhere` with `sets` (and no
+  // outputs, a deterministic graph); the run stays in localized_ for its result.
+  RunReport localizeFromAnywhere(const std::string& session, const std::vector<std::string>& sets,
+                                 const std::string& config = "sim2d_single_laser.yaml") {
+    ConfigDocument doc = loadConfigFile(plugslam::testing::sourceDir() + "/configs/" + config);
+    for (const char* s : {"outputs=[]", "pipeline.graph.deterministic=true",
+                          "pipeline.graph.join_by_estimate=false"})
+      applyOverride(doc, s);
+    for (const auto& s : sets) applyOverride(doc, s);
+    localized_ = buildRun(doc, plugins_);
+    const SessionMaps saved = loadSessionMaps(readSessionManifest((dir_ / session).string()));
+    localized_->pipeline->restoreSession(saved.maps, saved.edges, true, false);
+    RunOptions o;
+    o.out_dir = (dir_ / "run_localize").string();
+    return runPipeline(*localized_, o);
+  }
+  // The ATE of the localized run's poses from frame `first` on against its truth, in the frame
+  // of `session`, whose own trajectory `alignment` puts on `session_truth`.
+  AteResult localizedAte(int64_t first, const std::string& session,
+                         const Trajectory& session_truth, Alignment alignment) const {
+    AteOptions align;
+    align.alignment = alignment;
+    const AteResult frame = computeAte(
+        session_truth, readTumTrajectory((dir_ / session / "trajectory.tum").string()), align);
+    const RunResult result = localized_->pipeline->result();
+    std::vector<StampedPose> after;
+    for (size_t i = static_cast<size_t>(first); i < result.trajectory.size(); ++i)
+      after.push_back(result.trajectory[i]);
+    AteOptions none;
+    none.alignment = Alignment::None;
+    return computeAte(result.reference, moved(Trajectory(std::move(after)), frame.transform),
+                      none);
+  }
   Trajectory merged(int k) const {
     return readTumTrajectory((dir_ / "merged" / ("trajectory_" + std::to_string(k) + ".tum")).string());
   }
   PluginManager plugins_;
+  std::shared_ptr<RunConfig> localized_;
 };
-
-// `t` moved by the similarity `s` (the alignment one trajectory found).
-Trajectory moved(const Trajectory& t, const SimilarityTransform& s) {
-  std::vector<StampedPose> out;
-  for (StampedPose p : t) {
-    p.pose.linear() = s.rotation * p.pose.linear();
-    p.pose.translation() = s.scale * s.rotation * p.pose.translation() + s.translation;
-    out.push_back(p);
-  }
-  return Trajectory(std::move(out));
-}
 
 TEST_F(Merge, TwoOfficeSessionsStartedApartJoinInOneFrame) {
   if (const std::string why = pluginsMissing(); !why.empty()) GTEST_SKIP() << why;
@@ -141,28 +175,11 @@ TEST_F(Merge, RgbdSessionsJoinAndLocalizeByAppearance) {
 
   // The second tour localized in the first session from its unknown start (`--localize
   // --start-anywhere`): it locks on within a second and then follows the truth in that frame.
-  ConfigDocument doc = loadConfigFile(plugslam::testing::sourceDir() + "/configs/" + config);
-  for (const std::string& set :
-       {std::string("outputs=[]"), std::string("pipeline.graph.deterministic=true"),
-        std::string("pipeline.graph.join_by_estimate=false"), "source.trajectory=" + path,
-        std::string("source.anchor=false")})
-    applyOverride(doc, set);
-  auto run = buildRun(doc, plugins_);
-  const SessionMaps saved = loadSessionMaps(readSessionManifest((dir_ / "r0").string()));
-  run->pipeline->restoreSession(saved.maps, saved.edges, true, false);
-  RunOptions o;
-  o.out_dir = (dir_ / "run_localize").string();
-  const RunReport report = runPipeline(*run, o);
+  const RunReport report = localizeFromAnywhere(
+      "r0", {"source.trajectory=" + path, "source.anchor=false"}, config);
   ASSERT_GE(report.locked_on_after, 0) << "never locked on";
   EXPECT_LE(report.locked_on_after, 30);  // 1 s of the camera
-  const AteResult session = computeAte(
-      truth0, readTumTrajectory((dir_ / "r0" / "trajectory.tum").string()), se3);
-  const RunResult result = run->pipeline->result();
-  std::vector<StampedPose> after;
-  for (size_t i = static_cast<size_t>(report.locked_on_after); i < result.trajectory.size(); ++i)
-    after.push_back(result.trajectory[i]);
-  const AteResult localized =
-      computeAte(result.reference, moved(Trajectory(std::move(after)), session.transform), none);
+  const AteResult localized = localizedAte(report.locked_on_after, "r0", truth0, Alignment::SE3);
   std::cout << "localized from anywhere: locked on after " << report.locked_on_after
             << " frames, then ATE " << localized.translation.rmse << " m\n";
   EXPECT_LT(localized.translation.rmse, 0.05);
@@ -229,36 +246,14 @@ TEST_F(Merge, LocalizationFromAnUnknownStartLocksOnAndFollowsTheTruth) {
   const Trajectory truth1 = mapAndSave("s1", {"source.session=stage-1", "source.seed=1"});
   // `plugslam run CONFIG --session s1 --localize --start-anywhere`: a tour starting 4.75 m from
   // the session's start.
-  ConfigDocument doc =
-      loadConfigFile(plugslam::testing::sourceDir() + "/configs/sim2d_single_laser.yaml");
-  for (const char* s : {"outputs=[]", "pipeline.graph.deterministic=true",
-                        "source.session=stage-0", "pipeline.graph.join_by_estimate=false"})
-    applyOverride(doc, s);
-  auto run = buildRun(doc, plugins_);
-  const SessionMaps saved = loadSessionMaps(readSessionManifest((dir_ / "s1").string()));
-  run->pipeline->restoreSession(saved.maps, saved.edges, true, false);
-  RunOptions o;
-  o.out_dir = (dir_ / "run_localize").string();
-  const RunReport report = runPipeline(*run, o);
+  const RunReport report = localizeFromAnywhere("s1", {"source.session=stage-0"});
   ASSERT_GE(report.locked_on_after, 0) << "never locked on";
   std::cout << "locked on after " << report.locked_on_after << " of " << report.frames
             << " frames\n";
   // The place it sees is searched from the first frame on, not once a local map closed.
   EXPECT_LE(report.locked_on_after, 20);
-  // Every pose from the lock-on on, in the session's frame, against the truth (the session's
-  // alignment to its own truth).
-  AteOptions se2;
-  se2.alignment = Alignment::SE2;
-  const AteResult session = computeAte(
-      truth1, readTumTrajectory((dir_ / "s1" / "trajectory.tum").string()), se2);
-  const RunResult result = run->pipeline->result();
-  std::vector<StampedPose> after;
-  for (size_t i = static_cast<size_t>(report.locked_on_after); i < result.trajectory.size(); ++i)
-    after.push_back(result.trajectory[i]);
-  AteOptions none;
-  none.alignment = Alignment::None;
-  const AteResult localized =
-      computeAte(result.reference, moved(Trajectory(std::move(after)), session.transform), none);
+  // Every pose from the lock-on on, in the session's frame, against the truth.
+  const AteResult localized = localizedAte(report.locked_on_after, "s1", truth1, Alignment::SE2);
   std::cout << "after lock-on: ATE " << localized.translation.rmse << " m, max "
             << localized.translation.max << " m\n";
   EXPECT_LT(localized.translation.rmse, 0.05);
@@ -272,17 +267,7 @@ TEST_F(Merge, LocalizationInAnotherBuildingNeverLocksOn) {
   mapAndSave("hall", {"source.session=stage-0", "source.world=" + world.string(),
                       "source.start=[0, 0]"});
   // A tour of the office localized in the hall's session: no place of it is there.
-  ConfigDocument doc =
-      loadConfigFile(plugslam::testing::sourceDir() + "/configs/sim2d_single_laser.yaml");
-  for (const char* s : {"outputs=[]", "pipeline.graph.deterministic=true",
-                        "source.session=stage-0", "pipeline.graph.join_by_estimate=false"})
-    applyOverride(doc, s);
-  auto run = buildRun(doc, plugins_);
-  const SessionMaps saved = loadSessionMaps(readSessionManifest((dir_ / "hall").string()));
-  run->pipeline->restoreSession(saved.maps, saved.edges, true, false);
-  RunOptions o;
-  o.out_dir = (dir_ / "run_localize").string();
-  const RunReport report = runPipeline(*run, o);
+  const RunReport report = localizeFromAnywhere("hall", {"source.session=stage-0"});
   EXPECT_EQ(report.locked_on_after, -1) << "locked on in a building it is not in";
   EXPECT_GT(report.frames, 100);
 }

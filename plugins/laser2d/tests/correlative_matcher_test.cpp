@@ -37,11 +37,8 @@ TEST(CorrelativeGrid, PooledLevelsBoundTheBase) {
   }
 }
 
-// The branch and bound of the SDK's correlative search finds the pose an exhaustive scoring of
-// every lattice pose finds (its bounds never prune the best), on a room seen from a guess that is
-// off in translation and heading.
-TEST(CorrelativeSearch, BranchAndBoundFindsTheExhaustiveBest) {
-  std::vector<Eigen::Vector2d> room, normals;
+// A room with an inner wall (no symmetry): its wall points and their normals.
+void roomOf(std::vector<Eigen::Vector2d>& room, std::vector<Eigen::Vector2d>& normals) {
   for (int i = 0; i < 200; ++i) {
     const double t = -5 + 0.05 * i;
     room.emplace_back(t, 3.0), normals.emplace_back(0, -1);
@@ -49,6 +46,14 @@ TEST(CorrelativeSearch, BranchAndBoundFindsTheExhaustiveBest) {
     if (i < 100) room.emplace_back(4.0, -2 + 0.05 * i), normals.emplace_back(-1, 0);
     if (i < 40) room.emplace_back(1.0 + 0.05 * i, 0.5), normals.emplace_back(0, 1);
   }
+}
+
+// The branch and bound of the SDK's correlative search finds the pose an exhaustive scoring of
+// every lattice pose finds (its bounds never prune the best), on a room seen from a guess that is
+// off in translation and heading.
+TEST(CorrelativeSearch, BranchAndBoundFindsTheExhaustiveBest) {
+  std::vector<Eigen::Vector2d> room, normals;
+  roomOf(room, normals);
   const SE2 truth = se2(0.3, -0.2, 0.16);  // on the lattice
   std::vector<Eigen::Vector2d> scan;
   for (size_t i = 0; i < room.size(); i += 3) scan.push_back(truth.inverse() * room[i]);
@@ -86,13 +91,7 @@ TEST(CorrelativeSearch, BranchAndBoundFindsTheExhaustiveBest) {
 // nearly pi is found unambiguous, not rivalled by itself one heading step across the seam.
 TEST(CorrelativeSearch, AFullTurnHasNoSeam) {
   std::vector<Eigen::Vector2d> room, normals;
-  for (int i = 0; i < 200; ++i) {
-    const double t = -5 + 0.05 * i;
-    room.emplace_back(t, 3.0), normals.emplace_back(0, -1);
-    room.emplace_back(t, -2.0), normals.emplace_back(0, 1);
-    if (i < 100) room.emplace_back(4.0, -2 + 0.05 * i), normals.emplace_back(-1, 0);
-    if (i < 40) room.emplace_back(1.0 + 0.05 * i, 0.5), normals.emplace_back(0, 1);
-  }
+  roomOf(room, normals);
   SearchLattice<Space2D> lattice;
   lattice.center = se2(0, 0, 0);
   lattice.resolution = 0.1;

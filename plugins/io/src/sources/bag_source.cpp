@@ -32,6 +32,16 @@ std::string describe(const Eigen::Isometry2d& m) {
 
 }  // namespace
 
+Eigen::Isometry3d tfPose(const double* translation, const double* rotation_xyzw) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() << translation[0], translation[1], translation[2];
+  pose.linear() = Eigen::Quaterniond(rotation_xyzw[3], rotation_xyzw[0], rotation_xyzw[1],
+                                     rotation_xyzw[2])
+                      .normalized()
+                      .toRotationMatrix();
+  return pose;
+}
+
 std::string tfFrameName(const std::string& frame) {
   return !frame.empty() && frame[0] == '/' ? frame.substr(1) : frame;
 }

@@ -48,6 +48,9 @@ struct BagTransform {
 /// A tf frame name without ROS 1's leading slash: "/base_link" and "base_link" are one frame.
 std::string tfFrameName(const std::string& frame);
 
+/// A tf transform's pose: translation [m] and rotation quaternion x y z w, as both ROS encode it.
+Eigen::Isometry3d tfPose(const double* translation, const double* rotation_xyzw);
+
 /// One decoded message of a mapped topic.
 struct BagReading {
   /// Which stream it belongs to.

@@ -424,14 +424,8 @@ std::vector<BagTransform> Ros2BagSource::rigidTransforms() {
     TfMsg tf;
     decode(m, tf);
     for (const auto& t : tf.transforms) {
-      BagTransform edge{tfFrameName(t.header.frame_id), tfFrameName(t.child_frame_id),
-                        Eigen::Isometry3d::Identity(), tf_static()};
-      edge.pose.translation() << t.translation[0], t.translation[1], t.translation[2];
-      edge.pose.linear() =
-          Eigen::Quaterniond(t.rotation[3], t.rotation[0], t.rotation[1], t.rotation[2])
-              .normalized()
-              .toRotationMatrix();
-      out.push_back(std::move(edge));
+      out.push_back(BagTransform{tfFrameName(t.header.frame_id), tfFrameName(t.child_frame_id),
+                                 tfPose(t.translation.data(), t.rotation.data()), tf_static()});
     }
   }
   return out;

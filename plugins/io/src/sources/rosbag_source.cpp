@@ -134,15 +134,10 @@ std::vector<BagTransform> RosbagSource::rigidTransforms() {
   }
   for (const auto& [frames, e] : edges) {
     if (!e.declared_static && (e.changed || e.seen < 2)) continue;
-    BagTransform edge{frames.first, frames.second, Eigen::Isometry3d::Identity(),
-                      e.declared_static
-                          ? e.topic
-                          : e.topic + ", the same in its " + std::to_string(e.seen) + " messages"};
-    edge.pose.translation() << e.value[0], e.value[1], e.value[2];
-    edge.pose.linear() = Eigen::Quaterniond(e.value[6], e.value[3], e.value[4], e.value[5])
-                             .normalized()
-                             .toRotationMatrix();
-    out.push_back(std::move(edge));
+    out.push_back(BagTransform{
+        frames.first, frames.second, tfPose(e.value.data(), e.value.data() + 3),
+        e.declared_static ? e.topic
+                          : e.topic + ", the same in its " + std::to_string(e.seen) + " messages"});
   }
   return out;
 }
