@@ -14,11 +14,15 @@
 #include "plugslam/graph_edge.h"
 #include "plugslam/local_map.h"
 #include "plugslam/loop_closure.h"
-#include "plugslam/loop_filter.h"
 #include "plugslam/pose_space.h"
 
 namespace plugslam {
 inline namespace abi_v1 {
+
+// The checks a loop passes once it is in the graph (sdk.ConsistencyFilter, sdk.ResidualVeto,
+// sdk.OdometryAudit): internal to the SDK, since they work on the back-end's private state;
+// configured in YAML through `loop_filters`, not implemented by plugins.
+class LoopFilter;
 
 /// Counters of the back-end.
 struct GraphStats {

@@ -3,7 +3,7 @@
 // closed within a window of travel are re-decided together, keeping the largest set of mutually
 // consistent ones (pairwise consistency maximization).
 #include "plugslam/graph_edge.h"
-#include "plugslam/loop_filter.h"
+#include "modules/graph/loop_filter.h"
 
 namespace plugslam {
 inline namespace abi_v1 {

@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "modules/graph/global_optimizer.h"
+#include "modules/graph/loop_filter.h"
 #include "modules/graph/loop_search.h"
 #include "modules/graph/pose_graph.h"
 #include "plugslam/errors.h"

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "plugslam/graph_edge.h"
-#include "plugslam/loop_filter.h"
+#include "modules/graph/loop_filter.h"
 
 namespace plugslam {
 inline namespace abi_v1 {

@@ -3,7 +3,7 @@
 // that disagrees most with the optimized graph goes for good when its error is too large. A
 // wrong loop alone in its consistency window has no other loop to disagree with, but the rest
 // of the graph does.
-#include "plugslam/loop_filter.h"
+#include "modules/graph/loop_filter.h"
 
 namespace plugslam {
 inline namespace abi_v1 {

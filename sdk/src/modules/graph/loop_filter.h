@@ -15,9 +15,9 @@ struct Solution;
 }  // namespace detail
 
 /// A check on the loops of the pose graph. Filters work on the back-end's own state
-/// (detail::PoseGraph), which the SDK keeps private: they are the SDK's types
-/// ("sdk.ConsistencyFilter", "sdk.ResidualVeto", "sdk.OdometryAudit"), chosen, ordered and
-/// configured in YAML.
+/// (detail::PoseGraph), which the SDK keeps private, so this type is SDK-internal: its kinds
+/// ("sdk.ConsistencyFilter", "sdk.ResidualVeto", "sdk.OdometryAudit") are chosen, ordered and
+/// configured in YAML; a plugin cannot add one.
 class LoopFilter : public Configurable {
  public:
   static constexpr const char* kKind = "LoopFilter";
