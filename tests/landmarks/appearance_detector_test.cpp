@@ -156,3 +156,43 @@ TEST(AppearanceDetector, RefusesMixedDescriptorSizes) {
 
 }  // namespace
 }  // namespace plugslam
+
+namespace plugslam {
+namespace {
+
+// Place recognition in another component (a session, a run started elsewhere): the query's place
+// is proposed, global, when its votes stand out; when another place of that component far along
+// its path draws as many (two stretches that look the same: repeated facades, tiles), nothing is.
+TEST(AppearanceDetector, ProposesAnotherComponentsPlaceOnlyWhenItStandsOut) {
+  std::mt19937 rng(9);
+  const Places p = makePlaces(rng, 6, 60, 20);
+  for (bool twin : {false, true}) {
+    GraphView view;
+    // Component 0: places 0..5, 20 m apart; with `twin`, place 5 shows place 2's corners again.
+    for (size_t i = 0; i < 6; ++i) {
+      const size_t place = twin && i == 5 ? 2 : i;
+      view.maps.push_back(mapOf(static_cast<int64_t>(i), visit(p, place, 0, rng)));
+      view.origins.push_back(Eigen::Isometry3d::Identity());
+      view.travelled.push_back(20.0 * static_cast<double>(i));
+      view.components.push_back(0);
+    }
+    // Component 6: a run started elsewhere, at place 2.
+    view.maps.push_back(mapOf(6, visit(p, 2, 10, rng)));
+    view.origins.push_back(Eigen::Isometry3d::Identity());
+    view.travelled.push_back(1e6);
+    view.components.push_back(6);
+    AppearanceDetector detector;
+    detector.configure();
+    const std::vector<LoopCandidate> found = detector.detect(view, *view.maps[6]);
+    if (twin) {
+      EXPECT_TRUE(found.empty()) << "a place that repeats was trusted";
+    } else {
+      ASSERT_FALSE(found.empty());
+      EXPECT_EQ(found[0].id, 2);
+      EXPECT_TRUE(found[0].global);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace plugslam

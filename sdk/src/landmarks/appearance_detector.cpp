@@ -180,6 +180,30 @@ std::vector<LoopCandidate> AppearanceDetector::detect(const GraphView& view,
     std::sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) {
       return a.first != b.first ? a.first > b.first : a.second < b.second;
     });
+    // Place recognition in another component: the estimate says nothing there, so only a place
+    // whose votes stand out is trusted. A repeated texture (a street of alike facades, floor
+    // tiles) draws as many votes to another stretch of that component as to the best one.
+    const int own = view.component(query.id);
+    std::vector<int> checked, ambiguous;
+    for (const auto& [w, best] : ranked) {
+      const int other = view.component(best);
+      if (other == own || std::find(checked.begin(), checked.end(), other) != checked.end())
+        continue;
+      checked.push_back(other);  // its best-voted map comes first
+      double elsewhere = 0;
+      for (size_t id = 0; id < weight.size(); ++id)
+        if (view.component(static_cast<int64_t>(id)) == other &&
+            std::abs(view.travelled[id] - view.travelled[static_cast<size_t>(best)]) >=
+                min_travel())
+          elsewhere = std::max(elsewhere, weight[id]);
+      if (elsewhere * (1 + place_margin()) > w) ambiguous.push_back(other);
+    }
+    ranked.erase(std::remove_if(ranked.begin(), ranked.end(),
+                                [&](const auto& r) {
+                                  return std::find(ambiguous.begin(), ambiguous.end(),
+                                                   view.component(r.second)) != ambiguous.end();
+                                }),
+                 ranked.end());
     if (ranked.size() > static_cast<size_t>(max_candidates()))
       ranked.resize(static_cast<size_t>(max_candidates()));
     for (const auto& [v, id] : ranked) {

@@ -41,6 +41,12 @@ class AppearanceDetector : public LoopDetector {
                            "ignore maps fewer metres back along the path (they are neighbours, "
                            "which the tracker already joins); not applied across components",
                            Range{0, 1e9}};
+  Param<double> place_margin{
+      this, "place_margin", 0.5, "",
+      "in another graph component (place recognition), the best-voted map must hold this "
+      "fraction more vote weight than any of that component's maps `min_travel` or more of path "
+      "from it: a place seen again, not a repeated texture",
+      Range{0, 100}};
   Param<int> max_candidates{this, "max_candidates", 3, "", "best-voted candidates proposed",
                             Range{1, 1000}};
   Param<int> leaf_size{this, "leaf_size", 64, "",
