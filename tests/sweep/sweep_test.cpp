@@ -279,3 +279,38 @@ TEST(Report, ASectionOfADocumentIsWrittenAndReplaced) {
   EXPECT_EQ(line.rfind("Machine: ", 0), 0u) << line;
   EXPECT_NE(line.find("; commit "), std::string::npos) << line;
 }
+
+// `targets`: each grid point's verdict over every run; a target on a metric the sweep does not
+// measure, or a condition that is not "<= VALUE" / ">= VALUE", is an error at its line.
+TEST(Report, TargetsAreJudgedOverEveryRun) {
+  const std::string base =
+      "config: configs/sim2d_single_laser.yaml\n"
+      "grid: {pipeline.tracker.splitter.distance: [0.5, 1.0]}\n"
+      "repeat: 2\nmetrics: [ate, hz]\n";
+  EXPECT_NE(errorOf(base + "targets: {rpe: \"<= 0.1\"}\n").find("s.yaml:5"), std::string::npos)
+      << errorOf(base + "targets: {rpe: \"<= 0.1\"}\n");
+  EXPECT_NE(errorOf(base + "targets: {ate: \"< 0.1\"}\n").find("expected \"<= VALUE\""),
+            std::string::npos);
+  EXPECT_NE(errorOf(base + "targets: {ate: \"<= fast\"}\n").find("targets"), std::string::npos);
+  const SweepFile s = parseSweep(base + "targets: {ate: \"<= 0.15\", hz: \">= 100\"}\n", "s.yaml");
+  ASSERT_EQ(s.targets.size(), 2u);
+  const plugslam::testing::TempDir temp("sweep-targets");
+  const fs::path dir = temp.path().string();
+  writePlan(expandSweep(s), dir.string(), "/bin/true");
+  const Plan plan = readPlan(dir.string());
+  ASSERT_EQ(plan.targets.size(), 2u);
+  EXPECT_EQ(plan.targets[1].text(), "hz >= 100");
+  // Distance 0.5: one of its two runs misses the ATE bound; 1.0: both meet both.
+  const double ate[] = {0.1, 0.2, 0.05, 0.06};
+  for (size_t i = 0; i < plan.cases.size(); ++i)
+    std::ofstream(caseDir(dir.string(), plan.cases[i].id) + "/result.json")
+        << "{\"status\": \"ok\", \"exit_code\": 0, \"metrics\": {\"ate\": " << ate[i]
+        << ", \"hz\": " << 100 + i << "}}\n";
+  const SweepTable t = gatherResults(dir.string());
+  ASSERT_EQ(t.rows.size(), 2u);
+  EXPECT_EQ(targetVerdict(t.plan, t.rows[0]), "no (ate 0.2 > 0.15)");
+  EXPECT_EQ(targetVerdict(t.plan, t.rows[1]), "yes");
+  const std::string md = reportMarkdown(t, {});
+  EXPECT_NE(md.find("1 of 2 grid points meet them all"), std::string::npos) << md;
+  EXPECT_NE(md.find("| yes |"), std::string::npos) << md;
+}

@@ -136,6 +136,7 @@ Plan expandSweep(const SweepFile& sweep) {
   plan.sweep_file = sweep.file;
   plan.title = sweep.title;
   plan.notes = sweep.notes;
+  plan.targets = sweep.targets;
   plan.metrics = sweep.metrics;
   plan.timeout_s = sweep.timeout_s;
   plan.config_labels = configLabels(sweep.configs);
@@ -260,6 +261,15 @@ CaseCommand caseCommand(const Case& c, const std::string& self, const std::strin
   return cmd;
 }
 
+namespace {
+json targetsJson(const std::vector<Target>& targets) {
+  json out = json::array();
+  for (const auto& t : targets)
+    out.push_back({{"metric", t.metric}, {"at_most", t.at_most}, {"value", t.value}});
+  return out;
+}
+}  // namespace
+
 void writePlan(const Plan& plan, const std::string& dir, const std::string& self) {
   const fs::path root = fs::absolute(dir);
   fs::create_directories(root / "cases");
@@ -315,6 +325,7 @@ void writePlan(const Plan& plan, const std::string& dir, const std::string& self
            {"swept_keys", plan.swept_keys},   {"configs", plan.config_labels},
            {"datasets", plan.datasets},       {"timeout_s", plan.timeout_s},
            {"title", plan.title},             {"notes", plan.notes},
+           {"targets", targetsJson(plan.targets)},
            {"self", self},                    {"cases", std::move(cases)}};
   writeSmallFile((root / "cases.tsv").string(), tsv);
   writeSmallFile((root / "commands.sh").string(), script);
@@ -340,6 +351,8 @@ Plan readPlan(const std::string& dir) {
   plan.timeout_s = doc.value("timeout_s", 0.0);
   plan.title = doc.value("title", "");
   plan.notes = doc.value("notes", "");
+  for (const auto& t : doc.value("targets", json::array()))
+    plan.targets.push_back(Target{t.at("metric"), t.at("at_most"), t.at("value")});
   for (const auto& j : doc.at("cases")) {
     Case c;
     c.id = j.at("id");

@@ -38,6 +38,7 @@ struct Plan {
   std::vector<std::string> config_labels, datasets;  ///< in file order
   double timeout_s = 0;
   std::string title, notes;  ///< the sweep file's, for the report's section
+  std::vector<Target> targets;  ///< the sweep file's, judged by the report
   std::vector<Case> cases;
 };
 

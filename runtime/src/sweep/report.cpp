@@ -142,6 +142,25 @@ SweepTable gatherResults(const std::string& dir) {
   return t;
 }
 
+std::string targetVerdict(const Plan& p, const Row& r) {
+  if (r.failed > 0 || r.missing > 0 || r.ok == 0)
+    return r.ok == 0 ? "no (no result)" : "no (not every run has a result)";
+  std::string missed;
+  for (const auto& target : p.targets) {
+    const auto it = r.metrics.find(target.metric);
+    if (it == r.metrics.end() || it->second.count < r.ok) {
+      missed += (missed.empty() ? "" : "; ") + target.metric + " not measured in every run";
+      continue;
+    }
+    // Every run: the worst of them against the bound.
+    const double worst = target.at_most ? it->second.max : it->second.min;
+    if (target.at_most ? worst <= target.value : worst >= target.value) continue;
+    missed += fmt::format("{}{} {} {} {}", missed.empty() ? "" : "; ", target.metric, num(worst),
+                          target.at_most ? ">" : "<", num(target.value));
+  }
+  return missed.empty() ? "yes" : "no (" + missed + ")";
+}
+
 std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& plots) {
   const Plan& p = t.plan;
   size_t present = 0, failed = 0;
@@ -157,7 +176,17 @@ std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& 
                                 t.rows.size() / std::max<size_t>(1, p.config_labels.size() * p.datasets.size()),
                                 repeats > 1 ? fmt::format(" x {} repeats", repeats) : "", present, failed);
   out += repeats > 1 ? "Cells: the median of the repeats, (min–max) when they differ; " : "Cells: ";
-  out += "**bold**: the best value of the column.\n\n";
+  out += "**bold**: the best value of the column.\n";
+  if (!p.targets.empty()) {
+    size_t met = 0;
+    for (const auto& r : t.rows) met += targetVerdict(p, r) == "yes";
+    std::string list;
+    for (const auto& target : p.targets) list += (list.empty() ? "" : ", ") + target.text();
+    out += fmt::format("Targets, met by every run of a grid point: {}; {} of {} grid points meet "
+                       "them all.\n",
+                       list, met, t.rows.size());
+  }
+  out += "\n";
   // The table.
   const auto best = bestOf(t.rows, p.metrics);
   out += "| config | dataset |";
@@ -170,6 +199,10 @@ std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& 
   rule += "---|";
   for (const auto& m : p.metrics) {
     out += " " + header(m) + " |";
+    rule += "---|";
+  }
+  if (!p.targets.empty()) {
+    out += " targets |";
     rule += "---|";
   }
   out += "\n" + rule + "\n";
@@ -194,6 +227,7 @@ std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& 
       if (s.count > 1 && s.min != s.max) cell += " (" + num(s.min) + "–" + num(s.max) + ")";
       out += " " + cell + " |";
     }
+    if (!p.targets.empty()) out += " " + targetVerdict(p, r) + " |";
     out += "\n";
   }
   // Heat tables: dataset x config, the best grid point's median of each.

@@ -42,6 +42,9 @@ struct SweepTable {
 /// Reads the plan and every result of a sweep folder.
 SweepTable gatherResults(const std::string& dir);
 
+/// Whether every run of grid point `r` meets every target of the plan: "yes", or "no (...)" with
+/// what missed.
+std::string targetVerdict(const Plan& p, const Row& r);
 /// The report as Markdown: the table, the heat tables, the failed cases, the plots' files.
 std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& plots);
 /// One line per grid point: labels, parameters, runs, and each metric's median, min and max.

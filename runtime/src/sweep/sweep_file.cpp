@@ -4,6 +4,7 @@
 
 #include <boost/filesystem.hpp>
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -23,7 +24,7 @@ namespace {
 
 const std::vector<std::string> kTopKeys{"config",  "datasets", "set",   "grid",  "zip",
                                         "repeat",  "metrics",  "timeout", "slurm", "hosts",
-                                        "title",   "notes"};
+                                        "title",   "notes",    "targets"};
 const std::vector<std::string> kDatasetKeys{"set", "reference", "relations", "log", "laser"};
 const std::vector<std::string> kSlurmKeys{"partition", "time",         "mem",  "account",
                                           "cpus",      "max_parallel", "extra"};
@@ -387,6 +388,46 @@ SweepFile parseSweep(const std::string& text, const std::string& name) {
     s.metrics = {"hz"};
   }
 
+  if (const YAML::Node t = root["targets"]) {
+    if (!t.IsMap()) {
+      r.error(t, "targets", "expected a map: METRIC -> \"<= VALUE\" or \">= VALUE\"");
+    } else {
+      for (const auto& kv : t) {
+        Target target;
+        target.metric = kv.first.as<std::string>();
+        std::string condition;
+        if (!r.scalar(kv.second, "targets", condition)) continue;
+        if (std::find(s.metrics.begin(), s.metrics.end(), target.metric) == s.metrics.end()) {
+          r.error(kv.first, "targets",
+                  "'" + target.metric + "' is not among the sweep's metrics: list it in `metrics`");
+          continue;
+        }
+        const auto start = condition.find_first_not_of(' ');
+        const std::string op = start == std::string::npos ? "" : condition.substr(start, 2);
+        bool ok = op == "<=" || op == ">=";
+        if (ok) {
+          target.at_most = op == "<=";
+          try {
+            size_t used = 0;
+            const std::string number = condition.substr(start + 2);
+            target.value = std::stod(number, &used);
+            ok = number.find_first_not_of(' ', used) == std::string::npos &&
+                 std::isfinite(target.value);
+          } catch (const std::exception&) {
+            ok = false;
+          }
+        }
+        if (!ok) {
+          r.error(kv.second, "targets",
+                  "expected \"<= VALUE\" or \">= VALUE\" for '" + target.metric + "', got '" +
+                      condition + "'");
+          continue;
+        }
+        s.targets.push_back(target);
+      }
+    }
+  }
+
   if (const YAML::Node sl = root["slurm"]) {
     if (!sl.IsMap()) r.error(sl, "slurm", "expected a map: partition, time, mem, ...");
     else {
@@ -412,6 +453,10 @@ SweepFile readSweepFile(const std::string& path) {
   std::stringstream text;
   text << in.rdbuf();
   return parseSweep(text.str(), path);
+}
+
+std::string Target::text() const {
+  return fmt::format("{} {} {}", metric, at_most ? "<=" : ">=", value);
 }
 
 std::string describeSweepFile() {
@@ -445,7 +490,9 @@ std::string describeSweepFile() {
          "      sbatch arguments); the flags of `sweep run --engine slurm` win\n"
          "  hosts      list of ssh logins for `--engine parallel` (or --hosts)\n"
          "  title      the heading of the report's section (`sweep report --section`)\n"
-         "  notes      text above the section's table: what is run and what the cells mean\n";
+         "  notes      text above the section's table: what is run and what the cells mean\n"
+         "  targets    map: METRIC -> \"<= VALUE\" or \">= VALUE\"; the report says of each grid\n"
+         "      point whether every run meets them all (a metric of `metrics`)\n";
 }
 
 }  // namespace plugslam::runtime::sweep

@@ -38,6 +38,14 @@ struct Dataset {
   Origin origin;
 };
 
+/// A bound a metric must meet in every run of a grid point (`targets`: the report's pass column).
+struct Target {
+  std::string metric;
+  bool at_most = true;  ///< "<= value"; false: ">= value"
+  double value = 0;
+  std::string text() const;  ///< "ate <= 0.05"
+};
+
 /// One swept axis: a single key (grid) or keys whose values go together (zip).
 struct Axis {
   std::vector<std::string> keys;
@@ -66,6 +74,7 @@ struct SweepFile {
   SlurmOptions slurm;
   std::vector<std::string> hosts;  ///< for --engine parallel
   std::string title, notes;        ///< of the report's section in a document (not of any case)
+  std::vector<Target> targets;     ///< judged by the report (not part of any case)
 };
 
 /// Reads and checks a sweep file; throws ConfigError (one error) or ConfigErrorList. Relative
