@@ -139,12 +139,12 @@ void addSweepCommand(CLI::App& root, int& exit_code) {
       ->capture_default_str();
   report->callback([&exit_code] {
     const std::string out = a.report_dir.empty() ? (fs::path(a.dir) / "report").string() : a.report_dir;
-    std::cout << sweep::writeReport(a.dir, out, a.compare, !a.no_plots);
+    const sweep::SweepTable t = sweep::gatherResults(a.dir);
+    std::cout << sweep::writeReport(t, a.dir, out, a.compare, !a.no_plots);
     std::cout << fmt::format("\nwrote {0}/report.md, {0}/table.csv, {0}/cases.csv{1}\n", out,
                              a.no_plots ? "" : ", " + out + "/plots/");
     if (!a.section.empty()) {
       const fs::path doc = fs::absolute(a.document);
-      const sweep::SweepTable t = sweep::gatherResults(a.dir);
       sweep::writeSection(doc.string(), a.section,
                           sweep::sectionMarkdown(t, a.dir, a.section,
                                                  sweep::machineLine(doc.parent_path().string())));

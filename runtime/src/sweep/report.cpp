@@ -382,9 +382,8 @@ std::string compareMarkdown(const SweepTable& after, const SweepTable& before,
   return out;
 }
 
-std::string writeReport(const std::string& sweep_dir, const std::string& out_dir,
-                        const std::string& compare_dir, bool plots) {
-  const SweepTable t = gatherResults(sweep_dir);
+std::string writeReport(const SweepTable& t, const std::string& sweep_dir,
+                        const std::string& out_dir, const std::string& compare_dir, bool plots) {
   fs::create_directories(out_dir);
   std::vector<std::string> plot_files;
   if (plots) {

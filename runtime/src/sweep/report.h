@@ -60,10 +60,10 @@ std::string compareMarkdown(const SweepTable& after, const SweepTable& before,
 /// dataset (and config), into `dir`; returns the files written.
 std::vector<std::string> drawPlots(const SweepTable& t, const std::string& dir);
 
-/// Writes report.md, table.csv, cases.csv and plots/ into `out_dir` (and compare.md with a
-/// baseline); returns report.md's text.
-std::string writeReport(const std::string& sweep_dir, const std::string& out_dir,
-                        const std::string& compare_dir, bool plots);
+/// Writes the report of `t` (gathered from `sweep_dir`) as report.md, table.csv, cases.csv and
+/// plots/ into `out_dir` (and compare.md with a baseline); returns report.md's text.
+std::string writeReport(const SweepTable& t, const std::string& sweep_dir,
+                        const std::string& out_dir, const std::string& compare_dir, bool plots);
 
 /// One line saying where and when: CPU, cores, memory, date, and the commit of the git
 /// repository holding folder `repository` ("+changes" when its tracked files other than docs/

@@ -20,8 +20,8 @@ namespace plugslam {
 inline namespace abi_v1 {
 
 // The checks a loop passes once it is in the graph (sdk.ConsistencyFilter, sdk.ResidualVeto,
-// sdk.OdometryAudit): internal to the SDK, since they work on the back-end's private state;
-// configured in YAML through `loop_filters`, not implemented by plugins.
+// sdk.OdometryAudit): internal to the SDK, since they work on the back-end's private state.
+// YAML chooses and orders them through `loop_filters`; a plugin cannot add a kind.
 class LoopFilter;
 
 /// Counters of the back-end.
