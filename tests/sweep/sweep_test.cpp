@@ -11,6 +11,7 @@
 #include "plugin_manager.h"
 #include "plugslam/errors.h"
 #include "sweep/case_id.h"
+#include "sweep/metrics.h"
 #include "sweep/plan.h"
 #include "sweep/report.h"
 #include "sweep/sweep_file.h"
@@ -313,4 +314,82 @@ TEST(Report, TargetsAreJudgedOverEveryRun) {
   const std::string md = reportMarkdown(t, {});
   EXPECT_NE(md.find("1 of 2 grid points meet them all"), std::string::npos) << md;
   EXPECT_NE(md.find("| yes |"), std::string::npos) << md;
+}
+
+namespace {
+
+// Writes one result per case of the sweep in `dir`, metrics as JSON text per case.
+void writeResults(const std::string& dir, const Plan& plan, const std::vector<std::string>& metrics) {
+  for (size_t i = 0; i < plan.cases.size(); ++i)
+    std::ofstream(caseDir(dir, plan.cases[i].id) + "/result.json")
+        << "{\"status\": \"ok\", \"exit_code\": 0, \"metrics\": {" << metrics[i] << "}}\n";
+}
+
+}  // namespace
+
+// A target may be a multiple of another metric of the same run (a map as crisp as the
+// reference's, 0.9 of its coverage); where that metric has no value the target is not judged,
+// and the verdict says so rather than passing or failing it silently.
+TEST(Report, RelativeTargetsCompareWithAnotherMetric) {
+  const std::string base =
+      "config: configs/sim2d_single_laser.yaml\n"
+      "grid: {pipeline.tracker.splitter.distance: [0.5, 1.0, 2.0]}\n"
+      "metrics: [crispness, coverage, crispness_ref, coverage_ref]\n";
+  EXPECT_NE(errorOf(base + "targets: {coverage: \">= 0.9 * hz\"}\n").find("'hz' (in the target"),
+            std::string::npos)
+      << errorOf(base + "targets: {coverage: \">= 0.9 * hz\"}\n");
+  EXPECT_NE(errorOf(base + "targets: {coverage: \">= 0.9 * \"}\n").find("FACTOR"),
+            std::string::npos);
+  const SweepFile s = parseSweep(
+      base + "targets: {crispness: \"<= crispness_ref\", coverage: \">= 0.9 * coverage_ref\"}\n",
+      "s.yaml");
+  ASSERT_EQ(s.targets.size(), 2u);
+  EXPECT_EQ(s.targets[0].text(), "crispness <= crispness_ref");
+  EXPECT_EQ(s.targets[1].text(), "coverage >= 0.9 * coverage_ref");
+  const plugslam::testing::TempDir temp("sweep-relative");
+  const std::string dir = temp.path().string();
+  writePlan(expandSweep(s), dir, "/bin/true");
+  const Plan plan = readPlan(dir);
+  ASSERT_EQ(plan.targets.size(), 2u);
+  EXPECT_EQ(plan.targets[1].of, "coverage_ref");
+  // 0.5: as crisp as the reference, too little coverage; 1.0: both met; 2.0: the reference's
+  // crispness could not be measured (no overlap), so crispness is not judged.
+  writeResults(dir, plan,
+               {"\"crispness\": 0.02, \"coverage\": 0.8, \"crispness_ref\": 0.03, "
+                "\"coverage_ref\": 1.0",
+                "\"crispness\": 0.02, \"coverage\": 0.95, \"crispness_ref\": 0.03, "
+                "\"coverage_ref\": 1.0",
+                "\"coverage\": 0.0, \"coverage_ref\": 0.0"});
+  const SweepTable t = gatherResults(dir);
+  ASSERT_EQ(t.rows.size(), 3u);
+  EXPECT_EQ(targetVerdict(t.plan, t.rows[0]), "no (coverage 0.8 < 0.9)");
+  EXPECT_EQ(targetVerdict(t.plan, t.rows[1]), "yes");
+  EXPECT_EQ(targetVerdict(t.plan, t.rows[2]),
+            "yes (crispness not judged: crispness_ref has no value)");
+  EXPECT_NE(reportMarkdown(t, {}).find("2 of 3 grid points meet them all"), std::string::npos);
+}
+
+// The front-end's figures a sweep reads from run.json: the graph's pieces, the ambiguous frames
+// and the time split of search, refine and merge.
+TEST(Metrics, RunJsonGivesComponentsAmbiguityAndTheTimeSplit) {
+  const plugslam::testing::TempDir temp("sweep-metrics");
+  const std::string dir = temp.path().string();
+  std::ofstream(dir + "/run.json")
+      << R"({"tracking_ambiguous": 3, "tracking_time_s": {"search": 1.5, "refine": 0.25,
+             "merge": 0.125}, "graph": {"components": [{"first_map": 0, "maps": 4},
+             {"first_map": 4, "maps": 2}]}})";
+  RunFacts run;
+  run.out_dir = dir;
+  const MetricValues m = measure({"components", "ambiguous", "search_s", "refine_s", "merge_s"},
+                                 Scoring{}, run, "/bin/false", dir, "");
+  EXPECT_EQ(m.values.at("components"), 2.0);
+  EXPECT_EQ(m.values.at("ambiguous"), 3.0);
+  EXPECT_EQ(m.values.at("search_s"), 1.5);
+  EXPECT_EQ(m.values.at("refine_s"), 0.25);
+  EXPECT_EQ(m.values.at("merge_s"), 0.125);
+  // Without a graph there is no component count, and the reason is given.
+  std::ofstream(dir + "/run.json") << "{}";
+  const MetricValues none = measure({"components"}, Scoring{}, run, "/bin/false", dir, "");
+  EXPECT_FALSE(none.values.at("components").has_value());
+  EXPECT_NE(none.errors.at("components").find("no graph"), std::string::npos);
 }

@@ -28,16 +28,34 @@ const std::vector<MetricInfo>& metricTable() {
        "relation error, mean translation: the dataset's relations file, else relations built "
        "from its reference or the run's reference.tum",
        Better::Lower},
+      {"relations_deg", "deg", "relation error, mean rotation (as relations)", Better::Lower},
+      {"relations_unused", "",
+       "relations that found no pose to score (as relations; eval relations says why)",
+       Better::Lower},
       {"crispness", "m",
-       "map crispness (no ground truth): the dataset's log, else its source.path",
+       "map crispness (no ground truth): the dataset's log, else its source.path; no value "
+       "where no scan overlaps one far enough apart",
        Better::Lower},
       {"coverage", "",
        "the share of scan points that crispness matched", Better::Higher},
+      {"crispness_ref", "m",
+       "crispness of the reference (the dataset's, else the run's reference.tum) on the same "
+       "scans: what a target compares crispness with",
+       Better::Lower},
+      {"coverage_ref", "", "the reference's coverage (as crispness_ref)", Better::Higher},
+      {"components", "", "pieces of the pose graph, 1 when all of it is connected (run.json)",
+       Better::Lower},
       {"hz", "Hz", "frames per second of the whole run (run.json)", Better::Higher},
       {"pipeline_hz", "Hz", "frames per second inside the pipeline (run.json)", Better::Higher},
       {"memory", "MiB", "peak resident memory of the run", Better::Lower},
       {"time", "s", "wall time of the run", Better::Lower},
       {"tracking_failures", "", "frames the tracker lost (run.json)", Better::Lower},
+      {"ambiguous", "",
+       "frames whose search found a rival pose nearly as good (run.json tracking_ambiguous)",
+       Better::Lower},
+      {"search_s", "s", "time in the aligner's correlative search (run.json)", Better::Lower},
+      {"refine_s", "s", "time in the aligner's solve (run.json)", Better::Lower},
+      {"merge_s", "s", "time merging frames into local maps (run.json)", Better::Lower},
       {"loops", "", "loop closures accepted (run.json)", Better::Higher},
   };
   return table;
@@ -115,7 +133,29 @@ MetricValues measure(const std::vector<std::string>& names, const Scoring& scori
     m.values[name] = v;
     if (!v) m.errors[name] = why;
   };
-  std::optional<Eval> crisp;  // crispness and coverage come from one evaluation
+  // Each evaluation runs once for the metrics it gives.
+  std::optional<Eval> crisp, crisp_ref, relations;
+  const std::string reference =
+      !scoring.reference.empty() ? scoring.reference
+      : fs::exists(own_reference) ? own_reference
+                                  : std::string();
+  // Crispness of `trajectory` on the dataset's log, into `file`.
+  const auto crispness = [&](const std::string& poses, const std::string& file) {
+    const std::string input = !scoring.log.empty() ? scoring.log : source_path;
+    if (input.empty()) return Eval{json(), "the dataset names no log and sets no source.path"};
+    if (poses.empty())
+      return Eval{json(), "the dataset names no reference and the run wrote no reference.tum"};
+    std::vector<std::string> args{"crispness", input, poses};
+    if (!scoring.laser.empty()) args.insert(args.end(), {"--laser", scoring.laser});
+    return evaluate(self, args, work_dir + "/" + file, log, run.cwd);
+  };
+  // A crispness over no matched point measures nothing.
+  const auto crispOf = [](const Eval& e, const std::string& key) -> std::pair<std::optional<double>, std::string> {
+    if (!e.error.empty()) return {std::nullopt, e.error};
+    if (key == "mean_m" && number(e.result, {"matched_points"}).value_or(0) == 0)
+      return {std::nullopt, "no scan point has a neighbour in a scan far enough apart"};
+    return {number(e.result, {key.c_str()}), "crispness wrote no '" + key + "'"};
+  };
   for (const auto& name : names) {
     if (name == "ate" || name == "rpe") {
       if (!scoring.reference.empty()) {
@@ -128,32 +168,38 @@ MetricValues measure(const std::vector<std::string>& names, const Scoring& scori
             "the dataset names no reference and the run scored none (run.json has no "
             "'reference')");
       }
-    } else if (name == "relations") {
-      std::vector<std::string> args{"relations", trajectory};
-      if (!scoring.relations.empty())
-        args.insert(args.end(), {"--relations", scoring.relations});
-      else if (!scoring.reference.empty())
-        args.insert(args.end(), {"--reference", scoring.reference});
-      else if (fs::exists(own_reference))
-        args.insert(args.end(), {"--reference", own_reference});
-      else {
-        set(name, std::nullopt, "no relations file, no reference, and the run wrote no reference.tum");
-        continue;
+    } else if (name == "relations" || name == "relations_deg" || name == "relations_unused") {
+      if (!relations) {
+        std::vector<std::string> args{"relations", trajectory};
+        if (!scoring.relations.empty())
+          args.insert(args.end(), {"--relations", scoring.relations});
+        else if (!reference.empty())
+          args.insert(args.end(), {"--reference", reference});
+        if (args.size() == 2)
+          relations = Eval{json(), "no relations file, no reference, and the run wrote no "
+                                   "reference.tum"};
+        else
+          relations = evaluate(self, args, work_dir + "/relations.json", log, run.cwd);
       }
-      const Eval e = evaluate(self, args, work_dir + "/relations.json", log, run.cwd);
-      set(name, number(e.result, {"translation_m", "mean"}), e.error);
+      if (name == "relations_unused") {
+        const auto all = number(relations->result, {"relations"});
+        const auto used = number(relations->result, {"used"});
+        set(name, all && used ? std::optional<double>(*all - *used) : std::nullopt,
+            relations->error.empty() ? "eval relations wrote no counts" : relations->error);
+      } else {
+        set(name,
+            number(relations->result,
+                   {name == "relations" ? "translation_m" : "rotation_deg", "mean"}),
+            relations->error);
+      }
     } else if (name == "crispness" || name == "coverage") {
-      if (!crisp) {
-        const std::string input = !scoring.log.empty() ? scoring.log : source_path;
-        if (input.empty()) {
-          crisp = Eval{json(), "the dataset names no log and sets no source.path"};
-        } else {
-          std::vector<std::string> args{"crispness", input, trajectory};
-          if (!scoring.laser.empty()) args.insert(args.end(), {"--laser", scoring.laser});
-          crisp = evaluate(self, args, work_dir + "/crispness.json", log, run.cwd);
-        }
-      }
-      set(name, number(crisp->result, {name == "crispness" ? "mean_m" : "coverage"}), crisp->error);
+      if (!crisp) crisp = crispness(trajectory, "crispness.json");
+      const auto [v, why] = crispOf(*crisp, name == "crispness" ? "mean_m" : "coverage");
+      set(name, v, why);
+    } else if (name == "crispness_ref" || name == "coverage_ref") {
+      if (!crisp_ref) crisp_ref = crispness(reference, "crispness_ref.json");
+      const auto [v, why] = crispOf(*crisp_ref, name == "crispness_ref" ? "mean_m" : "coverage");
+      set(name, v, why);
     } else if (name == "hz") {
       set(name, number(report, {"hz"}), "run.json has no 'hz'");
     } else if (name == "pipeline_hz") {
@@ -164,6 +210,19 @@ MetricValues measure(const std::vector<std::string>& names, const Scoring& scori
       set(name, run.wall_s, "");
     } else if (name == "tracking_failures") {
       set(name, number(report, {"tracking_failures"}), "run.json has no 'tracking_failures'");
+    } else if (name == "components") {
+      const json* c = report.is_object() && report.contains("graph") && report["graph"].is_object()
+                          ? &report["graph"]
+                          : nullptr;
+      const bool has = c && c->contains("components") && (*c)["components"].is_array();
+      set(name, has ? std::optional<double>((*c)["components"].size()) : std::nullopt,
+          "run.json has no graph components");
+    } else if (name == "ambiguous") {
+      set(name, number(report, {"tracking_ambiguous"}), "run.json has no 'tracking_ambiguous'");
+    } else if (name == "search_s" || name == "refine_s" || name == "merge_s") {
+      const std::string key = name.substr(0, name.size() - 2);
+      set(name, number(report, {"tracking_time_s", key.c_str()}),
+          "run.json has no 'tracking_time_s'");
     } else if (name == "loops") {
       set(name, number(report, {"graph", "loops_accepted"}), "the run has no graph");
     }

@@ -265,7 +265,7 @@ namespace {
 json targetsJson(const std::vector<Target>& targets) {
   json out = json::array();
   for (const auto& t : targets)
-    out.push_back({{"metric", t.metric}, {"at_most", t.at_most}, {"value", t.value}});
+    out.push_back({{"metric", t.metric}, {"at_most", t.at_most}, {"value", t.value}, {"of", t.of}});
   return out;
 }
 }  // namespace
@@ -352,7 +352,8 @@ Plan readPlan(const std::string& dir) {
   plan.title = doc.value("title", "");
   plan.notes = doc.value("notes", "");
   for (const auto& t : doc.value("targets", json::array()))
-    plan.targets.push_back(Target{t.at("metric"), t.at("at_most"), t.at("value")});
+    plan.targets.push_back(
+        Target{t.at("metric"), t.at("at_most"), t.at("value"), t.value("of", std::string())});
   for (const auto& j : doc.at("cases")) {
     Case c;
     c.id = j.at("id");

@@ -145,20 +145,36 @@ SweepTable gatherResults(const std::string& dir) {
 std::string targetVerdict(const Plan& p, const Row& r) {
   if (r.failed > 0 || r.missing > 0 || r.ok == 0)
     return r.ok == 0 ? "no (no result)" : "no (not every run has a result)";
-  std::string missed;
+  std::string missed, unjudged;
+  const auto add = [](std::string& list, const std::string& what) {
+    list += (list.empty() ? "" : "; ") + what;
+  };
   for (const auto& target : p.targets) {
     const auto it = r.metrics.find(target.metric);
+    double bound = target.value;
+    if (!target.of.empty()) {
+      // A multiple of another metric (the reference's own score): without it in every run
+      // there is nothing to compare with, which is said, not counted as a miss.
+      const auto of = r.metrics.find(target.of);
+      if (of == r.metrics.end() || of->second.count < r.ok) {
+        add(unjudged, target.metric + " not judged: " + target.of + " has no value");
+        continue;
+      }
+      // Against the other metric's least favourable value over the runs.
+      bound = target.value * (target.at_most ? of->second.min : of->second.max);
+    }
     if (it == r.metrics.end() || it->second.count < r.ok) {
-      missed += (missed.empty() ? "" : "; ") + target.metric + " not measured in every run";
+      add(missed, target.metric + " not measured in every run");
       continue;
     }
     // Every run: the worst of them against the bound.
     const double worst = target.at_most ? it->second.max : it->second.min;
-    if (target.at_most ? worst <= target.value : worst >= target.value) continue;
-    missed += fmt::format("{}{} {} {} {}", missed.empty() ? "" : "; ", target.metric, num(worst),
-                          target.at_most ? ">" : "<", num(target.value));
+    if (target.at_most ? worst <= bound : worst >= bound) continue;
+    add(missed, fmt::format("{} {} {} {}", target.metric, num(worst), target.at_most ? ">" : "<",
+                            num(bound)));
   }
-  return missed.empty() ? "yes" : "no (" + missed + ")";
+  if (!missed.empty()) return "no (" + missed + (unjudged.empty() ? "" : "; " + unjudged) + ")";
+  return unjudged.empty() ? "yes" : "yes (" + unjudged + ")";
 }
 
 std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& plots) {
@@ -179,7 +195,7 @@ std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& 
   out += "**bold**: the best value of the column.\n";
   if (!p.targets.empty()) {
     size_t met = 0;
-    for (const auto& r : t.rows) met += targetVerdict(p, r) == "yes";
+    for (const auto& r : t.rows) met += targetVerdict(p, r).rfind("yes", 0) == 0;
     std::string list;
     for (const auto& target : p.targets) list += (list.empty() ? "" : ", ") + target.text();
     out += fmt::format("Targets, met by every run of a grid point: {}; {} of {} grid points meet "

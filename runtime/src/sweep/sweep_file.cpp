@@ -128,8 +128,9 @@ class Reader {
     for (auto it = map.begin(); it != map.end(); ++it) {
       const std::string key = it->first.as<std::string>("");
       if (!overrideKey(it->first, key)) continue;
+      // null, as `--set KEY=null`: the slot or parameter is unset (a motion model removed).
       if (!it->second.IsDefined() || it->second.IsNull()) {
-        error(it->second, key, "has no value");
+        out.push_back({key, "null", originOf(it->first)});
         continue;
       }
       out.push_back({key, valueText(it->second), originOf(it->first)});
@@ -389,6 +390,9 @@ SweepFile parseSweep(const std::string& text, const std::string& name) {
   }
 
   if (const YAML::Node t = root["targets"]) {
+    const auto measured = [&s](const std::string& metric) {
+      return std::find(s.metrics.begin(), s.metrics.end(), metric) != s.metrics.end();
+    };
     if (!t.IsMap()) {
       r.error(t, "targets", "expected a map: METRIC -> \"<= VALUE\" or \">= VALUE\"");
     } else {
@@ -397,30 +401,49 @@ SweepFile parseSweep(const std::string& text, const std::string& name) {
         target.metric = kv.first.as<std::string>();
         std::string condition;
         if (!r.scalar(kv.second, "targets", condition)) continue;
-        if (std::find(s.metrics.begin(), s.metrics.end(), target.metric) == s.metrics.end()) {
+        if (!measured(target.metric)) {
           r.error(kv.first, "targets",
                   "'" + target.metric + "' is not among the sweep's metrics: list it in `metrics`");
           continue;
         }
+        // "<= NUMBER", or "<= [FACTOR *] METRIC".
         const auto start = condition.find_first_not_of(' ');
         const std::string op = start == std::string::npos ? "" : condition.substr(start, 2);
         bool ok = op == "<=" || op == ">=";
         if (ok) {
           target.at_most = op == "<=";
+          std::string rest = condition.substr(start + 2);
+          const auto trim = [](std::string v) {
+            const auto a = v.find_first_not_of(' '), b = v.find_last_not_of(' ');
+            return a == std::string::npos ? std::string() : v.substr(a, b - a + 1);
+          };
+          const auto star = rest.find('*');
+          if (star != std::string::npos) {
+            target.of = trim(rest.substr(star + 1));
+            rest = rest.substr(0, star);
+          } else if (findMetric(trim(rest))) {
+            target.of = trim(rest);
+            rest = "1";
+          }
           try {
             size_t used = 0;
-            const std::string number = condition.substr(start + 2);
-            target.value = std::stod(number, &used);
-            ok = number.find_first_not_of(' ', used) == std::string::npos &&
-                 std::isfinite(target.value);
+            target.value = std::stod(rest, &used);
+            ok = rest.find_first_not_of(' ', used) == std::string::npos &&
+                 std::isfinite(target.value) && (star == std::string::npos || !target.of.empty());
           } catch (const std::exception&) {
             ok = false;
+          }
+          if (ok && !target.of.empty() && !measured(target.of)) {
+            r.error(kv.second, "targets",
+                    "'" + target.of + "' (in the target of '" + target.metric +
+                        "') is not among the sweep's metrics: list it in `metrics`");
+            continue;
           }
         }
         if (!ok) {
           r.error(kv.second, "targets",
-                  "expected \"<= VALUE\" or \">= VALUE\" for '" + target.metric + "', got '" +
-                      condition + "'");
+                  "expected \"<= VALUE\", \">= VALUE\" or \"<= [FACTOR *] METRIC\" for '" +
+                      target.metric + "', got '" + condition + "'");
           continue;
         }
         s.targets.push_back(target);
@@ -456,7 +479,10 @@ SweepFile readSweepFile(const std::string& path) {
 }
 
 std::string Target::text() const {
-  return fmt::format("{} {} {}", metric, at_most ? "<=" : ">=", value);
+  const std::string bound = of.empty()   ? fmt::format("{}", value)
+                            : value == 1 ? of
+                                         : fmt::format("{} * {}", value, of);
+  return fmt::format("{} {} {}", metric, at_most ? "<=" : ">=", bound);
 }
 
 std::string describeSweepFile() {
@@ -492,7 +518,9 @@ std::string describeSweepFile() {
          "  title      the heading of the report's section (`sweep report --section`)\n"
          "  notes      text above the section's table: what is run and what the cells mean\n"
          "  targets    map: METRIC -> \"<= VALUE\" or \">= VALUE\"; the report says of each grid\n"
-         "      point whether every run meets them all (a metric of `metrics`)\n";
+         "      point whether every run meets them all (a metric of `metrics`). VALUE may be\n"
+         "      [FACTOR *] METRIC, e.g. \">= 0.9 * coverage_ref\": a multiple of another metric of\n"
+         "      the same run; where that one has no value the target is not judged, and said so\n";
 }
 
 }  // namespace plugslam::runtime::sweep

@@ -38,12 +38,14 @@ struct Dataset {
   Origin origin;
 };
 
-/// A bound a metric must meet in every run of a grid point (`targets`: the report's pass column).
+/// A bound a metric must meet in every run of a grid point (`targets`: the report's pass column):
+/// a number, or a factor times another metric of the same run (the reference's own score).
 struct Target {
   std::string metric;
   bool at_most = true;  ///< "<= value"; false: ">= value"
-  double value = 0;
-  std::string text() const;  ///< "ate <= 0.05"
+  double value = 0;     ///< the bound, or the factor of `of`
+  std::string of;       ///< the metric the bound is a multiple of (empty: `value` is the bound)
+  std::string text() const;  ///< "ate <= 0.05", "coverage >= 0.9 * coverage_ref"
 };
 
 /// One swept axis: a single key (grid) or keys whose values go together (zip).
