@@ -22,6 +22,11 @@
                                      the reference alone (a map within RADIUS m, default 10, of an
                                      earlier map more than TRAVEL m of path back, default 50), each
                                      with whether a loop edge ends in it
+  visual_metrics.py stages RUN_JSON  per frame: keypoints, with depth, matched landmarks,
+                                     landmarks in the local map, and the time per stage [ms]
+                                     (run.json statistics, each stage summed over its modules)
+  visual_metrics.py depth < CHECK    the worst step of build/bin/rgbd_depth_check's output
+                                     (against the motion the depth images give) [mm, deg]
 Prints one JSON object. Poses are associated by equal timestamps (both files come from one run).
 """
 import bisect
@@ -213,7 +218,42 @@ def loops(run, radius=10.0, travel=50.0):
             "return_list": returns}
 
 
+def stages(run_json):
+    r = json.load(open(run_json))
+    stats = r.get("statistics", {})
+    n = max(1, r["frames"])
+
+    def first(key):
+        return next((figures[key] for figures in stats.values() if key in figures), None)
+
+    def ms(key):
+        # Summed over the modules: each aligner slice times its own share of the alignment.
+        v = [figures[key] for figures in stats.values() if key in figures]
+        return 1e3 * sum(v) / n if v else None
+    return {"keypoints": first("keypoints_per_frame"), "with_depth": first("with_depth_per_frame"),
+            "matched": first("matched_per_frame"), "landmarks": first("landmarks_per_frame"),
+            "extraction_ms": ms("extraction_s"), "matching_ms": ms("matching_s"),
+            "alignment_ms": ms("alignment_s"), "merge_ms": ms("merge_s"),
+            "pipeline_ms": 1e3 * r["pipeline_time_s"] / n,
+            "unchecked": r.get("tracking_unchecked", 0)}
+
+
+def depth(check):
+    steps = [s for s in check["steps"] if "estimate_vs_depth_mm" in s]
+    if not steps:
+        sys.exit("visual_metrics: the depth check measured no step")
+    return {"worst_mm": max(s["estimate_vs_depth_mm"] for s in steps),
+            "worst_deg": max(s["estimate_vs_depth_deg"] for s in steps),
+            "reference_off_max_mm": check["summary"]["reference_off_max_mm"]}
+
+
 if __name__ == "__main__":
+    if sys.argv[1:2] == ["stages"] and len(sys.argv) == 3:
+        print(json.dumps(stages(sys.argv[2])))
+        sys.exit(0)
+    if sys.argv[1:2] == ["depth"] and len(sys.argv) == 2:
+        print(json.dumps(depth(json.load(sys.stdin))))
+        sys.exit(0)
     if sys.argv[1:2] == ["loops"] and 3 <= len(sys.argv) <= 5:
         print(json.dumps(loops(sys.argv[2], *map(float, sys.argv[3:]))))
         sys.exit(0)

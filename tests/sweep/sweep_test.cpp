@@ -393,3 +393,86 @@ TEST(Metrics, RunJsonGivesComponentsAmbiguityAndTheTimeSplit) {
   EXPECT_FALSE(none.values.at("components").has_value());
   EXPECT_NE(none.errors.at("components").find("no graph"), std::string::npos);
 }
+
+// A sweep's own evaluation: a shell command on each finished run whose JSON output gives
+// metrics (dot paths), listed in `metrics` like the others; the placeholders are the run's files.
+TEST(Metrics, AnEvaluatorsCommandGivesMetrics) {
+  const std::string base = "config: configs/sim2d_single_laser.yaml\n";
+  const std::string evaluators =
+      "evaluators:\n"
+      "  steps:\n"
+      "    command: \"test -f {trajectory} && printf '{\\\"worst\\\": {\\\"percent\\\": 4.5}}'\"\n"
+      "    metrics:\n"
+      "      worst_step: {key: worst.percent, unit: \"%\", better: lower}\n"
+      "      missing: {key: worst.nothing}\n";
+  EXPECT_NE(errorOf(base + evaluators + "metrics: [worst_stp]\n").find("did you mean 'worst_step'"),
+            std::string::npos);
+  EXPECT_NE(errorOf(base + "evaluators: {e: {command: x, metrics: {ate: {key: a}}}}\n")
+                .find("'ate' is already a metric"),
+            std::string::npos);
+  EXPECT_NE(errorOf(base + "evaluators: {e: {command: x, metrics: {m: {key: a, better: up}}}}\n")
+                .find("expected 'lower' or 'higher'"),
+            std::string::npos);
+  const SweepFile s = parseSweep(base + evaluators + "metrics: [worst_step, missing]\n", "s.yaml");
+  ASSERT_EQ(s.custom_metrics.size(), 2u);
+  // Through plan.json, as the case runner and the report read it.
+  const plugslam::testing::TempDir temp("sweep-evaluators");
+  const std::string dir = temp.path().string();
+  writePlan(expandSweep(s), dir, "/bin/true");
+  const Plan plan = readPlan(dir);
+  ASSERT_EQ(plan.evaluators.size(), 1u);
+  ASSERT_EQ(plan.custom_metrics.size(), 2u);
+  EXPECT_EQ(findMetric("worst_step", plan.custom_metrics)->unit, "%");
+  std::ofstream(dir + "/trajectory.tum") << "0 0 0 0 0 0 0 1\n";
+  std::ofstream(dir + "/run.json") << "{}";
+  RunFacts run;
+  run.out_dir = dir;
+  const MetricValues m = measure({"worst_step", "missing"}, Scoring{}, run, "/bin/false", dir,
+                                 "", plan.evaluators, plan.custom_metrics);
+  EXPECT_EQ(m.values.at("worst_step"), 4.5);
+  EXPECT_FALSE(m.values.at("missing").has_value());
+  EXPECT_NE(m.errors.at("missing").find("no number at 'worst.nothing'"), std::string::npos);
+  // A dataset whose `evaluate` leaves the evaluator out gets no value, and says why.
+  Scoring others;
+  others.evaluate = {"other"};
+  const MetricValues skipped = measure({"worst_step"}, others, run, "/bin/false", dir, "",
+                                       plan.evaluators, plan.custom_metrics);
+  EXPECT_NE(skipped.errors.at("worst_step").find("does not run 'steps'"), std::string::npos);
+  EXPECT_NE(errorOf(base + evaluators + "datasets: {a: {set: {}, evaluate: [stpes]}}\n")
+                .find("no evaluator 'stpes'"),
+            std::string::npos);
+  // Without the run's trajectory the command fails, and the reason is kept.
+  fs::remove(dir + "/trajectory.tum");
+  const MetricValues failed = measure({"worst_step"}, Scoring{}, run, "/bin/false", dir, "",
+                                      plan.evaluators, plan.custom_metrics);
+  EXPECT_FALSE(failed.values.at("worst_step").has_value());
+  EXPECT_NE(failed.errors.at("worst_step").find("evaluator 'steps' failed (exit 1)"),
+            std::string::npos)
+      << failed.errors.at("worst_step");
+}
+
+// A dataset only some pipelines can read names its configs: it runs with those alone, and the
+// file's `config` may be left out when every dataset names its own.
+TEST(Expansion, ADatasetMayNameItsOwnConfigs) {
+  const SweepFile s = parseSweep(
+      "config: configs/sim2d_single_laser.yaml\n"
+      "datasets:\n"
+      "  office: {source.session: stage-0}\n"
+      "  two-lasers: {config: configs/sim2d_double_laser.yaml, set: {source.session: stage-1}}\n",
+      "s.yaml");
+  const Plan plan = expandSweep(s);
+  ASSERT_EQ(plan.cases.size(), 2u);
+  EXPECT_EQ(plan.cases[0].config_label, "sim2d_single_laser");
+  EXPECT_EQ(plan.cases[0].dataset, "office");
+  EXPECT_EQ(plan.cases[1].config_label, "sim2d_double_laser");
+  EXPECT_EQ(plan.cases[1].dataset, "two-lasers");
+  EXPECT_NO_THROW(parseSweep(
+      "datasets:\n  a: {config: configs/sim2d_single_laser.yaml, set: {source.seed: 1}}\n",
+      "s.yaml"));
+  EXPECT_NE(errorOf("datasets:\n  a: {source.seed: 1}\n").find("missing key 'config'"),
+            std::string::npos);
+  EXPECT_NE(errorOf("config: configs/sim2d_single_laser.yaml\n"
+                    "datasets:\n  a: {config: configs/sim2d_double_laser.yaml, set: {}}\n")
+                .find("runs on no dataset"),
+            std::string::npos);
+}

@@ -48,10 +48,10 @@ sweep::Plan planInto(const sweep::SweepFile& file, const SweepArgs& a) {
   for (const auto& c : plan.cases) done += sweep::hasResult(a.dir, c.id);
   size_t points = 1;
   for (const auto& axis : file.axes) points *= axis.values.size();
-  std::cout << fmt::format("planned {} cases ({} configs x {} datasets x {} grid points x {} "
-                           "repeats) in {}: {} have a result\n",
-                           plan.cases.size(), file.configs.size(), file.datasets.size(), points,
-                           file.repeat, a.dir, done)
+  std::cout << fmt::format("planned {} cases ({} x {} grid points x {} repeats) in {}: {} have "
+                           "a result\n",
+                           plan.cases.size(), sweep::runsOn(plan), points, file.repeat, a.dir,
+                           done)
             << std::flush;
   return plan;
 }

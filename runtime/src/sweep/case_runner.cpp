@@ -82,15 +82,14 @@ CaseOutcome runCase(const std::string& case_dir, const std::function<bool()>& st
   if (p.timed_out) result["error"] = fmt::format("stopped after the timeout of {:g} s", c.value("timeout_s", 0.0));
   json metrics = json::object(), errors = json::object();
   if (outcome.status == "ok") {
-    Scoring scoring;
-    const json s = c.value("scoring", json::object());
-    scoring.reference = s.value("reference", "");
-    scoring.relations = s.value("relations", "");
-    scoring.log = s.value("log", "");
-    scoring.laser = s.value("laser", "");
+    const Scoring scoring = scoringFrom(c.value("scoring", json::object()));
     RunFacts facts{out_dir, p.wall_s, p.peak_rss_mib, cwd};
+    std::vector<Evaluator> evaluators;
+    std::vector<CustomMetric> custom;
+    evaluationFrom(c.value("evaluation", json::object()), evaluators, custom);
     const MetricValues m = measure(c.value("metrics", std::vector<std::string>{}), scoring, facts,
-                                   argv.at(0), case_dir, c.value("source_path", ""));
+                                   argv.at(0), case_dir, c.value("source_path", ""), evaluators,
+                                   custom);
     for (const auto& [name, v] : m.values) metrics[name] = v ? json(*v) : json(nullptr);
     for (const auto& [name, why] : m.errors) errors[name] = why;
   } else {

@@ -2,10 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <boost/filesystem.hpp>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 
+#include "sweep/plan.h"
 #include "sweep/process.h"
 #include "sweep/sweep_file.h"
 
@@ -67,16 +70,70 @@ const MetricInfo* findMetric(const std::string& name) {
   return nullptr;
 }
 
+json scoringJson(const Scoring& s) {
+  return json{{"reference", s.reference}, {"relations", s.relations}, {"log", s.log},
+              {"laser", s.laser},         {"evaluate", s.evaluate}};
+}
+
+Scoring scoringFrom(const json& j) {
+  Scoring s;
+  s.reference = j.value("reference", "");
+  s.relations = j.value("relations", "");
+  s.log = j.value("log", "");
+  s.laser = j.value("laser", "");
+  s.evaluate = j.value("evaluate", std::vector<std::string>{});
+  return s;
+}
+
+json evaluationJson(const std::vector<Evaluator>& evaluators,
+                    const std::vector<CustomMetric>& custom) {
+  json e = json::array(), m = json::array();
+  for (const auto& x : evaluators) e.push_back({{"name", x.name}, {"command", x.command}});
+  for (const auto& c : custom)
+    m.push_back({{"name", c.info.name},
+                 {"unit", c.info.unit},
+                 {"doc", c.info.doc},
+                 {"better", c.info.better == Better::Higher ? "higher" : "lower"},
+                 {"evaluator", c.evaluator},
+                 {"key", c.key}});
+  return {{"evaluators", e}, {"custom_metrics", m}};
+}
+
+void evaluationFrom(const json& j, std::vector<Evaluator>& evaluators,
+                    std::vector<CustomMetric>& custom) {
+  for (const auto& x : j.value("evaluators", json::array()))
+    evaluators.push_back(Evaluator{x.value("name", ""), x.value("command", "")});
+  for (const auto& x : j.value("custom_metrics", json::array())) {
+    CustomMetric c;
+    c.info.name = x.value("name", "");
+    c.info.unit = x.value("unit", "");
+    c.info.doc = x.value("doc", "");
+    c.info.better = x.value("better", "lower") == "higher" ? Better::Higher : Better::Lower;
+    c.evaluator = x.value("evaluator", "");
+    c.key = x.value("key", "");
+    custom.push_back(c);
+  }
+}
+
+const MetricInfo* findMetric(const std::string& name, const std::vector<CustomMetric>& custom) {
+  for (const auto& m : custom)
+    if (m.info.name == name) return &m.info;
+  return findMetric(name);
+}
+
 namespace {
 
-std::optional<double> number(const json& j, std::initializer_list<const char*> path) {
+std::optional<double> number(const json& j, const std::vector<std::string>& path) {
   const json* at = &j;
-  for (const char* key : path) {
+  for (const auto& key : path) {
     if (!at->is_object() || !at->contains(key)) return std::nullopt;
     at = &(*at)[key];
   }
   if (!at->is_number()) return std::nullopt;
   return at->get<double>();
+}
+std::optional<double> number(const json& j, std::initializer_list<const char*> path) {
+  return number(j, std::vector<std::string>(path.begin(), path.end()));
 }
 
 json readJson(const std::string& path) {
@@ -119,11 +176,55 @@ Eval evaluate(const std::string& self, std::vector<std::string> args, const std:
   return e;
 }
 
+// Runs an evaluator's command line (placeholders replaced by shell-quoted paths) with its standard
+// output into `out`; the parsed output, or why there is none.
+Eval evaluateCommand(const Evaluator& e, const std::map<std::string, std::string>& places,
+                     const std::string& out, const std::string& log, const std::string& cwd) {
+  std::string line;
+  for (size_t i = 0; i < e.command.size();) {
+    const size_t close = e.command[i] == '{' ? e.command.find('}', i) : std::string::npos;
+    const auto it =
+        close == std::string::npos ? places.end() : places.find(e.command.substr(i + 1, close - i - 1));
+    if (it == places.end()) {
+      line += e.command[i++];
+      continue;
+    }
+    line += shellQuote(it->second);
+    i = close + 1;
+  }
+  boost::system::error_code ec;
+  fs::remove(out, ec);
+  const ProcessResult p =
+      runProcess({"/bin/sh", "-c", "{ " + line + "\n} > " + shellQuote(out)}, cwd, log, 0);
+  Eval r;
+  if (!p.error.empty()) {
+    r.error = p.error;
+  } else if (p.exit_code != 0) {
+    const auto tail = tailLines(log, 1);
+    r.error = fmt::format("evaluator '{}' failed (exit {}){}", e.name, p.exit_code,
+                          tail.empty() ? "" : ": " + tail.back());
+  } else {
+    r.result = readJson(out);
+    if (r.result.is_null()) r.error = "evaluator '" + e.name + "' printed no JSON";
+  }
+  return r;
+}
+
+std::vector<std::string> splitDots(const std::string& key) {
+  std::vector<std::string> parts;
+  size_t start = 0;
+  for (size_t dot; (dot = key.find('.', start)) != std::string::npos; start = dot + 1)
+    parts.push_back(key.substr(start, dot - start));
+  parts.push_back(key.substr(start));
+  return parts;
+}
+
 }  // namespace
 
 MetricValues measure(const std::vector<std::string>& names, const Scoring& scoring,
                      const RunFacts& run, const std::string& self, const std::string& work_dir,
-                     const std::string& source_path) {
+                     const std::string& source_path, const std::vector<Evaluator>& evaluators,
+                     const std::vector<CustomMetric>& custom) {
   MetricValues m;
   const json report = readJson(run.out_dir + "/run.json");
   const std::string trajectory = run.out_dir + "/trajectory.tum";
@@ -156,7 +257,37 @@ MetricValues measure(const std::vector<std::string>& names, const Scoring& scori
       return {std::nullopt, "no scan point has a neighbour in a scan far enough apart"};
     return {number(e.result, {key.c_str()}), "crispness wrote no '" + key + "'"};
   };
+  std::map<std::string, Eval> evaluated;  // per evaluator, run once
+  const std::map<std::string, std::string> places{{"out", run.out_dir},
+                                                  {"trajectory", trajectory},
+                                                  {"reference", reference},
+                                                  {"source", source_path},
+                                                  {"case", work_dir}};
   for (const auto& name : names) {
+    const auto own = std::find_if(custom.begin(), custom.end(),
+                                  [&](const CustomMetric& c) { return c.info.name == name; });
+    if (own != custom.end()) {
+      const auto e = std::find_if(evaluators.begin(), evaluators.end(),
+                                  [&](const Evaluator& x) { return x.name == own->evaluator; });
+      if (e == evaluators.end()) {
+        set(name, std::nullopt, "no evaluator '" + own->evaluator + "'");
+        continue;
+      }
+      if (!scoring.evaluate.empty() &&
+          std::find(scoring.evaluate.begin(), scoring.evaluate.end(), e->name) ==
+              scoring.evaluate.end()) {
+        set(name, std::nullopt, "the dataset's `evaluate` does not run '" + e->name + "'");
+        continue;
+      }
+      if (!evaluated.count(e->name))
+        evaluated[e->name] = evaluateCommand(*e, places, work_dir + "/" + e->name + ".json",
+                                             log, run.cwd);
+      const Eval& got = evaluated[e->name];
+      set(name, number(got.result, splitDots(own->key)),
+          got.error.empty() ? "evaluator '" + e->name + "' gave no number at '" + own->key + "'"
+                            : got.error);
+      continue;
+    }
     if (name == "ate" || name == "rpe") {
       if (!scoring.reference.empty()) {
         std::vector<std::string> args{name, scoring.reference, trajectory};

@@ -2,6 +2,7 @@
 // What a sweep can measure on a finished run, where each number comes from, and which way is
 // better, so the report can mark the best value without knowing the metrics itself.
 #include <map>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -9,6 +10,8 @@
 namespace plugslam::runtime::sweep {
 
 struct Scoring;
+struct Evaluator;
+struct CustomMetric;
 
 enum class Better { Lower, Higher };
 
@@ -36,11 +39,26 @@ struct MetricValues {
   std::map<std::string, std::string> errors;
 };
 
-/// Measures `names` on a run: run.json's figures, and `plugslam eval` (the binary `self`) for
-/// scores against the scoring's reference, relations or log. Output of the evals goes to
-/// `work_dir`.
+/// Measures `names` on a run: run.json's figures, `plugslam eval` (the binary `self`) for
+/// scores against the scoring's reference, relations or log, and the sweep file's own
+/// `evaluators` for `custom` metrics. Output of the evaluations goes to `work_dir`.
 MetricValues measure(const std::vector<std::string>& names, const Scoring& scoring,
                      const RunFacts& run, const std::string& self, const std::string& work_dir,
-                     const std::string& source_path);
+                     const std::string& source_path,
+                     const std::vector<Evaluator>& evaluators = {},
+                     const std::vector<CustomMetric>& custom = {});
+
+/// What a dataset is scored against, as JSON (plan.json, case.json), and back.
+nlohmann::json scoringJson(const Scoring& s);
+Scoring scoringFrom(const nlohmann::json& j);
+
+/// A sweep file's evaluators and their metrics as JSON (plan.json, case.json), and back.
+nlohmann::json evaluationJson(const std::vector<Evaluator>& evaluators,
+                              const std::vector<CustomMetric>& custom);
+void evaluationFrom(const nlohmann::json& j, std::vector<Evaluator>& evaluators,
+                    std::vector<CustomMetric>& custom);
+
+/// The metric `name`: one of `custom`, else of metricTable(); nullptr when neither has it.
+const MetricInfo* findMetric(const std::string& name, const std::vector<CustomMetric>& custom);
 
 }  // namespace plugslam::runtime::sweep

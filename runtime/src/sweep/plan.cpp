@@ -75,20 +75,6 @@ std::string readSmallFile(const std::string& path) {
   return text;
 }
 
-json scoringJson(const Scoring& s) {
-  return json{{"reference", s.reference}, {"relations", s.relations}, {"log", s.log},
-              {"laser", s.laser}};
-}
-
-Scoring scoringFrom(const json& j) {
-  Scoring s;
-  s.reference = j.value("reference", "");
-  s.relations = j.value("relations", "");
-  s.log = j.value("log", "");
-  s.laser = j.value("laser", "");
-  return s;
-}
-
 // The points of an axis whose values stand for all of them (see validateSweep), without the
 // first, which every build has.
 std::vector<size_t> pointsToCheck(const Axis& axis) {
@@ -131,12 +117,23 @@ std::string shellQuote(const std::string& word) {
   return out + "'";
 }
 
+std::string runsOn(const Plan& plan) {
+  std::set<std::pair<std::string, std::string>> pairs;
+  for (const auto& c : plan.cases) pairs.emplace(c.config_label, c.dataset);
+  return pairs.size() == plan.config_labels.size() * plan.datasets.size()
+             ? fmt::format("{} configs x {} datasets", plan.config_labels.size(),
+                           plan.datasets.size())
+             : fmt::format("{} config-dataset pairs", pairs.size());
+}
+
 Plan expandSweep(const SweepFile& sweep) {
   Plan plan;
   plan.sweep_file = sweep.file;
   plan.title = sweep.title;
   plan.notes = sweep.notes;
   plan.targets = sweep.targets;
+  plan.evaluators = sweep.evaluators;
+  plan.custom_metrics = sweep.custom_metrics;
   plan.metrics = sweep.metrics;
   plan.timeout_s = sweep.timeout_s;
   plan.config_labels = configLabels(sweep.configs);
@@ -149,6 +146,7 @@ Plan expandSweep(const SweepFile& sweep) {
   for (size_t c = 0; c < sweep.configs.size(); ++c) {
     const std::string text = configText(sweep.configs[c]);
     for (const auto& d : sweep.datasets) {
+      if (!sweep.runs(c, d)) continue;
       std::vector<std::string> base;
       std::string source_path;
       for (const auto* list : {&sweep.set, &d.set})
@@ -225,8 +223,13 @@ void validateSweep(const SweepFile& sweep, PluginManager& plugins) {
   const std::vector<size_t> first(sweep.axes.size(), 0);
   const auto name = [&](size_t c) { return fs::path(sweep.configs[c]).filename().string(); };
   for (size_t c = 0; c < sweep.configs.size(); ++c) {
+    const Dataset* runs = nullptr;  // the first dataset this config runs on
     for (const auto& d : sweep.datasets)
-      build(c, d, first, "config " + name(c) + ", dataset " + d.name);
+      if (sweep.runs(c, d)) {
+        if (!runs) runs = &d;
+        build(c, d, first, "config " + name(c) + ", dataset " + d.name);
+      }
+    if (!runs) continue;
     // Other swept values on the first dataset, so a value that does not fit its parameter fails
     // now, not in the middle of the sweep. A parameter's range is an interval, so a number key's
     // smallest and largest values stand for all of them; every other kind of value is built once.
@@ -234,7 +237,7 @@ void validateSweep(const SweepFile& sweep, PluginManager& plugins) {
       for (size_t i : pointsToCheck(sweep.axes[a])) {
         std::vector<size_t> point = first;
         point[a] = i;
-        build(c, sweep.datasets[0], point, "config " + name(c));
+        build(c, *runs, point, "config " + name(c));
       }
   }
   if (errors.size() == 1) throw errors[0];
@@ -274,6 +277,7 @@ void writePlan(const Plan& plan, const std::string& dir, const std::string& self
   const fs::path root = fs::absolute(dir);
   fs::create_directories(root / "cases");
   const std::string cwd = fs::current_path().string();
+  const json evaluation = evaluationJson(plan.evaluators, plan.custom_metrics);
   json cases = json::array();
   std::string tsv = "index\tid\tconfig\tdataset\trepeat\tparameters\n";
   std::string script =
@@ -305,6 +309,7 @@ void writePlan(const Plan& plan, const std::string& dir, const std::string& self
     case_json["argv"] = cmd.argv;
     case_json["cwd"] = cmd.cwd;
     case_json["metrics"] = plan.metrics;
+    if (!plan.evaluators.empty()) case_json["evaluation"] = evaluation;
     case_json["timeout_s"] = plan.timeout_s;
     // A finished case keeps the files it ran from; any other is written afresh (the binary or
     // the folders may have moved since).
@@ -325,7 +330,7 @@ void writePlan(const Plan& plan, const std::string& dir, const std::string& self
            {"swept_keys", plan.swept_keys},   {"configs", plan.config_labels},
            {"datasets", plan.datasets},       {"timeout_s", plan.timeout_s},
            {"title", plan.title},             {"notes", plan.notes},
-           {"targets", targetsJson(plan.targets)},
+           {"targets", targetsJson(plan.targets)}, {"evaluation", evaluation},
            {"self", self},                    {"cases", std::move(cases)}};
   writeSmallFile((root / "cases.tsv").string(), tsv);
   writeSmallFile((root / "commands.sh").string(), script);
@@ -351,6 +356,7 @@ Plan readPlan(const std::string& dir) {
   plan.timeout_s = doc.value("timeout_s", 0.0);
   plan.title = doc.value("title", "");
   plan.notes = doc.value("notes", "");
+  evaluationFrom(doc.value("evaluation", json::object()), plan.evaluators, plan.custom_metrics);
   for (const auto& t : doc.value("targets", json::array()))
     plan.targets.push_back(
         Target{t.at("metric"), t.at("at_most"), t.at("value"), t.value("of", std::string())});

@@ -39,8 +39,14 @@ struct Plan {
   double timeout_s = 0;
   std::string title, notes;  ///< the sweep file's, for the report's section
   std::vector<Target> targets;  ///< the sweep file's, judged by the report
+  std::vector<Evaluator> evaluators;        ///< the sweep file's own evaluations
+  std::vector<CustomMetric> custom_metrics;  ///< and the metrics they give
   std::vector<Case> cases;
 };
+
+/// "N configs x M datasets", or "K config-dataset pairs" where datasets name their own configs
+/// (not the full product).
+std::string runsOn(const Plan& plan);
 
 /// Expands the file (resolving each config once, for its text and id); no module is built.
 Plan expandSweep(const SweepFile& sweep);

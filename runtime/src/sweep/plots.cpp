@@ -81,7 +81,7 @@ std::vector<std::string> drawPlots(const SweepTable& t, const std::string& dir) 
       render::Figure f;
       f.width = 900;
       f.height = 560;
-      const MetricInfo* info = findMetric(metric);
+      const MetricInfo* info = findMetric(metric, t.plan.custom_metrics);
       const std::string y_label = info && !info->unit.empty() ? metric + " [" + info->unit + "]" : metric;
       f.title = fmt::format("{} against {}", metric, key);
       render::Panel panel;

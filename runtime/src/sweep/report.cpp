@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <set>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
@@ -58,13 +59,13 @@ std::string csvField(const std::string& s) {
   return out + "\"";
 }
 
-std::string header(const std::string& metric) {
-  const MetricInfo* m = findMetric(metric);
+std::string header(const Plan& p, const std::string& metric) {
+  const MetricInfo* m = findMetric(metric, p.custom_metrics);
   return m && !m->unit.empty() ? metric + " [" + m->unit + "]" : metric;
 }
 
-bool isBetter(const std::string& metric, double a, double b) {
-  const MetricInfo* m = findMetric(metric);
+bool isBetter(const Plan& p, const std::string& metric, double a, double b) {
+  const MetricInfo* m = findMetric(metric, p.custom_metrics);
   return m && m->better == Better::Higher ? a > b : a < b;
 }
 
@@ -75,7 +76,7 @@ std::string paramsText(const Case& c) {
 }
 
 // The best median of each metric over the rows; a metric with one row has no best to mark.
-std::map<std::string, double> bestOf(const std::vector<Row>& rows,
+std::map<std::string, double> bestOf(const Plan& p, const std::vector<Row>& rows,
                                      const std::vector<std::string>& metrics) {
   std::map<std::string, double> best;
   for (const auto& m : metrics) {
@@ -84,7 +85,7 @@ std::map<std::string, double> bestOf(const std::vector<Row>& rows,
       auto it = r.metrics.find(m);
       if (it == r.metrics.end()) continue;
       ++with;
-      if (!best.count(m) || isBetter(m, it->second.median, best[m])) best[m] = it->second.median;
+      if (!best.count(m) || isBetter(p, m, it->second.median, best[m])) best[m] = it->second.median;
     }
     if (with < 2) best.erase(m);
   }
@@ -186,10 +187,12 @@ std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& 
   }
   int repeats = 1;
   for (const auto& c : p.cases) repeats = std::max(repeats, c.repeat);
-  std::string out = fmt::format("Sweep `{}`: {} cases ({} configs x {} datasets x {} grid points{}), {} with a result, {} failed or timed out.\n",
-                                p.sweep_file, p.cases.size(), p.config_labels.size(),
-                                p.datasets.size(),
-                                t.rows.size() / std::max<size_t>(1, p.config_labels.size() * p.datasets.size()),
+  // Datasets that name their own configs run with those alone: not always the full product.
+  std::set<std::pair<std::string, std::string>> pairs;
+  for (const auto& c : p.cases) pairs.emplace(c.config_label, c.dataset);
+  std::string out = fmt::format("Sweep `{}`: {} cases ({} x {} grid points{}), {} with a result, {} failed or timed out.\n",
+                                p.sweep_file, p.cases.size(), runsOn(p),
+                                t.rows.size() / std::max<size_t>(1, pairs.size()),
                                 repeats > 1 ? fmt::format(" x {} repeats", repeats) : "", present, failed);
   out += repeats > 1 ? "Cells: the median of the repeats, (min–max) when they differ; " : "Cells: ";
   out += "**bold**: the best value of the column.\n";
@@ -204,7 +207,7 @@ std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& 
   }
   out += "\n";
   // The table.
-  const auto best = bestOf(t.rows, p.metrics);
+  const auto best = bestOf(p, t.rows, p.metrics);
   out += "| config | dataset |";
   std::string rule = "|---|---|";
   for (const auto& k : p.swept_keys) {
@@ -214,7 +217,7 @@ std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& 
   out += " runs |";
   rule += "---|";
   for (const auto& m : p.metrics) {
-    out += " " + header(m) + " |";
+    out += " " + header(p, m) + " |";
     rule += "---|";
   }
   if (!p.targets.empty()) {
@@ -246,8 +249,12 @@ std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& 
     if (!p.targets.empty()) out += " " + targetVerdict(p, r) + " |";
     out += "\n";
   }
-  // Heat tables: dataset x config, the best grid point's median of each.
-  if (p.config_labels.size() > 1) {
+  // Heat tables: dataset x config, the best grid point's median of each; only where a dataset
+  // runs with more than one config (else there is nothing to compare).
+  std::map<std::string, std::set<std::string>> configs_of;
+  for (const auto& c : p.cases) configs_of[c.dataset].insert(c.config_label);
+  if (std::any_of(configs_of.begin(), configs_of.end(),
+                  [](const auto& d) { return d.second.size() > 1; })) {
     for (const auto& m : p.metrics) {
       std::map<std::pair<std::string, std::string>, double> cell;
       for (const auto& r : t.rows) {
@@ -255,11 +262,11 @@ std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& 
         if (it == r.metrics.end()) continue;
         const auto key = std::make_pair(r.first->dataset, r.first->config_label);
         auto c = cell.find(key);
-        if (c == cell.end() || isBetter(m, it->second.median, c->second)) cell[key] = it->second.median;
+        if (c == cell.end() || isBetter(p, m, it->second.median, c->second)) cell[key] = it->second.median;
       }
       if (cell.empty()) continue;
       out += fmt::format("\n{} by dataset and config{} (**bold**: the best config of the dataset):\n\n",
-                         header(m), p.swept_keys.empty() ? "" : ", the best grid point of each");
+                         header(p, m), p.swept_keys.empty() ? "" : ", the best grid point of each");
       out += "| dataset |";
       rule = "|---|";
       for (const auto& c : p.config_labels) {
@@ -270,7 +277,7 @@ std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& 
       for (const auto& d : p.datasets) {
         std::optional<double> row_best;
         for (const auto& c : p.config_labels)
-          if (auto it = cell.find({d, c}); it != cell.end() && (!row_best || isBetter(m, it->second, *row_best)))
+          if (auto it = cell.find({d, c}); it != cell.end() && (!row_best || isBetter(p, m, it->second, *row_best)))
             row_best = it->second;
         out += "| " + md(d) + " |";
         for (const auto& c : p.config_labels) {
@@ -366,7 +373,7 @@ std::string compareMarkdown(const SweepTable& after, const SweepTable& before,
       after_name, before_name);
   std::string rule = "|---|---|---|";
   for (const auto& m : metrics) {
-    out += " " + header(m) + " |";
+    out += " " + header(after.plan, m) + " |";
     rule += "---|";
   }
   out += "\n" + rule + "\n";
@@ -388,7 +395,7 @@ std::string compareMarkdown(const SweepTable& after, const SweepTable& before,
       std::string change = x != 0 ? fmt::format("{:+.1f} %", 100.0 * (y - x) / std::fabs(x))
                                   : fmt::format("{:+.4g}", y - x);
       std::string cell = num(x) + " → " + num(y) + " (" + change + ")";
-      if (isBetter(m, y, x)) cell = "**" + cell + "**";
+      if (isBetter(after.plan, m, y, x)) cell = "**" + cell + "**";
       out += " " + cell + " |";
     }
     out += "\n";

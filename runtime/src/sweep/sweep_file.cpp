@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -22,10 +23,14 @@ namespace fs = boost::filesystem;
 
 namespace {
 
-const std::vector<std::string> kTopKeys{"config",  "datasets", "set",   "grid",  "zip",
-                                        "repeat",  "metrics",  "timeout", "slurm", "hosts",
-                                        "title",   "notes",    "targets"};
-const std::vector<std::string> kDatasetKeys{"set", "reference", "relations", "log", "laser"};
+const std::vector<std::string> kTopKeys{"config",  "datasets", "set",     "grid",
+                                        "zip",     "repeat",   "metrics", "evaluators",
+                                        "timeout", "slurm",    "hosts",   "title",
+                                        "notes",   "targets"};
+const std::vector<std::string> kEvaluatorKeys{"command", "metrics"};
+const std::vector<std::string> kCustomMetricKeys{"key", "unit", "better", "doc"};
+const std::vector<std::string> kDatasetKeys{"set", "reference", "relations", "log", "laser",
+                                            "config", "evaluate"};
 const std::vector<std::string> kSlurmKeys{"partition", "time",         "mem",  "account",
                                           "cpus",      "max_parallel", "extra"};
 
@@ -188,38 +193,45 @@ SweepFile parseSweep(const std::string& text, const std::string& name) {
   s.file = name;
   r.knownKeys(root, kTopKeys, "");
 
-  // config
-  if (!root["config"]) {
-    r.error(root, "config", "missing key 'config': the pipeline config(s) to run");
-  } else {
-    const YAML::Node list = root["config"];
-    std::vector<YAML::Node> items;
-    if (list.IsSequence())
-      for (const auto& item : list) items.push_back(item);
-    else
-      items.push_back(list);
-    if (items.empty()) r.error(list, "config", "lists no config");
-    for (const auto& item : items) {
-      std::string written;
-      if (!r.scalar(item, "config", written)) continue;
-      const std::string found = findConfig(written, name);
-      if (found.empty()) {
-        r.error(item, "config", "no config file '" + written + "' (looked beside the sweep file, in the current folder and among the shipped configs)");
-        continue;
-      }
-      if (std::find(s.configs.begin(), s.configs.end(), found) != s.configs.end()) {
-        r.error(item, "config", "'" + written + "' is listed twice");
-        continue;
-      }
-      s.configs.push_back(found);
-      s.config_origins.push_back(originOf(item));
+  // config: the file's list, then each dataset's own (one entry per distinct file)
+  const auto addConfig = [&](const YAML::Node& item, const std::string& key,
+                             bool shared) -> std::optional<size_t> {
+    std::string written;
+    if (!r.scalar(item, key, written)) return std::nullopt;
+    const std::string found = findConfig(written, name);
+    if (found.empty()) {
+      r.error(item, key, "no config file '" + written + "' (looked beside the sweep file, in the current folder and among the shipped configs)");
+      return std::nullopt;
     }
+    const auto at = std::find(s.configs.begin(), s.configs.end(), found);
+    if (at != s.configs.end()) {
+      if (shared) r.error(item, key, "'" + written + "' is listed twice");
+      return shared ? std::nullopt : std::optional<size_t>(at - s.configs.begin());
+    }
+    s.configs.push_back(found);
+    s.config_origins.push_back(originOf(item));
+    return s.configs.size() - 1;
+  };
+  const auto items = [](const YAML::Node& list) {
+    std::vector<YAML::Node> out;
+    if (list.IsSequence())
+      for (const auto& item : list) out.push_back(item);
+    else
+      out.push_back(list);
+    return out;
+  };
+  if (const YAML::Node list = root["config"]) {
+    const auto listed = items(list);
+    if (listed.empty()) r.error(list, "config", "lists no config");
+    for (const auto& item : listed) addConfig(item, "config", true);
   }
+  s.shared_configs = s.configs.size();
 
   // set
   if (root["set"]) s.set = r.overrides(root["set"], "set");
 
   // datasets
+  std::vector<std::pair<YAML::Node, std::string>> evaluate_nodes;  // checked once evaluators are read
   if (const YAML::Node ds = root["datasets"]) {
     if (!ds.IsMap() || ds.size() == 0) {
       r.error(ds, "datasets", "expected a map: name -> overrides (or {set: ..., reference: ...})");
@@ -240,7 +252,23 @@ SweepFile parseSweep(const std::string& text, const std::string& name) {
           d.set = r.overrides(body["set"], where + ".set");
           std::string* fields[] = {&d.scoring.reference, &d.scoring.relations, &d.scoring.log,
                                    &d.scoring.laser};
-          for (size_t k = 1; k < kDatasetKeys.size(); ++k) {
+          // A dataset that only one kind of pipeline can read (a camera's) names its configs.
+          if (const YAML::Node own = body["config"]) {
+            const auto listed = items(own);
+            if (listed.empty()) r.error(own, where + ".config", "lists no config");
+            for (const auto& item : listed)
+              if (const auto c = addConfig(item, where + ".config", false))
+                if (std::find(d.configs.begin(), d.configs.end(), *c) == d.configs.end())
+                  d.configs.push_back(*c);
+          }
+          if (const YAML::Node only = body["evaluate"]) {
+            for (const auto& item : items(only)) {
+              std::string e;
+              if (r.scalar(item, where + ".evaluate", e)) d.scoring.evaluate.push_back(e);
+            }
+            evaluate_nodes.emplace_back(only, where + ".evaluate");
+          }
+          for (size_t k = 1; k <= 4; ++k) {
             YAML::Node field = body[kDatasetKeys[k]];
             if (!field) continue;
             // Scoring files are read here, so ${PLUGSLAM_DATA} is expanded here; overrides reach
@@ -267,7 +295,21 @@ SweepFile parseSweep(const std::string& text, const std::string& name) {
       }
     }
   }
-  if (s.datasets.empty()) s.datasets.push_back(Dataset{"default", {}, {}, {}});
+  if (s.datasets.empty()) {
+    Dataset all;
+    all.name = "default";
+    s.datasets.push_back(all);
+  }
+  for (size_t c = 0; c < s.shared_configs; ++c)
+    if (std::none_of(s.datasets.begin(), s.datasets.end(),
+                     [&](const Dataset& d) { return s.runs(c, d); }))
+      r.error(root["config"], "config",
+              "'" + fs::path(s.configs[c]).filename().string() +
+                  "' runs on no dataset: every dataset names its own configs");
+  if (!root["config"] && std::any_of(s.datasets.begin(), s.datasets.end(),
+                                     [](const Dataset& d) { return d.configs.empty(); }))
+    r.error(root, "config",
+            "missing key 'config': the pipeline config(s) to run (or a `config` in every dataset)");
 
   // grid and zip
   std::map<std::string, Origin> swept;
@@ -362,14 +404,76 @@ SweepFile parseSweep(const std::string& text, const std::string& name) {
   if (const YAML::Node n = root["title"]) r.scalar(n, "title", s.title);
   if (const YAML::Node n = root["notes"]) r.scalar(n, "notes", s.notes);
 
+  // evaluators: the file's own evaluations, and the metrics they give
+  if (const YAML::Node ev = root["evaluators"]) {
+    if (!ev.IsMap()) r.error(ev, "evaluators", "expected a map: NAME -> {command: ..., metrics: ...}");
+    for (auto it = ev.begin(); ev.IsMap() && it != ev.end(); ++it) {
+      Evaluator e;
+      e.name = it->first.as<std::string>("");
+      const std::string where = "evaluators." + e.name;
+      const YAML::Node body = it->second;
+      if (!body.IsMap()) {
+        r.error(body, where, "expected {command: \"...\", metrics: {NAME: {key: ...}}}");
+        continue;
+      }
+      r.knownKeys(body, kEvaluatorKeys, where);
+      if (!body["command"] || !r.scalar(body["command"], where + ".command", e.command)) {
+        if (!body["command"]) r.error(body, where, "missing key 'command': the command line to run");
+        continue;
+      }
+      const YAML::Node ms = body["metrics"];
+      if (!ms || !ms.IsMap() || ms.size() == 0) {
+        r.error(ms ? ms : body, where + ".metrics", "expected a map: METRIC -> {key: PATH, ...}");
+        continue;
+      }
+      for (auto m = ms.begin(); m != ms.end(); ++m) {
+        CustomMetric c;
+        c.evaluator = e.name;
+        c.info.name = m->first.as<std::string>("");
+        const std::string at = where + ".metrics." + c.info.name;
+        if (findMetric(c.info.name, s.custom_metrics)) {
+          r.error(m->first, at, "'" + c.info.name + "' is already a metric: name it otherwise");
+          continue;
+        }
+        const YAML::Node spec = m->second;
+        if (!spec.IsMap() || !spec["key"]) {
+          r.error(spec, at, "expected {key: PATH (dots into the output), unit, better, doc}");
+          continue;
+        }
+        r.knownKeys(spec, kCustomMetricKeys, at);
+        r.scalar(spec["key"], at + ".key", c.info.doc);
+        c.key = c.info.doc;
+        c.info.doc = "'" + c.key + "' of evaluator " + e.name;
+        if (spec["unit"]) r.scalar(spec["unit"], at + ".unit", c.info.unit);
+        if (spec["doc"]) r.scalar(spec["doc"], at + ".doc", c.info.doc);
+        std::string better = "lower";
+        if (spec["better"] && r.scalar(spec["better"], at + ".better", better) &&
+            better != "lower" && better != "higher")
+          r.error(spec["better"], at + ".better", "expected 'lower' or 'higher', got '" + better + "'");
+        c.info.better = better == "higher" ? Better::Higher : Better::Lower;
+        s.custom_metrics.push_back(c);
+      }
+      s.evaluators.push_back(e);
+    }
+  }
+
+  for (const auto& [node, where] : evaluate_nodes)
+    for (const auto& item : items(node)) {
+      const std::string e = item.as<std::string>("");
+      if (std::none_of(s.evaluators.begin(), s.evaluators.end(),
+                       [&](const Evaluator& x) { return x.name == e; }))
+        r.error(item, where, "no evaluator '" + e + "' in `evaluators`");
+    }
+
   if (const YAML::Node m = root["metrics"]) {
     std::vector<std::string> names;
     for (const auto& item : m.IsSequence() ? m : YAML::Node(YAML::NodeType::Sequence)) {
       std::string metric;
       if (!r.scalar(item, "metrics", metric)) continue;
-      if (!findMetric(metric)) {
+      if (!findMetric(metric, s.custom_metrics)) {
         std::vector<std::string> known;
         for (const auto& info : metricTable()) known.push_back(info.name);
+        for (const auto& c : s.custom_metrics) known.push_back(c.info.name);
         std::string msg = "unknown metric '" + metric + "'";
         const std::string near = closestMatch(metric, known);
         if (!near.empty()) msg += "; did you mean '" + near + "'?";
@@ -421,7 +525,7 @@ SweepFile parseSweep(const std::string& text, const std::string& name) {
           if (star != std::string::npos) {
             target.of = trim(rest.substr(star + 1));
             rest = rest.substr(0, star);
-          } else if (findMetric(trim(rest))) {
+          } else if (findMetric(trim(rest), s.custom_metrics)) {
             target.of = trim(rest);
             rest = "1";
           }
@@ -478,6 +582,11 @@ SweepFile readSweepFile(const std::string& path) {
   return parseSweep(text.str(), path);
 }
 
+bool SweepFile::runs(size_t config, const Dataset& d) const {
+  if (d.configs.empty()) return config < shared_configs;
+  return std::find(d.configs.begin(), d.configs.end(), config) != d.configs.end();
+}
+
 std::string Target::text() const {
   const std::string bound = of.empty()   ? fmt::format("{}", value)
                             : value == 1 ? of
@@ -502,7 +611,9 @@ std::string describeSweepFile() {
          "  datasets   map: name -> {PARAMETER: VALUE, ...}\n"
          "      the inputs, each a set of overrides (typically source.path); the long form\n"
          "      {set: {...}, reference: FILE, relations: FILE, log: FILE, laser: NAME} also names\n"
-         "      what the results are scored against (default: what the run itself wrote)\n"
+         "      what the results are scored against (default: what the run itself wrote), and\n"
+         "      config: FILE or [FILES] runs it with those configs only (not the file's `config`,\n"
+         "      which may then be left out), evaluate: [NAMES] runs only those `evaluators` on it\n"
          "  set        map: PARAMETER -> VALUE, applied to every case\n"
          "  grid       map: PARAMETER -> [VALUES]; the cases are the full product\n"
          "  zip        map (or list of maps): PARAMETER -> [VALUES], lists of one length whose\n"
@@ -510,6 +621,13 @@ std::string describeSweepFile() {
          "  repeat     runs per case (default 1); the report gives median, min and max\n"
          "  metrics    list, measured on each result (default [hz]):\n" +
          metrics +
+         "  evaluators map: NAME -> {command: LINE, metrics: {METRIC: {key: PATH, unit: U,\n"
+         "      better: lower|higher, doc: TEXT}}}: a shell command run on each finished run\n"
+         "      whose standard output is JSON, and the metrics it gives (the number at PATH, dots\n"
+         "      into the output), to list in `metrics` like the others; in LINE {out},\n"
+         "      {trajectory}, {reference}, {source} and {case} are the run's folder, its\n"
+         "      trajectory.tum, the dataset's reference (else the run's reference.tum), its\n"
+         "      source.path and the case's folder; it runs where the sweep runs\n"
          "  timeout    seconds a run may take (default 0: no limit); a run past it is stopped and\n"
          "      recorded as timed out\n"
          "  slurm      map: partition, time, mem, account, cpus, max_parallel, extra (list of\n"

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "sweep/metrics.h"
+
 namespace plugslam::runtime::sweep {
 
 /// Where a value was written: for errors that are found later (a grid key the config rejects).
@@ -28,11 +30,13 @@ struct Scoring {
   std::string relations;  ///< relations file for the relations metric
   std::string log;        ///< log for crispness and coverage (empty: the source.path override)
   std::string laser;      ///< the log's laser entry for crispness (empty: eval's default)
+  std::vector<std::string> evaluate;  ///< the file's evaluators run on it (empty: every one)
 };
 
 /// A named input: the overrides that select it and what its results are scored against.
 struct Dataset {
   std::string name;
+  std::vector<size_t> configs;  ///< indices into SweepFile::configs (empty: the file's `config`)
   std::vector<Override> set;
   Scoring scoring;
   Origin origin;
@@ -46,6 +50,20 @@ struct Target {
   double value = 0;     ///< the bound, or the factor of `of`
   std::string of;       ///< the metric the bound is a multiple of (empty: `value` is the bound)
   std::string text() const;  ///< "ate <= 0.05", "coverage >= 0.9 * coverage_ref"
+};
+
+/// A command run on each finished run (`evaluators`): a shell command line whose standard output
+/// is JSON, with {out}, {trajectory}, {reference}, {source} and {case} replaced by the run's
+/// folder, its trajectory.tum, the dataset's reference (else the run's reference.tum), its
+/// source.path and the case's folder.
+struct Evaluator {
+  std::string name, command;
+};
+
+/// A metric an evaluator gives: the number at `key` (a dot path) of its output.
+struct CustomMetric {
+  MetricInfo info;
+  std::string evaluator, key;
 };
 
 /// One swept axis: a single key (grid) or keys whose values go together (zip).
@@ -65,18 +83,23 @@ struct SlurmOptions {
 
 struct SweepFile {
   std::string file;                  ///< as given
-  std::vector<std::string> configs;  ///< absolute paths
+  std::vector<std::string> configs;  ///< absolute paths: the file's `config`, then datasets' own
   std::vector<Origin> config_origins;
+  size_t shared_configs = 0;         ///< configs[0..this) are the file's `config` list
   std::vector<Dataset> datasets;     ///< at least one (an unnamed one when the file has none)
   std::vector<Override> set;         ///< applied to every case, before the dataset's
   std::vector<Axis> axes;            ///< grid keys first (one axis each), then zip groups
   int repeat = 1;
   std::vector<std::string> metrics;
+  std::vector<Evaluator> evaluators;        ///< the file's own evaluations
+  std::vector<CustomMetric> custom_metrics;  ///< the metrics they give
   double timeout_s = 0;  ///< per run (0: none)
   SlurmOptions slurm;
   std::vector<std::string> hosts;  ///< for --engine parallel
   std::string title, notes;        ///< of the report's section in a document (not of any case)
   std::vector<Target> targets;     ///< judged by the report (not part of any case)
+  /// Whether dataset `d` runs with configs[config] (its own configs, else the file's).
+  bool runs(size_t config, const Dataset& d) const;
 };
 
 /// Reads and checks a sweep file; throws ConfigError (one error) or ConfigErrorList. Relative
