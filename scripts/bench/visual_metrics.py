@@ -25,6 +25,9 @@
   visual_metrics.py stages RUN_JSON  per frame: keypoints, with depth, matched landmarks,
                                      landmarks in the local map, and the time per stage [ms]
                                      (run.json statistics, each stage summed over its modules)
+  visual_metrics.py steps2d REF EST  frame to frame in the plane: RMS of each step's (x, y) and
+                                     heading error against the reference, and the heading errors
+                                     summed over the run (a bias's drift) [mm, mrad, deg]
   visual_metrics.py depth < CHECK    the worst step of build/bin/rgbd_depth_check's output
                                      (against the motion the depth images give) [mm, deg]
 Prints one JSON object. Poses are associated by equal timestamps (both files come from one run).
@@ -215,7 +218,37 @@ def loops(run, radius=10.0, travel=50.0):
             "worst_deg": max((e[1] for e in errors), default=0.0),
             "wrong_pairs": [[e[2], e[3], round(e[0], 3), round(e[1], 3)] for e in wrong[:20]],
             "returns": len(returns), "returns_closed": sum(r["closed"] for r in returns),
+            "returns_opposite": sum(1 for r in returns if r["heading_deg"] > 90),
             "return_list": returns}
+
+
+def steps2d(ref_path, est_path):
+    """Frame to frame in the plane: each step's (x, y, heading) in the robot frame against the
+    reference's; its RMS is the random part, its heading errors summed over the run the drift a
+    bias leaves."""
+    def load(p):
+        return [list(map(float, l.split())) for l in open(p) if l.strip() and not l.startswith("#")]
+
+    def yaw(q):
+        return math.atan2(2 * (q[3] * q[2] + q[0] * q[1]), 1 - 2 * (q[1] ** 2 + q[2] ** 2))
+
+    def step(a, b):
+        t = yaw(a[4:8])
+        dx, dy = b[1] - a[1], b[2] - a[2]
+        return (math.cos(t) * dx + math.sin(t) * dy, -math.sin(t) * dx + math.cos(t) * dy,
+                (yaw(b[4:8]) - t + math.pi) % (2 * math.pi) - math.pi)
+    ref = {round(r[0], 6): r for r in load(ref_path)}
+    est = [e for e in load(est_path) if round(e[0], 6) in ref]
+    if len(est) < 2:
+        sys.exit(f"visual_metrics: {est_path} shares fewer than two stamps with {ref_path}")
+    e = []
+    for a, b in zip(est, est[1:]):
+        mine, truth = step(a, b), step(ref[round(a[0], 6)], ref[round(b[0], 6)])
+        e.append([u - v for u, v in zip(mine, truth)])
+    return {"steps": len(e),
+            "translation_rms_mm": 1000 * math.sqrt(sum(x * x + y * y for x, y, _ in e) / len(e)),
+            "heading_rms_mrad": 1000 * math.sqrt(sum(h * h for _, _, h in e) / len(e)),
+            "heading_drift_deg": math.degrees(sum(h for _, _, h in e))}
 
 
 def stages(run_json):
@@ -250,6 +283,9 @@ def depth(check):
 if __name__ == "__main__":
     if sys.argv[1:2] == ["stages"] and len(sys.argv) == 3:
         print(json.dumps(stages(sys.argv[2])))
+        sys.exit(0)
+    if sys.argv[1:2] == ["steps2d"] and len(sys.argv) == 4:
+        print(json.dumps(steps2d(sys.argv[2], sys.argv[3])))
         sys.exit(0)
     if sys.argv[1:2] == ["depth"] and len(sys.argv) == 2:
         print(json.dumps(depth(json.load(sys.stdin))))

@@ -60,6 +60,7 @@ const std::vector<MetricInfo>& metricTable() {
       {"refine_s", "s", "time in the aligner's solve (run.json)", Better::Lower},
       {"merge_s", "s", "time merging frames into local maps (run.json)", Better::Lower},
       {"loops", "", "loop closures accepted (run.json)", Better::Higher},
+      {"local_maps", "", "local maps the tracker made (run.json)", Better::Lower},
   };
   return table;
 }
@@ -354,6 +355,8 @@ MetricValues measure(const std::vector<std::string>& names, const Scoring& scori
       const std::string key = name.substr(0, name.size() - 2);
       set(name, number(report, {"tracking_time_s", key.c_str()}),
           "run.json has no 'tracking_time_s'");
+    } else if (name == "local_maps") {
+      set(name, number(report, {"local_maps"}), "run.json has no 'local_maps'");
     } else if (name == "loops") {
       set(name, number(report, {"graph", "loops_accepted"}), "the run has no graph");
     }
