@@ -12,3 +12,16 @@ out="${PLUGSLAM_BENCH_OUT:-$root/out/bench/$1}"
 
 # Stops unless the data folder holds SUBDIR (a bench that cannot run says so at once).
 need_data() { [ -d "$data/$1" ] || { echo "no data at $data/$1 (set PLUGSLAM_DATA)" >&2; exit 1; }; }
+
+# How many of this machine's cores two busy processes get at once (2.00: two real cores; 1.00:
+# the second adds nothing): what any parallel speed-up measured here is bounded by.
+cores_delivered() {
+  spin() { python3 -c 'import time
+t = time.time(); x = 0
+for i in range(10_000_000): x += i
+print(time.time() - t)'; }
+  local one two
+  one=$(spin)
+  two=$( (spin & spin; wait) | sort -n | tail -1)
+  python3 -c "print(f'{2 * $one / $two:.2f}')"
+}

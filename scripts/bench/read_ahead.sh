@@ -15,14 +15,7 @@ CASES=(
   "7scenes-300|configs/rgbd_7scenes.yaml|$data/rgbd/7scenes-300frames-tsdf-fusion"
   "tum-fr1xyz|configs/rgbd_tum.yaml|$data/rgbd/rgbd_dataset_freiburg1_xyz"
 )
-# Two processes busy at once against one: the share of a second core this machine gives.
-spin() { python3 -c 'import time
-t = time.time(); x = 0
-for i in range(10_000_000): x += i
-print(time.time() - t)'; }
-one=$(spin)
-two=$( (spin & spin; wait) | sort -n | tail -1)
-parallel=$(python3 -c "print(f'{2 * $one / $two:.2f}')")
+parallel=$(cores_delivered)
 rows=""
 for c in "${CASES[@]}"; do
   IFS='|' read -r name config need <<< "$c"

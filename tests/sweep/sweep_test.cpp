@@ -476,3 +476,24 @@ TEST(Expansion, ADatasetMayNameItsOwnConfigs) {
                 .find("runs on no dataset"),
             std::string::npos);
 }
+
+// The project's own benches are sweep files (scripts/bench/*.sweep.yaml): each reads without an
+// error and plans cases, so a change to the sweep keys or the metrics cannot leave one broken
+// until the next bench run. (Their datasets' files are checked when a bench plans them.)
+TEST(SweepFile, TheBenchesSweepFilesRead) {
+  const fs::path benches = fs::path(plugslam::testing::sourceDir()) / "scripts" / "bench";
+  int files = 0;
+  for (const auto& entry : fs::directory_iterator(benches)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() < 11 || name.substr(name.size() - 11) != ".sweep.yaml") continue;
+    ++files;
+    try {
+      const SweepFile s = readSweepFile(entry.path().string());
+      EXPECT_FALSE(expandSweep(s).cases.empty()) << name;
+      for (const auto& m : s.metrics) EXPECT_NE(findMetric(m, s.custom_metrics), nullptr) << name;
+    } catch (const InputError& e) {
+      ADD_FAILURE() << name << ": " << e.what();
+    }
+  }
+  EXPECT_GE(files, 6);
+}
