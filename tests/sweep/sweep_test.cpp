@@ -411,7 +411,7 @@ TEST(Metrics, AnEvaluatorsCommandGivesMetrics) {
                 .find("'ate' is already a metric"),
             std::string::npos);
   EXPECT_NE(errorOf(base + "evaluators: {e: {command: x, metrics: {m: {key: a, better: up}}}}\n")
-                .find("expected 'lower' or 'higher'"),
+                .find("expected 'lower', 'higher' or 'none'"),
             std::string::npos);
   const SweepFile s = parseSweep(base + evaluators + "metrics: [worst_step, missing]\n", "s.yaml");
   ASSERT_EQ(s.custom_metrics.size(), 2u);

@@ -71,6 +71,14 @@ const MetricInfo* findMetric(const std::string& name) {
   return nullptr;
 }
 
+std::string betterName(Better b) {
+  return b == Better::Higher ? "higher" : b == Better::None ? "none" : "lower";
+}
+
+Better betterOf(const std::string& name) {
+  return name == "higher" ? Better::Higher : name == "none" ? Better::None : Better::Lower;
+}
+
 json scoringJson(const Scoring& s) {
   return json{{"reference", s.reference}, {"relations", s.relations}, {"log", s.log},
               {"laser", s.laser},         {"evaluate", s.evaluate}};
@@ -94,7 +102,7 @@ json evaluationJson(const std::vector<Evaluator>& evaluators,
     m.push_back({{"name", c.info.name},
                  {"unit", c.info.unit},
                  {"doc", c.info.doc},
-                 {"better", c.info.better == Better::Higher ? "higher" : "lower"},
+                 {"better", betterName(c.info.better)},
                  {"evaluator", c.evaluator},
                  {"key", c.key}});
   return {{"evaluators", e}, {"custom_metrics", m}};
@@ -109,7 +117,7 @@ void evaluationFrom(const json& j, std::vector<Evaluator>& evaluators,
     c.info.name = x.value("name", "");
     c.info.unit = x.value("unit", "");
     c.info.doc = x.value("doc", "");
-    c.info.better = x.value("better", "lower") == "higher" ? Better::Higher : Better::Lower;
+    c.info.better = betterOf(x.value("better", "lower"));
     c.evaluator = x.value("evaluator", "");
     c.key = x.value("key", "");
     custom.push_back(c);

@@ -13,7 +13,8 @@ struct Scoring;
 struct Evaluator;
 struct CustomMetric;
 
-enum class Better { Lower, Higher };
+/// Which way a metric is better; None: neither (a signed error, a count), no best is marked.
+enum class Better { Lower, Higher, None };
 
 struct MetricInfo {
   std::string name, unit, doc;
@@ -47,6 +48,10 @@ MetricValues measure(const std::vector<std::string>& names, const Scoring& scori
                      const std::string& source_path,
                      const std::vector<Evaluator>& evaluators = {},
                      const std::vector<CustomMetric>& custom = {});
+
+/// "lower", "higher" or "none", and back (anything else: lower).
+std::string betterName(Better b);
+Better betterOf(const std::string& name);
 
 /// What a dataset is scored against, as JSON (plan.json, case.json), and back.
 nlohmann::json scoringJson(const Scoring& s);

@@ -66,6 +66,7 @@ std::string header(const Plan& p, const std::string& metric) {
 
 bool isBetter(const Plan& p, const std::string& metric, double a, double b) {
   const MetricInfo* m = findMetric(metric, p.custom_metrics);
+  if (m && m->better == Better::None) return false;
   return m && m->better == Better::Higher ? a > b : a < b;
 }
 
@@ -264,7 +265,11 @@ std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& 
         auto c = cell.find(key);
         if (c == cell.end() || isBetter(p, m, it->second.median, c->second)) cell[key] = it->second.median;
       }
-      if (cell.empty()) continue;
+      // A metric only some configs give (loops, of the SLAM configs) has nothing to compare.
+      std::map<std::string, int> given;
+      for (const auto& [key, v] : cell) ++given[key.first];
+      if (std::none_of(given.begin(), given.end(), [](const auto& g) { return g.second > 1; }))
+        continue;
       out += fmt::format("\n{} by dataset and config{} (**bold**: the best config of the dataset):\n\n",
                          header(p, m), p.swept_keys.empty() ? "" : ", the best grid point of each");
       out += "| dataset |";

@@ -448,9 +448,10 @@ SweepFile parseSweep(const std::string& text, const std::string& name) {
         if (spec["doc"]) r.scalar(spec["doc"], at + ".doc", c.info.doc);
         std::string better = "lower";
         if (spec["better"] && r.scalar(spec["better"], at + ".better", better) &&
-            better != "lower" && better != "higher")
-          r.error(spec["better"], at + ".better", "expected 'lower' or 'higher', got '" + better + "'");
-        c.info.better = better == "higher" ? Better::Higher : Better::Lower;
+            better != "lower" && better != "higher" && better != "none")
+          r.error(spec["better"], at + ".better",
+                  "expected 'lower', 'higher' or 'none', got '" + better + "'");
+        c.info.better = betterOf(better);
         s.custom_metrics.push_back(c);
       }
       s.evaluators.push_back(e);
@@ -599,7 +600,7 @@ std::string describeSweepFile() {
   for (const auto& m : metricTable())
     metrics += fmt::format("      {:<18} {}{} ({} is better)\n", m.name, m.doc,
                            m.unit.empty() ? "" : " [" + m.unit + "]",
-                           m.better == Better::Lower ? "lower" : "higher");
+                           betterName(m.better));
   return "sweep (the keys of a sweep file: `plugslam sweep plan|run FILE`)\n"
          "  Runs configs on datasets over a parameter grid; each case is `plugslam run` with\n"
          "  --set overrides, and its id is a hash of what it runs, so a finished case is never\n"
@@ -622,7 +623,7 @@ std::string describeSweepFile() {
          "  metrics    list, measured on each result (default [hz]):\n" +
          metrics +
          "  evaluators map: NAME -> {command: LINE, metrics: {METRIC: {key: PATH, unit: U,\n"
-         "      better: lower|higher, doc: TEXT}}}: a shell command run on each finished run\n"
+         "      better: lower|higher|none, doc: TEXT}}}: a shell command run on each finished run\n"
          "      whose standard output is JSON, and the metrics it gives (the number at PATH, dots\n"
          "      into the output), to list in `metrics` like the others; in LINE {out},\n"
          "      {trajectory}, {reference}, {source} and {case} are the run's folder, its\n"
