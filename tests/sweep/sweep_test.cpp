@@ -497,3 +497,24 @@ TEST(SweepFile, TheBenchesSweepFilesRead) {
   }
   EXPECT_GE(files, 6);
 }
+
+// A signed figure (a drift's sign says its direction) is neither better low nor high: the report
+// marks no best value of it, where it marks the others'.
+TEST(Report, ASignedFigureHasNoBest) {
+  const SweepFile s = parseSweep(
+      "config: configs/sim2d_single_laser.yaml\n"
+      "grid: {pipeline.tracker.splitter.distance: [0.5, 1.0]}\n"
+      "evaluators: {e: {command: \"true\", metrics: {drift: {key: d, better: none}}}}\n"
+      "metrics: [drift, ate]\n",
+      "s.yaml");
+  const plugslam::testing::TempDir temp("sweep-signed");
+  const std::string dir = temp.path().string();
+  writePlan(expandSweep(s), dir, "/bin/true");
+  const Plan plan = readPlan(dir);
+  ASSERT_EQ(findMetric("drift", plan.custom_metrics)->better, Better::None);
+  writeResults(dir, plan, {"\"drift\": -3.5, \"ate\": 0.25", "\"drift\": 1.5, \"ate\": 0.125"});
+  const std::string md = reportMarkdown(gatherResults(dir), {});
+  EXPECT_NE(md.find("| -3.5 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 1.5 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("**0.125**"), std::string::npos) << md;
+}

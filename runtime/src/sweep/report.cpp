@@ -81,6 +81,8 @@ std::map<std::string, double> bestOf(const Plan& p, const std::vector<Row>& rows
                                      const std::vector<std::string>& metrics) {
   std::map<std::string, double> best;
   for (const auto& m : metrics) {
+    const MetricInfo* info = findMetric(m, p.custom_metrics);
+    if (info && info->better == Better::None) continue;  // a signed figure has no best
     int with = 0;
     for (const auto& r : rows) {
       auto it = r.metrics.find(m);
