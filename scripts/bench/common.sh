@@ -29,3 +29,18 @@ print(time.time() - t)'; }
   done
   printf '%s\n' "${rounds[@]}" | sort -n | sed -n 2p | xargs printf '%.2f\n'
 }
+
+# run_sweep NAME [DIR]: the bench's sweep, scripts/bench/NAME.sweep.yaml, run afresh into DIR
+# (default $out; a sweep never reruns a finished case, and a bench measures the code as it is
+# now) one case at a time (speed is measured), then its section NAME of docs/benchmarks.md
+# written by `sweep report --section`. From the checkout's root, so the section's commands read
+# as a user would type them there.
+run_sweep() {
+  local name="$1" dir="${2:-$out}"
+  export PLUGSLAM_DATA="$data"
+  cd "$root"
+  rm -rf "$dir"
+  dir="${dir#"$root"/}"
+  "$bin" sweep run "scripts/bench/$name.sweep.yaml" -o "$dir" --engine local -j 1
+  "$bin" sweep report "$dir" --no-plots --section "$name" --doc docs/benchmarks.md
+}

@@ -12,9 +12,4 @@ set -euo pipefail
 . "$(dirname "$0")/common.sh" laser2d_benchmark
 need_data laser2d/intel-kuemmerle-benchmark
 need_data laser2d/fr079-kuemmerle-benchmark
-export PLUGSLAM_DATA="$data"
-cd "$root"
-rm -rf "$out"
-dir="${out#"$root"/}"  # as the section's commands show it: relative to the checkout
-"$bin" sweep run scripts/bench/laser2d_benchmark.sweep.yaml -o "$dir" --engine local -j 1
-"$bin" sweep report "$dir" --no-plots --section laser2d_benchmark --doc docs/benchmarks.md
+run_sweep laser2d_benchmark

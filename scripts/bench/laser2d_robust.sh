@@ -13,8 +13,5 @@ set -euo pipefail
 . "$(dirname "$0")/common.sh" laser2d_robust
 need_data laser2d
 cd "$root"
-rm -rf "$out"
-dir="${out#"$root"/}"  # as the section's commands show it: relative to the checkout
 scripts/bench/laser2d_variants_all.sh
-"$bin" sweep run scripts/bench/laser2d_robust.sweep.yaml -o "$dir" --engine local -j 1
-"$bin" sweep report "$dir" --no-plots --section laser2d_robust --doc docs/benchmarks.md
+run_sweep laser2d_robust

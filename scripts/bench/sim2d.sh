@@ -7,8 +7,4 @@
 # bench measures the code as it is now. Run scripts/build.sh first.
 set -euo pipefail
 . "$(dirname "$0")/common.sh" sim2d
-cd "$root"
-rm -rf "$out"
-dir="${out#"$root"/}"  # as the section's commands show it: relative to the checkout
-"$bin" sweep run scripts/bench/sim2d.sweep.yaml -o "$dir" --engine local -j 1
-"$bin" sweep report "$dir" --no-plots --section sim2d --doc docs/benchmarks.md
+run_sweep sim2d

@@ -11,9 +11,4 @@ set -euo pipefail
 . "$(dirname "$0")/common.sh" visual
 need_data stereo
 need_data rgbd
-export PLUGSLAM_DATA="$data"
-cd "$root"
-rm -rf "$out"
-dir="${out#"$root"/}"  # as the section's commands show it: relative to the checkout
-"$bin" sweep run scripts/bench/visual.sweep.yaml -o "$dir" --engine local -j 1
-"$bin" sweep report "$dir" --no-plots --section visual --doc docs/benchmarks.md
+run_sweep visual

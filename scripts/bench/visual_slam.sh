@@ -15,8 +15,6 @@ set -euo pipefail
 . "$(dirname "$0")/common.sh" visual_slam
 need_data stereo
 need_data rgbd
-export PLUGSLAM_DATA="$data"
-cd "$root"
 for group in ${*:-street rgbd mixed}; do
   case "$group" in
     street) name=visual_slam ;;
@@ -24,8 +22,5 @@ for group in ${*:-street rgbd mixed}; do
     mixed) name=visual_slam_mixed ;;
     *) echo "visual_slam: unknown group '$group' (street, rgbd, mixed)" >&2; exit 2 ;;
   esac
-  dir="out/bench/$name"
-  rm -rf "$dir"
-  "$bin" sweep run "scripts/bench/$name.sweep.yaml" -o "$dir" --engine local -j 1
-  "$bin" sweep report "$dir" --no-plots --section "$name" --doc docs/benchmarks.md
+  run_sweep "$name" "$root/out/bench/$name"
 done
