@@ -441,9 +441,8 @@ SweepFile parseSweep(const std::string& text, const std::string& name) {
           continue;
         }
         r.knownKeys(spec, kCustomMetricKeys, at);
-        r.scalar(spec["key"], at + ".key", c.info.doc);
-        c.key = c.info.doc;
-        c.info.doc = "'" + c.key + "' of evaluator " + e.name;
+        r.scalar(spec["key"], at + ".key", c.key);
+        c.info.doc = "'" + c.key + "' of evaluator " + e.name;  // unless `doc` says more
         if (spec["unit"]) r.scalar(spec["unit"], at + ".unit", c.info.unit);
         if (spec["doc"]) r.scalar(spec["doc"], at + ".doc", c.info.doc);
         std::string better = "lower";
