@@ -128,14 +128,8 @@ std::string runsOn(const Plan& plan) {
 
 Plan expandSweep(const SweepFile& sweep) {
   Plan plan;
+  static_cast<SweepSettings&>(plan) = sweep;
   plan.sweep_file = sweep.file;
-  plan.title = sweep.title;
-  plan.notes = sweep.notes;
-  plan.targets = sweep.targets;
-  plan.evaluators = sweep.evaluators;
-  plan.custom_metrics = sweep.custom_metrics;
-  plan.metrics = sweep.metrics;
-  plan.timeout_s = sweep.timeout_s;
   plan.config_labels = configLabels(sweep.configs);
   for (const auto& d : sweep.datasets) plan.datasets.push_back(d.name);
   for (const auto& axis : sweep.axes)

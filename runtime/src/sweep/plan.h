@@ -31,16 +31,10 @@ struct Case {
   std::string groupKey() const;
 };
 
-struct Plan {
+struct Plan : SweepSettings {
   std::string sweep_file;
-  std::vector<std::string> metrics;
   std::vector<std::string> swept_keys;
   std::vector<std::string> config_labels, datasets;  ///< in file order
-  double timeout_s = 0;
-  std::string title, notes;  ///< the sweep file's, for the report's section
-  std::vector<Target> targets;  ///< the sweep file's, judged by the report
-  std::vector<Evaluator> evaluators;        ///< the sweep file's own evaluations
-  std::vector<CustomMetric> custom_metrics;  ///< and the metrics they give
   std::vector<Case> cases;
 };
 

@@ -81,7 +81,18 @@ struct SlurmOptions {
   std::vector<std::string> extra;  ///< more sbatch arguments, verbatim
 };
 
-struct SweepFile {
+/// What a plan keeps of its sweep file, as the file states it: the metrics and the evaluations
+/// that give some of them, the per-run timeout, and what the report judges and titles.
+struct SweepSettings {
+  std::vector<std::string> metrics;
+  std::vector<Evaluator> evaluators;        ///< the file's own evaluations
+  std::vector<CustomMetric> custom_metrics;  ///< the metrics they give
+  double timeout_s = 0;                      ///< per run (0: none)
+  std::string title, notes;     ///< of the report's section in a document (not of any case)
+  std::vector<Target> targets;  ///< judged by the report (not part of any case)
+};
+
+struct SweepFile : SweepSettings {
   std::string file;                  ///< as given
   std::vector<std::string> configs;  ///< absolute paths: the file's `config`, then datasets' own
   std::vector<Origin> config_origins;
@@ -90,14 +101,8 @@ struct SweepFile {
   std::vector<Override> set;         ///< applied to every case, before the dataset's
   std::vector<Axis> axes;            ///< grid keys first (one axis each), then zip groups
   int repeat = 1;
-  std::vector<std::string> metrics;
-  std::vector<Evaluator> evaluators;        ///< the file's own evaluations
-  std::vector<CustomMetric> custom_metrics;  ///< the metrics they give
-  double timeout_s = 0;  ///< per run (0: none)
   SlurmOptions slurm;
   std::vector<std::string> hosts;  ///< for --engine parallel
-  std::string title, notes;        ///< of the report's section in a document (not of any case)
-  std::vector<Target> targets;     ///< judged by the report (not part of any case)
   /// Whether dataset `d` runs with configs[config] (its own configs, else the file's).
   bool runs(size_t config, const Dataset& d) const;
 };
