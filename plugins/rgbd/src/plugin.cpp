@@ -8,18 +8,12 @@
 
 PLUGSLAM_PLUGIN("rgbd", "1.0.0", "RGB-D cameras: keypoints with depth, and the dense depth cue") {
   using namespace plugslam::rgbd;
-  using plugslam::Space2D;
-  using plugslam::Space3D;
   registrar.addValueType<DepthKeyframe>("DepthKeyframe");
   registrar.add<RgbdPreprocessor>(
       "RgbdPreprocessor",
       "colour + depth -> keypoints (grid-bucketed FAST + ORB) with depth and its noise");
-  registrar.add<DepthSlice<Space2D>>(
-      "DepthSlice2D", "dense depth: point-to-plane factors against the map's depth keyframe");
-  registrar.add<DepthSlice<Space3D>>(
-      "DepthSlice3D", "dense depth: point-to-plane factors against the map's depth keyframe");
-  registrar.add<DepthKeyframeSlice<Space2D>>(
-      "DepthKeyframeSlice2D", "keeps the local map's depth keyframe for the dense depth cue");
-  registrar.add<DepthKeyframeSlice<Space3D>>(
-      "DepthKeyframeSlice3D", "keeps the local map's depth keyframe for the dense depth cue");
+  registrar.addBothSpaces<DepthSlice>(
+      "DepthSlice", "dense depth: point-to-plane factors against the map's depth keyframe");
+  registrar.addBothSpaces<DepthKeyframeSlice>(
+      "DepthKeyframeSlice", "keeps the local map's depth keyframe for the dense depth cue");
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "plugslam/configurable.h"
+#include "plugslam/pose_space.h"
 #include "plugslam/value_types.h"
 
 namespace plugslam {
@@ -65,6 +66,15 @@ class Registrar {
   template <class T>
   void add(const std::string& type, const std::string& doc) {
     addFactory(type, T::kKind, doc, []() -> Configurable* { return new T(); });
+  }
+  /// Registers a module written for both pose spaces, T<Space2D> and T<Space3D>, as
+  /// "<plugin>.<type>2D" and "<plugin>.<type>3D" (the suffixes sdk types look their slots up
+  /// by); `doc_3d`, when given, is the 3D one's doc.
+  template <template <class> class T>
+  void addBothSpaces(const std::string& type, const std::string& doc,
+                     const std::string& doc_3d = "") {
+    add<T<Space2D>>(type + Space2D::kSuffix, doc);
+    add<T<Space3D>>(type + Space3D::kSuffix, doc_3d.empty() ? doc : doc_3d);
   }
   /// Registers a serializable value type T (with save/load overloads) as "<plugin>.<tag>", so
   /// containers holding it can be saved and loaded again.

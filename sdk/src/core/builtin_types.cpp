@@ -32,22 +32,18 @@ void registerBuiltinTypes(Registrar& registrar) {
                                 static_cast<uint8_t>(c), 255});
       });
   registrar.add<Pipeline>("Pipeline", "the processing chain: preprocessors, tracker, graph");
-  registrar.add<MultiAligner<Space2D>>("MultiAligner2D",
-                                       "one least-squares solve on an SE2 pose, one slice per cue");
-  registrar.add<MultiAligner<Space3D>>("MultiAligner3D",
-                                       "one least-squares solve on an SE3 pose, one slice per cue");
-  registrar.add<MultiTracker<Space2D>>("MultiTracker2D",
-                                       "2D local map + slices: predict, align, merge, split");
-  registrar.add<MultiTracker<Space3D>>("MultiTracker3D",
-                                       "3D local map + slices: predict, align, merge, split");
-  registrar.add<Localizer<Space2D>>(
-      "Localizer2D", "tracks in the frozen 2D maps of a saved session (run --localize)");
-  registrar.add<Localizer<Space3D>>(
-      "Localizer3D", "tracks in the frozen 3D maps of a saved session (run --localize)");
-  registrar.add<GraphSlam<Space2D>>("GraphSlam2D",
-                                    "pose graph of 2D local maps, loop closing, global optimization");
-  registrar.add<GraphSlam<Space3D>>("GraphSlam3D",
-                                    "pose graph of 3D local maps, loop closing, global optimization");
+  registrar.addBothSpaces<MultiAligner>(
+      "MultiAligner", "one least-squares solve on an SE2 pose, one slice per cue",
+      "one least-squares solve on an SE3 pose, one slice per cue");
+  registrar.addBothSpaces<MultiTracker>("MultiTracker",
+                                        "2D local map + slices: predict, align, merge, split",
+                                        "3D local map + slices: predict, align, merge, split");
+  registrar.addBothSpaces<Localizer>(
+      "Localizer", "tracks in the frozen 2D maps of a saved session (run --localize)",
+      "tracks in the frozen 3D maps of a saved session (run --localize)");
+  registrar.addBothSpaces<GraphSlam>(
+      "GraphSlam", "pose graph of 2D local maps, loop closing, global optimization",
+      "pose graph of 3D local maps, loop closing, global optimization");
   registrar.add<ProximityDetector>("ProximityDetector",
                                    "loop candidates near in the current estimate, gated by drift");
   registrar.add<AppearanceDetector>(
@@ -56,10 +52,8 @@ void registerBuiltinTypes(Registrar& registrar) {
   registrar.add<AppearanceValidator>(
       "AppearanceValidator",
       "accepts a loop when the maps' landmarks register by descriptors and rigid RANSAC");
-  registrar.add<AlignmentValidator<Space2D>>(
-      "AlignmentValidator2D", "accepts a loop when the maps' scenes align with enough overlap");
-  registrar.add<AlignmentValidator<Space3D>>(
-      "AlignmentValidator3D", "accepts a loop when the maps' scenes align with enough overlap");
+  registrar.addBothSpaces<AlignmentValidator>(
+      "AlignmentValidator", "accepts a loop when the maps' scenes align with enough overlap");
   registrar.add<detail::ConsistencyFilter>(
       "ConsistencyFilter", "keeps the largest mutually consistent set of recently closed loops");
   registrar.add<detail::ResidualVeto>(
@@ -68,14 +62,12 @@ void registerBuiltinTypes(Registrar& registrar) {
       "OdometryAudit",
       "when the run ends, rejects the loops that stretch an odometry edge beyond its bounds");
   registrar.add<GraphWriter>("GraphWriter", "writes the pose graph of local maps as g2o");
-  registrar.add<ReprojectionSlice<Space2D>>(
-      "ReprojectionSlice2D", "landmark cue: (u, v, 1/z) reprojection factors, planar robot pose");
-  registrar.add<ReprojectionSlice<Space3D>>("ReprojectionSlice3D",
-                                            "landmark cue: (u, v, 1/z) reprojection factors");
-  registrar.add<LandmarkMapSlice<Space2D>>(
-      "LandmarkMapSlice2D", "landmark cue: merges keypoints into the local map's landmarks (2D)");
-  registrar.add<LandmarkMapSlice<Space3D>>(
-      "LandmarkMapSlice3D", "landmark cue: merges keypoints into the local map's landmarks");
+  registrar.addBothSpaces<ReprojectionSlice>(
+      "ReprojectionSlice", "landmark cue: (u, v, 1/z) reprojection factors, planar robot pose",
+      "landmark cue: (u, v, 1/z) reprojection factors");
+  registrar.addBothSpaces<LandmarkMapSlice>(
+      "LandmarkMapSlice", "landmark cue: merges keypoints into the local map's landmarks (2D)",
+      "landmark cue: merges keypoints into the local map's landmarks");
   registrar.add<LandmarkMapWriter>(
       "LandmarkMapWriter", "landmark cue: the run's landmarks in the world as a binary PLY cloud");
   registrar.add<DistanceSplitter>("DistanceSplitter",
