@@ -137,15 +137,11 @@ void transform(Cdr& c, TransformMsg& t) {
 }  // namespace
 
 void decodeCdr(const std::uint8_t* data, std::size_t size, LaserScanMsg& m) {
-  Cdr c(data, size);
-  layout::laserScan(c, m);
-  c.finish();
+  layout::decodeWhole<Cdr>(data, size, m, layout::laserScan<Cdr>);
 }
 
 void decodeCdr(const std::uint8_t* data, std::size_t size, OdometryMsg& m) {
-  Cdr c(data, size);
-  layout::odometry(c, m);
-  c.finish();
+  layout::decodeWhole<Cdr>(data, size, m, layout::odometry<Cdr>);
 }
 
 void decodeCdr(const std::uint8_t* data, std::size_t size, ImageMsg& m) {

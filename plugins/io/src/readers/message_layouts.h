@@ -3,11 +3,23 @@
 // serialization (ros_messages.cpp) and CDR (cdr_messages.cpp) differ only in their cursors
 // (header layout, alignment, byte order), which provide header(), f32(), f64(), str() and
 // f32Array() with the same meaning.
+#include <cstddef>
+#include <cstdint>
+
 #include "readers/ros_messages.h"
 
 namespace plugslam {
 namespace io {
 namespace layout {
+
+/// One whole message read by `fields` with a Cursor over the bytes: the cursor's ParseError when
+/// they are short, or when bytes are left over.
+template <typename Cursor, typename Msg, typename Fields>
+void decodeWhole(const std::uint8_t* data, std::size_t size, Msg& out, Fields fields) {
+  Cursor c(data, size);
+  fields(c, out);
+  c.finish();
+}
 
 /// sensor_msgs/LaserScan, header first.
 template <typename Cursor>

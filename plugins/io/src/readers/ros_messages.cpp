@@ -134,15 +134,11 @@ void decodeTf(const std::uint8_t* data, std::size_t size, TfMsg& out) {
 }
 
 void decodeLaserScan(const std::uint8_t* data, std::size_t size, LaserScanMsg& out) {
-  Cursor c(data, size);
-  layout::laserScan(c, out);
-  c.finish();
+  layout::decodeWhole<Cursor>(data, size, out, layout::laserScan<Cursor>);
 }
 
 void decodeOdometry(const std::uint8_t* data, std::size_t size, OdometryMsg& out) {
-  Cursor c(data, size);
-  layout::odometry(c, out);
-  c.finish();
+  layout::decodeWhole<Cursor>(data, size, out, layout::odometry<Cursor>);
 }
 
 void decodeLaserScan(const RosbagReader& bag, const RosbagMessage& message, LaserScanMsg& out) {
