@@ -54,11 +54,20 @@ void pinholeFields(Ar& ar, C& c) {
   ar.field("height", c.height);
 }
 
-// Reads the pinhole fields and checks them.
-void loadPinhole(InArchive& ar, CameraPinhole& c) {
+// The pinhole fields as saved, and as loaded with their checks.
+void pinhole(OutArchive& ar, const CameraPinhole& c) { pinholeFields(ar, c); }
+void pinhole(InArchive& ar, CameraPinhole& c) {
   pinholeFields(ar, c);
   if (!std::isfinite(c.fx) || !std::isfinite(c.fy)) ar.fail("camera focal lengths must be finite");
   checkSize(ar, c.width, c.height);
+}
+
+template <class Ar, class C>
+void intrinsicsFields(Ar& ar, C& c) {
+  ar.beginObject();
+  pinhole(ar, c);
+  ar.field("distortion", c.distortion);
+  ar.endObject();
 }
 
 // The fields before an image's pixels, shared by save and load.
@@ -153,23 +162,12 @@ void load(InArchive& ar, Distortion& d) {
   ar.endObject();
 }
 
-void save(OutArchive& ar, const CameraIntrinsics& c) {
-  ar.beginObject();
-  pinholeFields(ar, c);
-  ar.field("distortion", c.distortion);
-  ar.endObject();
-}
-
-void load(InArchive& ar, CameraIntrinsics& c) {
-  ar.beginObject();
-  loadPinhole(ar, c);
-  ar.field("distortion", c.distortion);
-  ar.endObject();
-}
+void save(OutArchive& ar, const CameraIntrinsics& c) { intrinsicsFields(ar, c); }
+void load(InArchive& ar, CameraIntrinsics& c) { intrinsicsFields(ar, c); }
 
 void save(OutArchive& ar, const CameraInfo& c) {
   ar.beginObject();
-  pinholeFields(ar, c);
+  pinhole(ar, c);
   ar.field("baseline", c.baseline);
   ar.field("mount", c.mount);
   ar.field("distortion", c.distortion);
@@ -182,7 +180,7 @@ void save(OutArchive& ar, const CameraInfo& c) {
 
 void load(InArchive& ar, CameraInfo& c) {
   ar.beginObject();
-  loadPinhole(ar, c);
+  pinhole(ar, c);
   ar.field("baseline", c.baseline);
   ar.field("mount", c.mount);
   // Archives written before ABI 1.5 have neither: undistorted, and no second camera.
