@@ -26,6 +26,8 @@ namespace {
 std::string buildDir() { return plugslam::testing::buildDir(); }
 
 using Result = plugslam::testing::CommandResult;
+using plugslam::testing::expectHas;
+using plugslam::testing::expectHasAll;
 
 Result run(const std::string& args, const std::string& env = "") {
   return plugslam::testing::runCommand(env + " " + buildDir() + "/bin/plugslam " + args);
@@ -90,10 +92,6 @@ class Cli : public plugslam::testing::TempDirTest {
   }
 };
 
-void expectHas(const std::string& s, const std::string& part) {
-  EXPECT_NE(s.find(part), std::string::npos) << "'" << part << "' not in:\n" << s;
-}
-
 }  // namespace
 
 TEST_F(Cli, VersionAndHelp) {
@@ -113,10 +111,10 @@ TEST_F(Cli, PluginsListsTypesAndRefusals) {
   auto r = run("plugins", "PLUGSLAM_PLUGIN_PATH=" + buildDir() + "/tests/plugins/bad:" + buildDir() +
                               "/tests/plugins");
   EXPECT_EQ(r.code, 0) << r.out;
-  expectHas(r.out, "sdk.Pipeline");
-  expectHas(r.out, "fixture.CountingSource");
-  expectHas(r.out, "refused: plugin 'wrongabi'");
-  expectHas(r.out, "refused: plugin 'wrongfingerprint'");
+  expectHasAll(r.out, {"sdk.Pipeline",
+                       "fixture.CountingSource",
+                       "refused: plugin 'wrongabi'",
+                       "refused: plugin 'wrongfingerprint'"});
 }
 
 TEST_F(Cli, DescribeAndDefaults) {
@@ -164,11 +162,13 @@ TEST_F(Cli, ValidateReportsEveryError) {
                            "outputs: [fixture.SumWritr]\n");
   auto r = run("validate " + bad);
   EXPECT_EQ(r.code, 2) << r.out;
-  expectHas(r.out, "[error] " + bad + ":1:1: source: missing 'source:'");
-  expectHas(r.out, "[error] " + bad + ":4:29: pipeline.preprocessors[0].factr: unknown key 'factr'");
-  expectHas(r.out, "[error] " + bad + ":5:37: pipeline.preprocessors[1].factor: expected a number");
-  expectHas(r.out, "[error] " + bad + ":6:11: outputs[0]: unknown type 'fixture.SumWritr'");
-  expectHas(r.out, "[error] 4 errors in " + bad);
+  expectHasAll(r.out, {"[error] " + bad + ":1:1: source: missing 'source:'",
+                       "[error] " + bad +
+                           ":4:29: pipeline.preprocessors[0].factr: unknown key 'factr'",
+                       "[error] " + bad +
+                           ":5:37: pipeline.preprocessors[1].factor: expected a number",
+                       "[error] " + bad + ":6:11: outputs[0]: unknown type 'fixture.SumWritr'",
+                       "[error] 4 errors in " + bad});
 }
 
 // Item 17.7: a tracker that has nothing to align with (no aligner slices) is a configuration
@@ -310,12 +310,12 @@ TEST_F(Cli, EvalRelationsAgainstAHandComputedFile) {
                    "2000 2001 1 0 0 0 0 0\n");
   auto r = run("eval relations " + est + " --relations " + rel);
   EXPECT_EQ(r.code, 0) << r.out;
-  expectHas(r.out, "3 of 6 relations used");
-  expectHas(r.out, "E = relation^-1 * (estimate(t1)^-1 * estimate(t2))");
-  expectHas(r.out, "Not used: 1 with no estimate pose at t1, 1 none at t2, 1 none at either");
-  expectHas(r.out, "| translation (m) | 0.050000 | 0.050000 |");
-  expectHas(r.out, "| rotation (deg) | 1.666667 | 1.527525 |");
-  expectHas(r.out, "| rotation² (deg²) | 4.333333 |");
+  expectHasAll(r.out, {"3 of 6 relations used",
+                       "E = relation^-1 * (estimate(t1)^-1 * estimate(t2))",
+                       "Not used: 1 with no estimate pose at t1, 1 none at t2, 1 none at either",
+                       "| translation (m) | 0.050000 | 0.050000 |",
+                       "| rotation (deg) | 1.666667 | 1.527525 |",
+                       "| rotation² (deg²) | 4.333333 |"});
   r = run("eval relations " + est + " --relations " + rel + " --format json");
   EXPECT_EQ(r.code, 0) << r.out;
   expectHas(r.out, "\"used\": 3");
@@ -360,10 +360,10 @@ TEST_F(Cli, HelpIsShortAndListsChoices) {
     EXPECT_LE(line.size(), 100u) << "too long a help line: " << line;
   r = run("optimize --help");
   EXPECT_EQ(r.code, 0) << r.out;
-  expectHas(r.out, "--solver TEXT:{gn,lm}");
-  expectHas(r.out, "--init TEXT:{file,odometry,chordal,best}");
-  expectHas(r.out, "--factorization TEXT:{auto,supernodal,simplicial,block}");
-  expectHas(r.out, "VERTEX_SE3:QUAT");  // the formats moved to the command's own help
+  expectHasAll(r.out, {"--solver TEXT:{gn,lm}",
+                       "--init TEXT:{file,odometry,chordal,best}",
+                       "--factorization TEXT:{auto,supernodal,simplicial,block}",
+                       "VERTEX_SE3:QUAT"});  // the formats moved to the command's own help
   r = run("optimize x.g2o --solver newton");
   EXPECT_EQ(r.code, 2) << r.out;
 }
@@ -388,11 +388,11 @@ TEST_F(Cli, ConfigResolvedPrintsTheDocumentARunUses) {
   auto r = run("config --resolved " + variant + " --set pipeline.graph.deterministic=true");
   EXPECT_EQ(r.code, 0) << r.out;
   EXPECT_EQ(r.out.find("base:"), std::string::npos) << r.out;
-  expectHas(r.out, "source: {type: sim.Simulator3D, world: street, camera: stereo, seed: 0}");
-  expectHas(r.out, "align_previous_map: true");  // from sim3d_stereo.yaml
-  expectHas(r.out, "{type: sdk.AppearanceDetector, scene: landmarks, min_travel: 50.0}");
-  expectHas(r.out, "deterministic: true");
-  expectHas(r.out, "  - {type: sdk.LandmarkMapWriter}\n");
+  expectHasAll(r.out, {"source: {type: sim.Simulator3D, world: street, camera: stereo, seed: 0}",
+                       "align_previous_map: true",  // from sim3d_stereo.yaml
+                       "{type: sdk.AppearanceDetector, scene: landmarks, min_travel: 50.0}",
+                       "deterministic: true",
+                       "  - {type: sdk.LandmarkMapWriter}\n"});
   r = run("config");
   EXPECT_EQ(r.code, 2) << r.out;
   expectHas(r.out, "give either a TYPE (its defaults) or --resolved FILE");

@@ -26,6 +26,7 @@ namespace fs = std::filesystem;
 namespace {
 
 using Result = plugslam::testing::CommandResult;
+using plugslam::testing::expectHas;
 
 Result run(const std::string& args) {
   return plugslam::testing::runCommand(plugslam::testing::buildDir() + "/bin/plugslam " + args);
@@ -44,10 +45,6 @@ double jsonNumber(const std::string& json, const std::string& key) {
   const size_t at = json.find(tag);
   if (at == std::string::npos) return std::nan("");
   return std::strtod(json.c_str() + at + tag.size(), nullptr);
-}
-
-void expectHas(const std::string& s, const std::string& part) {
-  EXPECT_NE(s.find(part), std::string::npos) << "'" << part << "' not in:\n" << s;
 }
 
 class Optimize : public plugslam::testing::TempDirTest {

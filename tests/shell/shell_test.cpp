@@ -25,6 +25,8 @@ std::string bin() { return plugslam::testing::buildDir() + "/bin/plugslam"; }
 std::string pluginDir() { return plugslam::testing::buildDir() + "/tests/plugins"; }
 
 using Result = plugslam::testing::CommandResult;
+using plugslam::testing::expectHas;
+using plugslam::testing::expectHasAll;
 
 Result sh(const std::string& cmd) {
   return plugslam::testing::runCommand(cmd);
@@ -41,10 +43,6 @@ size_t count(const std::string& s, const std::string& part) {
   size_t n = 0;
   for (size_t at = s.find(part); at != std::string::npos; at = s.find(part, at + 1)) ++n;
   return n;
-}
-
-void expectHas(const std::string& s, const std::string& part) {
-  EXPECT_NE(s.find(part), std::string::npos) << "'" << part << "' not in:\n" << s;
 }
 
 // A command with its input and its output (stdout and stderr) on pipes: the test reads what it
@@ -208,32 +206,33 @@ TEST_F(ShellTest, EveryCommandThroughStdin) {
       "quit\n"
       "status\n");
   EXPECT_EQ(r.code, 0) << r.out;
-  expectHas(r.out, "load-session DIR [--localize]");
-  expectHas(r.out, ": OK (");
-  expectHas(r.out, "lmsim 1.0.0");
-  expectHas(r.out, "pipeline.graph.optimize_now");
-  expectHas(r.out, "pipeline.graph.save_graph");
-  expectHas(r.out, "pipeline.tracker.reset");
-  expectHas(r.out, slice + ".sigma = 0.02 (double, m)");
-  expectHas(r.out, slice + ".sigma = 0.03");
-  expectHas(r.out, "paused at frame 5");
-  expectHas(r.out, "state: paused, frame 5/");
-  expectHas(r.out, "paused at frame 15");
-  expectHas(r.out, "tracker reset; the next frame starts local map");
-  expectHas(r.out, "resumed");
-  expectHas(r.out, "run finished (stopped)");
-  expectHas(r.out, "run finished (end of data)");
+  expectHasAll(r.out, {"load-session DIR [--localize]",
+                       ": OK (",
+                       "lmsim 1.0.0",
+                       "pipeline.graph.optimize_now",
+                       "pipeline.graph.save_graph",
+                       "pipeline.tracker.reset",
+                       slice + ".sigma = 0.02 (double, m)",
+                       slice + ".sigma = 0.03",
+                       "paused at frame 5",
+                       "state: paused, frame 5/",
+                       "paused at frame 15",
+                       "tracker reset; the next frame starts local map",
+                       "resumed",
+                       "run finished (stopped)",
+                       "run finished (end of data)"});
   // Item 17.16: the shell names the reference entry as the CLI does, not "ground truth".
   expectHas(r.out, "against 'ground_truth': ATE rmse");
   EXPECT_EQ(r.out.find("against ground truth"), std::string::npos);
-  expectHas(r.out, "state: finished");
-  expectHas(r.out, "saved session " + path("s1"));
-  expectHas(r.out, "loaded session " + path("s1"));
-  expectHas(r.out, "mapping: new maps are appended");
-  expectHas(r.out, slice + ": lmsim.LandmarkSlice -> lmsim.WeightedLandmarkSlice (dropped: sigma)");
-  expectHas(r.out, "type: lmsim.WeightedLandmarkSlice");
-  expectHas(r.out, "reloaded lmsim 1.0.0");
-  expectHas(r.out, slice + ".weight = 2500");
+  expectHasAll(r.out, {"state: finished",
+                       "saved session " + path("s1"),
+                       "loaded session " + path("s1"),
+                       "mapping: new maps are appended",
+                       slice +
+                           ": lmsim.LandmarkSlice -> lmsim.WeightedLandmarkSlice (dropped: sigma)",
+                       "type: lmsim.WeightedLandmarkSlice",
+                       "reloaded lmsim 1.0.0",
+                       slice + ".weight = 2500"});
   EXPECT_EQ(count(r.out, "error:"), 0u) << r.out;
   // Loops were closed on the second lap.
   const auto done = r.out.find("run finished (end of data)");
@@ -257,11 +256,11 @@ TEST_F(ShellTest, RateSetsThePlaybackRate) {
   const std::string cfg = lmsimConfig(0.3);
   Result r = shell("load " + cfg + "\nrate\nrate 2\nrate\nstep 11\nrate -1\nrate fast\nrate 0\nstop\n");
   EXPECT_EQ(r.code, 1) << r.out;  // two bad rates
-  expectHas(r.out, "rate 0 (as fast as possible)");
-  expectHas(r.out, "> rate\nrate 2\n");
-  expectHas(r.out, "paused at frame 11");
-  expectHas(r.out, "error: rate: expected a number >= 0");
-  expectHas(r.out, "got 'fast'");
+  expectHasAll(r.out, {"rate 0 (as fast as possible)",
+                       "> rate\nrate 2\n",
+                       "paused at frame 11",
+                       "error: rate: expected a number >= 0",
+                       "got 'fast'"});
   EXPECT_EQ(count(r.out, "error:"), 2u) << r.out;
 }
 
@@ -312,30 +311,30 @@ TEST_F(ShellTest, ErrorsLeaveTheShellAliveAndTheStateIntact) {
       "run\n"
       "wait\n");
   EXPECT_EQ(r.code, 1) << r.out;  // a script with failing commands
-  expectHas(r.out, "error: unknown command 'frobnicate'");
-  expectHas(r.out, "error: no config loaded (load CONFIG)");
-  expectHas(r.out, "error: cannot open config file '/nonexistent/config.yaml'");
-  expectHas(r.out, "error: set source.laps -1: source.laps: ");  // what was typed, not --set
-  expectHas(r.out, "did you mean 'sigma'?");
-  expectHas(r.out, "error: no parameter or module 'nope'");
-  expectHas(r.out, "the list has 1 modules");
-  expectHas(r.out, "has no action 'nope'");
-  expectHas(r.out, "error: no module 'nomodule'");
+  expectHasAll(r.out, {"error: unknown command 'frobnicate'",
+                       "error: no config loaded (load CONFIG)",
+                       "error: cannot open config file '/nonexistent/config.yaml'",
+                       "error: set source.laps -1: source.laps: ",  // what was typed, not --set
+                       "did you mean 'sigma'?",
+                       "error: no parameter or module 'nope'",
+                       "the list has 1 modules",
+                       "has no action 'nope'",
+                       "error: no module 'nomodule'"});
   expectHas(r.out,
             "'sdk.DistanceSplitter' is a Splitter, but '" + slice + "' takes an AlignerSlice2D");
-  expectHas(r.out, "error: unknown type 'lmsim.NoSuchSlice'");
-  expectHas(r.out, "error: expected a positive number of frames, got '0'");
-  expectHas(r.out, "error: no run in progress");
-  expectHas(r.out, "error: no paused run");
-  expectHas(r.out, "error: session folder '/nonexistent' does not exist");
-  expectHas(r.out, "error: plugin 'nosuch' is not loaded");
-  expectHas(r.out, "error: cannot change parameters while a run is in progress");
-  expectHas(r.out, "error: a run is paused");
+  expectHasAll(r.out, {"error: unknown type 'lmsim.NoSuchSlice'",
+                       "error: expected a positive number of frames, got '0'",
+                       "error: no run in progress",
+                       "error: no paused run",
+                       "error: session folder '/nonexistent' does not exist",
+                       "error: plugin 'nosuch' is not loaded",
+                       "error: cannot change parameters while a run is in progress",
+                       "error: a run is paused"});
   // After all that the config is intact and runs.
-  expectHas(r.out, slice + ".sigma = 0.02 (double, m)");
-  expectHas(r.out, "source.laps = 0.3 (double)");
-  expectHas(r.out, ": OK (");
-  expectHas(r.out, "run finished (end of data)");
+  expectHasAll(r.out, {slice + ".sigma = 0.02 (double, m)",
+                       "source.laps = 0.3 (double)",
+                       ": OK (",
+                       "run finished (end of data)"});
   EXPECT_EQ(count(r.out, "error:"), 19u) << r.out;
 }
 
@@ -426,10 +425,10 @@ TEST_F(ShellTest, InterruptedRunLeavesALoadableSession) {
   EXPECT_EQ(run.code, 130) << log;
   // Saved once before the run finishes (a second Ctrl-C during a long final optimization keeps
   // it), then again with the final optimization.
-  expectHas(log, "interrupted: session saved in " + out + "/session");
-  expectHas(log, "Ctrl-C again quits now");
-  expectHas(log, "interrupted at frame");
-  expectHas(log, "session saved in " + out + "/session");
+  expectHasAll(log, {"interrupted: session saved in " + out + "/session",
+                     "Ctrl-C again quits now",
+                     "interrupted at frame",
+                     "session saved in " + out + "/session"});
   // Item 17.15: --session adds a new run to the session; the message does not call it a resume.
   expectHas(log, "It is not a point to resume from: `plugslam run CONFIG --session " + out +
                      "/session` adds a new run's maps to it");

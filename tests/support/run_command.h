@@ -1,9 +1,11 @@
 #pragma once
 // A shell command as a user runs it, for the tests that drive the CLI: its exit code and
-// everything it printed. Header-only.
+// everything it printed, and expectations on that. Header-only.
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <cstdio>
+#include <initializer_list>
 #include <string>
 
 namespace plugslam::testing {
@@ -25,6 +27,16 @@ inline CommandResult runCommand(const std::string& cmd) {
   const int status = pclose(p);
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+/// Expects `part` in what a command printed, showing all of it when it is missing.
+inline void expectHas(const std::string& out, const std::string& part) {
+  EXPECT_NE(out.find(part), std::string::npos) << "'" << part << "' not in:\n" << out;
+}
+
+/// Expects each of `parts` in what a command printed.
+inline void expectHasAll(const std::string& out, std::initializer_list<std::string> parts) {
+  for (const auto& part : parts) expectHas(out, part);
 }
 
 }  // namespace plugslam::testing
