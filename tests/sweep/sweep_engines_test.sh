@@ -40,6 +40,16 @@ EOF
 # The table without the rate columns: config, dataset, the swept value, runs, ok, failed, missing,
 # then median/min/max of ate, rpe, loops and tracking_failures (19 columns); hz's three follow.
 figures() { cut -d, -f1-19 "$1/report/table.csv"; }
+# Starts the small sweep into folder $1 (-j 1, log ${1}1.log) in the background, its pid in
+# $sweep, and returns once $2 of its cases have a result (or after 20 s).
+start_sweep_until() {
+  "$bin" -q sweep run small.sweep.yaml -o "$1" -j 1 > "${1}1.log" 2>&1 &
+  sweep=$!
+  for _ in $(seq 200); do
+    [ "$(ls "$1"/cases/*/result.json 2>/dev/null | wc -l)" -ge "$2" ] && break
+    sleep 0.1
+  done
+}
 
 run_local() {
   "$bin" -q sweep run small.sweep.yaml -o "$1" --engine local -j 2 > "$1.log" 2>&1 \
@@ -99,12 +109,7 @@ EOF
 
   # Killed outright midway: finished results stay, the runs in flight die with the sweep, and
   # the next start runs only the missing cases.
-  "$bin" -q sweep run small.sweep.yaml -o k -j 1 > k1.log 2>&1 &
-  sweep=$!
-  for _ in $(seq 200); do
-    [ "$(ls k/cases/*/result.json 2>/dev/null | wc -l)" -ge 2 ] && break
-    sleep 0.1
-  done
+  start_sweep_until k 2
   kill -9 "$sweep"
   wait "$sweep" 2> /dev/null || true
   done_before="$(ls k/cases/*/result.json | wc -l)"
@@ -126,12 +131,7 @@ EOF
   echo "ok: killed after $done_before cases, resumed: $((8 - done_before)) ran, no result lost, same table"
 
   # Ctrl-C: the run in flight is stopped and not recorded; exit 130.
-  "$bin" -q sweep run small.sweep.yaml -o i -j 1 > i1.log 2>&1 &
-  sweep=$!
-  for _ in $(seq 200); do
-    [ "$(ls i/cases/*/result.json 2>/dev/null | wc -l)" -ge 1 ] && break
-    sleep 0.1
-  done
+  start_sweep_until i 1
   # A second sweep on the same folder would run the same cases into the same folders.
   if out="$("$bin" -q sweep run small.sweep.yaml -o i -j 1 2>&1)"; then fail "two sweeps ran in one folder: $out"; fi
   grep -q "another \`plugslam sweep run\` is running cases in" <<< "$out" || fail "second sweep: $out"

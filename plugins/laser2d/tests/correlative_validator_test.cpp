@@ -35,6 +35,17 @@ LocalMap makeMap(const std::vector<test::Segment>& world, const SE2& origin,
   return map;
 }
 
+// Expects `v` to reject `query` as the place of `candidate` near `guess`, for a reason that
+// names `why`.
+void expectRejected(CorrelativeValidator& v, const LocalMap& candidate, const LocalMap& query,
+                    const SE2& guess, const std::string& why) {
+  LoopClosure closure;
+  std::string reason;
+  EXPECT_FALSE(v.validate(candidate, query, Space2D::to3D(guess), closure, reason));
+  EXPECT_NE(reason.find(why), std::string::npos) << reason;
+  std::cout << reason << "\n";
+}
+
 double elapsedMs(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -87,11 +98,7 @@ TEST(CorrelativeValidator, RejectsADifferentPlace) {
 
   CorrelativeValidator v;
   v.configure();
-  LoopClosure closure;
-  std::string reason;
-  EXPECT_FALSE(v.validate(candidate, query, Space2D::to3D(se2(1, 0, 0)), closure, reason));
-  EXPECT_NE(reason.find("no pose scores"), std::string::npos) << reason;
-  std::cout << reason << "\n";
+  expectRejected(v, candidate, query, se2(1, 0, 0), "no pose scores");
 }
 
 TEST(CorrelativeValidator, RejectsAnAmbiguousCorridor) {
@@ -102,15 +109,13 @@ TEST(CorrelativeValidator, RejectsAnAmbiguousCorridor) {
   const LocalMap query = makeMap(world, se2(2, 0, 0), {se2(2, 0, 0), se2(2.5, 0.1, 0.1)}, 12, 7);
   CorrelativeValidator v;
   v.configure();
-  LoopClosure closure;
-  std::string reason;
-  EXPECT_FALSE(v.validate(candidate, query, Space2D::to3D(se2(0.5, 0.3, 0.2)), closure, reason));
-  EXPECT_NE(reason.find("ambiguous"), std::string::npos) << reason;
-  std::cout << reason << "\n";
+  expectRejected(v, candidate, query, se2(0.5, 0.3, 0.2), "ambiguous");
 
   // Without the margin test the same search accepts a pose on the corridor's axis.
   v.min_score_margin = 0.0;
   v.configure();
+  LoopClosure closure;
+  std::string reason;
   ASSERT_TRUE(v.validate(candidate, query, Space2D::to3D(se2(0.5, 0.3, 0.2)), closure, reason))
       << reason;
   const Eigen::Vector3d found = toVector(Space2D::from3D(closure.edge.relative));

@@ -27,43 +27,11 @@ Simulator3D room() {
   return Simulator3D::fromOptions(o);
 }
 
-// |depth error| / sigma of every keypoint with depth, against the exact depth `truth`.
-std::vector<double> normalizedErrors(const FeatureSet& f, const sim::sim3d::RenderBuffers& truth,
-                                     const std::vector<Eigen::Vector2d>& raw_pixels) {
-  std::vector<double> out;
-  for (size_t i = 0; i < f.size(); ++i) {
-    if (!f.hasDepth(i)) continue;
-    const int u = static_cast<int>(std::lround(raw_pixels[i].x()));
-    const int v = static_cast<int>(std::lround(raw_pixels[i].y()));
-    const double z = truth.depth[static_cast<size_t>(v * truth.width + u)];
-    if (!(z > 0)) continue;
-    out.push_back(std::abs(f.points[i].z() - z) / std::sqrt(f.covariances[i](2, 2)));
-  }
-  return out;
-}
-
-double median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
-
-double fractionBelow(const std::vector<double>& v, double bound) {
-  return static_cast<double>(std::count_if(v.begin(), v.end(), [&](double x) { return x < bound; })) /
-         static_cast<double>(v.size());
-}
-
 TEST(RgbdPreprocessor, KeypointDepthIsConsistentWithTheRenderedDepth) {
   const Simulator3D sim = room();
   rgbd::RgbdPreprocessor pre;
   pre.configure();
-  Frame frame = testing::renderedFrame(sim, 0);
-  ASSERT_TRUE(pre.process(frame));
-  const FeatureSet& f = frame.measurement.get<FeatureSet>("features");
-  const auto truth =
-      testing::exactDepth(sim, sim.camera(), frame.raw.get<Eigen::Isometry3d>("ground_truth"));
-  const auto errors = normalizedErrors(f, truth, f.pixels);  // no distortion: raw = ideal
-  size_t with_depth = 0;
-  for (size_t i = 0; i < f.size(); ++i) with_depth += f.hasDepth(i);
+  const auto [f, with_depth, errors] = testing::keypointDepth(pre, sim, 0);
   // A room 1-5 m deep ranges almost everywhere; keypoints on occlusion edges get none.
   // Measured on the rendered room (sim at c5d58bc): 587 keypoints of the 1,200 asked for (its
   // untextured surfaces give no corners), and more than 3/4 of them with depth.
@@ -73,8 +41,8 @@ TEST(RgbdPreprocessor, KeypointDepthIsConsistentWithTheRenderedDepth) {
   // The simulator draws Nguyen et al.'s noise and quantises to Kinect disparity steps: a
   // consistent sigma puts the median |error| / sigma near 0.67 and ~99 % within 3 sigma.
   // Measured median 0.52, 98.9 % within 3 sigma.
-  EXPECT_LT(median(errors), 0.9);
-  EXPECT_GT(fractionBelow(errors, 3.0), 0.95);
+  EXPECT_LT(testing::median(errors), 0.9);
+  EXPECT_GT(testing::fractionBelow(errors, 3.0), 0.95);
 }
 
 TEST(RgbdPreprocessor, DepthFromASeparateDepthCameraIsRegisteredToColour) {
@@ -106,13 +74,13 @@ TEST(RgbdPreprocessor, DepthFromASeparateDepthCameraIsRegisteredToColour) {
   ASSERT_TRUE(pre.process(frame));
   const FeatureSet& f = frame.measurement.get<FeatureSet>("features");
   const auto truth = testing::exactDepth(sim, sim.camera(), pose);
-  const auto errors = normalizedErrors(f, truth, f.pixels);
+  const auto errors = testing::normalizedErrors(f, truth, f.pixels);
   // Exact depth moved half a pixel at most: the error is well within the sensor's sigma. The
   // depth camera's narrower view covers about 82 % of the colour image: measured 477 of 587
   // keypoints with depth there (a registration that loses pixels or misplaces them fails this).
   ASSERT_GT(static_cast<double>(errors.size()), 0.7 * static_cast<double>(f.size()));
-  EXPECT_LT(median(errors), 0.3);
-  EXPECT_GT(fractionBelow(errors, 3.0), 0.97);
+  EXPECT_LT(testing::median(errors), 0.3);
+  EXPECT_GT(testing::fractionBelow(errors, 3.0), 0.97);
   // Without registration (the depth image taken as the colour camera's) it fails.
   CameraInfo wrong = sim.cameraInfo();
   frame.raw.set<CameraInfo>("camera", wrong);

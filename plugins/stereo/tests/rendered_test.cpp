@@ -22,38 +22,15 @@ TEST(StereoPreprocessor, DepthMatchesTheRenderedDepth) {
   const Simulator3D sim = street();
   visual::StereoPreprocessor pre;
   pre.configure();
-  Frame frame = testing::renderedFrame(sim, 0);
-  ASSERT_TRUE(pre.process(frame));
-  const FeatureSet& f = frame.measurement.get<FeatureSet>("features");
-  const sim::sim3d::RenderBuffers depth =
-      testing::exactDepth(sim, sim.camera(), frame.raw.get<Eigen::Isometry3d>("ground_truth"));
-  std::vector<double> normalized;
-  size_t with_depth = 0;
-  for (size_t i = 0; i < f.size(); ++i) {
-    if (!f.hasDepth(i)) continue;
-    ++with_depth;
-    const int u = static_cast<int>(std::lround(f.pixels[i].x()));
-    const int v = static_cast<int>(std::lround(f.pixels[i].y()));
-    const double truth = depth.depth[static_cast<size_t>(v * depth.width + u)];
-    if (!(truth > 0)) continue;
-    normalized.push_back((f.points[i].z() - truth) / std::sqrt(f.covariances[i](2, 2)));
-  }
+  const auto [f, with_depth, errors] = testing::keypointDepth(pre, sim, 0);
   // The view is buildings and road: most keypoints range. Measured 1067 of 1200 with depth.
   EXPECT_GT(with_depth, f.size() / 2);
-  ASSERT_GT(normalized.size(), 200u);
-  std::vector<double> absn(normalized.size());
-  std::transform(normalized.begin(), normalized.end(), absn.begin(),
-                 [](double x) { return std::abs(x); });
-  std::nth_element(absn.begin(), absn.begin() + absn.size() / 2, absn.end());
-  const double median = absn[absn.size() / 2];
-  const double within3 =
-      std::count_if(absn.begin(), absn.end(), [](double x) { return x < 3; }) /
-      static_cast<double>(absn.size());
+  ASSERT_GT(errors.size(), 200u);
   // A consistent sigma puts the median |error| / sigma near 0.67 and 99.7 % within 3 sigma;
   // corners on depth edges (the keypoint is on the far side, the window on both) are the tail.
   // Measured: median 0.35, 93 % within 3 sigma (disparity_sigma 0.5 px is conservative).
-  EXPECT_LT(median, 1.0);
-  EXPECT_GT(within3, 0.85);
+  EXPECT_LT(testing::median(errors), 1.0);
+  EXPECT_GT(testing::fractionBelow(errors, 3.0), 0.85);
   // Statistics for run.json.
   const auto stats = pre.statistics();
   ASSERT_FALSE(stats.empty());
