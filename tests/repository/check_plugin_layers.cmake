@@ -2,8 +2,8 @@
 # plugslam_runtime, or a plugin's source or test that includes one of the host's headers
 # (runtime/src/). Plugins link the SDK only (docs/architecture.md, "Layers"); what needs the host
 # too lives in runtime/tools/ or tests/.
+include("${CMAKE_CURRENT_LIST_DIR}/offenders.cmake")
 file(GLOB_RECURSE cmake_files "${SOURCE}/plugins/*CMakeLists.txt" "${SOURCE}/plugins/*.cmake")
-set(offenders "")
 foreach(f ${cmake_files})
   file(STRINGS "${f}" lines)
   set(n 0)
@@ -11,8 +11,7 @@ foreach(f ${cmake_files})
     math(EXPR n "${n} + 1")
     string(REGEX REPLACE "#.*$" "" code "${line}")  # a comment may name the host
     if(code MATCHES "plugslam_runtime")
-      string(REPLACE "${SOURCE}/" "" rel "${f}")
-      list(APPEND offenders "${rel}:${n}: names plugslam_runtime")
+      add_offender("${f}" ":${n}: names plugslam_runtime")
     endif()
   endforeach()
 endforeach()
@@ -29,13 +28,9 @@ foreach(f ${sources})
     endif()
     file(GLOB_RECURSE own "${SOURCE}/plugins/*/${header}" "${SOURCE}/sdk/include/${header}")
     if(NOT own)
-      string(REPLACE "${SOURCE}/" "" rel "${f}")
-      list(APPEND offenders "${rel}: includes the host's ${header}")
+      add_offender("${f}" ": includes the host's ${header}")
     endif()
   endforeach()
 endforeach()
-if(offenders)
-  list(JOIN offenders "\n" text)
-  message(FATAL_ERROR "plugins that use the host (plugslam_runtime); move what needs it to "
-                      "runtime/tools/ or tests/:\n${text}")
-endif()
+fail_with_offenders("plugins that use the host (plugslam_runtime); move what needs it to "
+                    "runtime/tools/ or tests/")

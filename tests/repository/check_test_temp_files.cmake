@@ -4,19 +4,15 @@
 # tests/fuzz is left out: libFuzzer drivers take their folder from TMPDIR.
 file(GLOB_RECURSE sources "${SOURCE}/tests/*.cpp" "${SOURCE}/tests/*.h" "${SOURCE}/plugins/*/tests/*.cpp"
      "${SOURCE}/plugins/*/tests/*.h")
-set(offenders "")
+include("${CMAKE_CURRENT_LIST_DIR}/offenders.cmake")
 foreach(f ${sources})
   if(f MATCHES "/tests/fuzz/" OR f MATCHES "/tests/support/temp_dir.h$")
     continue()
   endif()
   file(STRINGS "${f}" hits REGEX "temp_directory_path\\(|testing::TempDir\\(\\)")
   if(hits)
-    string(REPLACE "${SOURCE}/" "" rel "${f}")
-    list(APPEND offenders "${rel}: ${hits}")
+    add_offender("${f}" ": ${hits}")
   endif()
 endforeach()
-if(offenders)
-  list(JOIN offenders "\n" text)
-  message(FATAL_ERROR "tests that write into the shared temporary folder by name (use "
-                      "plugslam::testing::TempDir from tests/support/temp_dir.h):\n${text}")
-endif()
+fail_with_offenders("tests that write into the shared temporary folder by name (use "
+                    "plugslam::testing::TempDir from tests/support/temp_dir.h)")
