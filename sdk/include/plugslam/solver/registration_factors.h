@@ -18,83 +18,87 @@ inline namespace abi_v1 {
 template <class S>
 using PoseVariable = std::conditional_t<S::kDim == 2, VariableSE2, VariableSE3>;
 
-/// 2D point-to-point: e = T p - q.
-struct PointToPoint2D {
-  using Space = Space2D;                             ///< the pose space of T
-  static constexpr int kErrorDim = 2;                ///< dimension of e
-  using Error = Eigen::Matrix<double, 2, 1>;         ///< e
-  using Jacobian = Eigen::Matrix<double, 2, 3>;      ///< de / dx
-  Eigen::Vector2d p;                                 ///< moving point
-  Eigen::Vector2d q;                                 ///< fixed point
+namespace detail {
+// The columns of de/dx for the rotation part of x, where e's rotated point is rp = R p. They are
+// written per dimension (the plane's rotation is one angle, the space's a rotation vector); the
+// rest of each factor is one template over the pose space.
+inline Eigen::Vector2d pointRotationJacobian(const SE2&, const Eigen::Vector2d&,
+                                             const Eigen::Vector2d& rp) {
+  return Eigen::Vector2d(-rp.y(), rp.x());
+}
+inline Eigen::Matrix3d pointRotationJacobian(const SE3& t, const Eigen::Vector3d& p,
+                                             const Eigen::Vector3d&) {
+  return -t.linear() * skew(p);
+}
+// The same for n^T (T p - q), with nr = R^T n.
+inline Eigen::Matrix<double, 1, 1> planeRotationJacobian(const Eigen::Vector2d&,
+                                                         const Eigen::Vector2d& rp,
+                                                         const Eigen::Vector2d& n,
+                                                         const Eigen::Vector2d&) {
+  return Eigen::Matrix<double, 1, 1>(n.y() * rp.x() - n.x() * rp.y());
+}
+inline Eigen::RowVector3d planeRotationJacobian(const Eigen::Vector3d& p, const Eigen::Vector3d&,
+                                                const Eigen::Vector3d&,
+                                                const Eigen::Vector3d& nr) {
+  // d/dphi n^T R Exp(phi) p = -n^T R [p]x = (p x R^T n)^T.
+  return p.cross(nr).transpose();
+}
+}  // namespace detail
+
+/// Point-to-point in pose space S: e = T p - q.
+template <class S>
+struct PointToPoint {
+  using Space = S;                                            ///< the pose space of T
+  static constexpr int kErrorDim = S::kDim;                   ///< dimension of e
+  using Point = Eigen::Matrix<double, S::kDim, 1>;            ///< a point of the space
+  using Error = Point;                                        ///< e
+  using Jacobian = Eigen::Matrix<double, S::kDim, S::kDof>;  ///< de / dx
+  Point p;                                                    ///< moving point
+  Point q;                                                    ///< fixed point
   /// The error at T.
-  Error error(const SE2& t) const { return t.linear() * p + t.translation() - q; }
+  Error error(const typename S::Pose& t) const { return t.linear() * p + t.translation() - q; }
   /// The error and its Jacobian at T.
-  void errorAndJacobian(const SE2& t, Error& e, Jacobian& j) const {
-    const Eigen::Vector2d rp = t.linear() * p;
+  void errorAndJacobian(const typename S::Pose& t, Error& e, Jacobian& j) const {
+    const Point rp = t.linear() * p;
     e = rp + t.translation() - q;
-    j.leftCols<2>() = t.linear();
-    j.col(2) = Eigen::Vector2d(-rp.y(), rp.x());
+    j.template leftCols<S::kDim>() = t.linear();
+    j.template rightCols<S::kDof - S::kDim>() = detail::pointRotationJacobian(t, p, rp);
   }
 };
 
-/// 2D point-to-line: e = n^T (T p - q).
-struct PointToLine2D {
-  using Space = Space2D;                         ///< the pose space of T
-  static constexpr int kErrorDim = 1;            ///< dimension of e
-  using Error = Eigen::Matrix<double, 1, 1>;     ///< e
-  using Jacobian = Eigen::Matrix<double, 1, 3>;  ///< de / dx
-  Eigen::Vector2d p;                             ///< moving point
-  Eigen::Vector2d q;                             ///< a point of the fixed line
-  Eigen::Vector2d n;                             ///< the fixed line's normal
+/// Point-to-plane in pose space S (in 2D the plane is a line): e = n^T (T p - q).
+template <class S>
+struct PointToPlane {
+  using Space = S;                                       ///< the pose space of T
+  static constexpr int kErrorDim = 1;                    ///< dimension of e
+  using Point = Eigen::Matrix<double, S::kDim, 1>;       ///< a point of the space
+  using Error = Eigen::Matrix<double, 1, 1>;             ///< e
+  using Jacobian = Eigen::Matrix<double, 1, S::kDof>;  ///< de / dx
+  Point p;                                               ///< moving point
+  Point q;                                               ///< a point of the fixed plane
+  Point n;                                               ///< the fixed plane's normal
   /// The error at T.
-  Error error(const SE2& t) const { return Error(n.dot(t.linear() * p + t.translation() - q)); }
+  Error error(const typename S::Pose& t) const {
+    return Error(n.dot(t.linear() * p + t.translation() - q));
+  }
   /// The error and its Jacobian at T.
-  void errorAndJacobian(const SE2& t, Error& e, Jacobian& j) const {
-    const Eigen::Vector2d rp = t.linear() * p;
+  void errorAndJacobian(const typename S::Pose& t, Error& e, Jacobian& j) const {
+    const Point rp = t.linear() * p;
     e[0] = n.dot(rp + t.translation() - q);
-    const Eigen::Vector2d nr = t.linear().transpose() * n;
-    j << nr.x(), nr.y(), n.y() * rp.x() - n.x() * rp.y();
+    const Point nr = t.linear().transpose() * n;
+    j.template leftCols<S::kDim>() = nr.transpose();
+    j.template rightCols<S::kDof - S::kDim>() = detail::planeRotationJacobian(p, rp, n, nr);
   }
 };
 
+/// 2D point-to-point: e = T p - q.
+using PointToPoint2D = PointToPoint<Space2D>;
 /// 3D point-to-point: e = T p - q.
-struct PointToPoint3D {
-  using Space = Space3D;                         ///< the pose space of T
-  static constexpr int kErrorDim = 3;            ///< dimension of e
-  using Error = Eigen::Matrix<double, 3, 1>;     ///< e
-  using Jacobian = Eigen::Matrix<double, 3, 6>;  ///< de / dx
-  Eigen::Vector3d p;                             ///< moving point
-  Eigen::Vector3d q;                             ///< fixed point
-  /// The error at T.
-  Error error(const SE3& t) const { return t.linear() * p + t.translation() - q; }
-  /// The error and its Jacobian at T.
-  void errorAndJacobian(const SE3& t, Error& e, Jacobian& j) const {
-    e = t.linear() * p + t.translation() - q;
-    j.block<3, 3>(0, 0) = t.linear();
-    j.block<3, 3>(0, 3) = -t.linear() * skew(p);
-  }
-};
-
+using PointToPoint3D = PointToPoint<Space3D>;
+/// 2D point-to-line: e = n^T (T p - q).
+using PointToLine2D = PointToPlane<Space2D>;
 /// 3D point-to-plane: e = n^T (T p - q).
-struct PointToPlane3D {
-  using Space = Space3D;                         ///< the pose space of T
-  static constexpr int kErrorDim = 1;            ///< dimension of e
-  using Error = Eigen::Matrix<double, 1, 1>;     ///< e
-  using Jacobian = Eigen::Matrix<double, 1, 6>;  ///< de / dx
-  Eigen::Vector3d p;                             ///< moving point
-  Eigen::Vector3d q;                             ///< a point of the fixed plane
-  Eigen::Vector3d n;                             ///< the fixed plane's normal
-  /// The error at T.
-  Error error(const SE3& t) const { return Error(n.dot(t.linear() * p + t.translation() - q)); }
-  /// The error and its Jacobian at T.
-  void errorAndJacobian(const SE3& t, Error& e, Jacobian& j) const {
-    e[0] = n.dot(t.linear() * p + t.translation() - q);
-    const Eigen::Vector3d nr = t.linear().transpose() * n;
-    j.block<1, 3>(0, 0) = nr.transpose();
-    // d/dphi n^T R Exp(phi) p = -n^T R [p]x = (p x R^T n)^T.
-    j.block<1, 3>(0, 3) = p.cross(nr).transpose();
-  }
-};
+using PointToPlane3D = PointToPlane<Space3D>;
 
 /// A typed factor F on one pose (F::Space, F::kErrorDim, F::error(T), F::errorAndJacobian(T, e,
 /// J)) as a graph factor on a pose variable.
