@@ -41,6 +41,17 @@ nlohmann::ordered_json optionalFigure(const std::optional<double>& v) {
   if (!v || !std::isfinite(*v)) return nullptr;
   return decimals(*v, 6);
 }
+
+// The tracker's counters under run.json's tracking_ keys (failures and local maps are written
+// with the rest of the report).
+void writeTrackerStats(nlohmann::ordered_json& j, const TrackerStats& s) {
+  j["tracking_searched"] = s.searched;
+  j["tracking_ambiguous"] = s.ambiguous;
+  j["tracking_hypotheses"] = s.hypotheses;
+  j["tracking_unchecked"] = s.unchecked;
+  j["tracking_unchecked_frames"] = s.unchecked_frames;
+  j["tracking_time_s"] = {{"search", s.search_s}, {"refine", s.refine_s}, {"merge", s.merge_s}};
+}
 }  // namespace
 
 std::string runReportJson(const RunReport& r) {
@@ -59,14 +70,7 @@ std::string runReportJson(const RunReport& r) {
   nlohmann::ordered_json reasons = nlohmann::ordered_json::object();
   for (const auto& [reason, n] : r.tracking_failure_reasons) reasons[reason] = n;
   j["tracking_failure_reasons"] = reasons;
-  j["tracking_searched"] = r.tracking_searched;
-  j["tracking_ambiguous"] = r.tracking_ambiguous;
-  j["tracking_hypotheses"] = r.tracking_hypotheses;
-  j["tracking_unchecked"] = r.tracking_unchecked;
-  j["tracking_unchecked_frames"] = r.tracking_unchecked_frames;
-  j["tracking_time_s"] = {{"search", r.tracking_search_s},
-                          {"refine", r.tracking_refine_s},
-                          {"merge", r.tracking_merge_s}};
+  writeTrackerStats(j, r.tracking);
   j["module_errors"] = r.module_errors;
   j["reference"] = {{"ate_rmse_m", optionalFigure(r.ate_rmse)},
                     {"ate_max_m", optionalFigure(r.ate_max)},
@@ -348,17 +352,10 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
   }
   report.tracked = result.trajectory.size();
   if (pipeline.tracker) {
-    report.local_maps = pipeline.tracker->stats().local_maps;
     const TrackerStats& stats = pipeline.tracker->stats();
+    report.tracking = stats;
+    report.local_maps = stats.local_maps;
     report.tracking_failures = stats.failed;
-    report.tracking_searched = stats.searched;
-    report.tracking_ambiguous = stats.ambiguous;
-    report.tracking_hypotheses = stats.hypotheses;
-    report.tracking_unchecked = stats.unchecked;
-    report.tracking_unchecked_frames = stats.unchecked_frames;
-    report.tracking_search_s = stats.search_s;
-    report.tracking_refine_s = stats.refine_s;
-    report.tracking_merge_s = stats.merge_s;
     for (std::size_t i = 1; i < kAlignFailures; ++i)
       report.tracking_failure_reasons.emplace_back(toString(static_cast<AlignFailure>(i)),
                                                    stats.failures[i]);
@@ -374,11 +371,11 @@ RunReport Execution::finish(const std::string& stopped_by, const std::string& er
         report.tracking_failures, report.frames, 100.0 * report.tracking_failures / report.frames,
         why);
   }
-  if (report.tracking_unchecked > 0)
+  if (report.tracking.unchecked > 0)
     spdlog::warn(
         "{} of {} frames have poses their cues could not check (run.json "
         "tracking_unchecked_frames lists them): they may be wrong",
-        report.tracking_unchecked, report.frames);
+        report.tracking.unchecked, report.frames);
   // In localization a failed frame is one no saved map explains: when that is most of them the
   // poses are mostly predictions, and the session is probably of another place (or sensor).
   if (frozen_frames_ > 0 && 2 * report.tracking_failures > frozen_frames_)

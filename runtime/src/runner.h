@@ -12,6 +12,7 @@
 #include "plugslam/errors.h"
 #include "plugslam/statistics.h"
 #include "plugslam/timings.h"
+#include "plugslam/tracker.h"
 #include "run_config.h"
 
 namespace plugslam::runtime {
@@ -30,14 +31,8 @@ struct RunReport {
   uint64_t tracking_failures = 0;
   /// The failures by reason (run.json's keys, see AlignFailure), each reason once, in enum order.
   std::vector<std::pair<std::string, uint64_t>> tracking_failure_reasons;
-  uint64_t tracking_searched = 0;   ///< frames whose solve started from the correlative search
-  uint64_t tracking_ambiguous = 0;  ///< frames whose search found a rival pose nearly as good
-  uint64_t tracking_hypotheses = 0;  ///< frames placed by a hypothesis without the prediction
-  uint64_t tracking_unchecked = 0;   ///< frames whose pose could not be checked
-  std::vector<uint64_t> tracking_unchecked_frames;  ///< their indices (the first 1000)
-  double tracking_search_s = 0;     ///< front-end time split [s]: correlative search,
-  double tracking_refine_s = 0;     ///< the solve,
-  double tracking_merge_s = 0;      ///< and merging into local maps
+  /// The tracker's counters as the run ended (run.json's other tracking_ keys).
+  TrackerStats tracking;
   uint64_t module_errors = 0;       ///< frames a module failed on, skipped (on_module_error: skip)
   std::string error;                ///< the error that stopped the run, if one did
   GraphStats graph;                 ///< loops accepted/rejected, optimization time
