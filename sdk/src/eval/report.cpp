@@ -1,6 +1,7 @@
 #include "plugslam/eval/report.h"
 
 #include <cmath>
+#include <initializer_list>
 #include <string>
 
 #include "eval/text_file.h"
@@ -135,13 +136,20 @@ std::string toMarkdown(const CrispnessResult& r) {
   return s;
 }
 
+// Adds each figure's summary under its key, written by `json` (statsJson or meanStdJson).
+template <class S>
+void addSummaries(JsonObject& o, JsonObject (*json)(const S&),
+                  std::initializer_list<std::pair<const char*, const S*>> named) {
+  for (const auto& [key, summary] : named) o.add(key, json(*summary));
+}
+
 std::string toJson(const AteResult& r) {
   JsonObject o;
   o.add("metric", std::string("ate")).add("alignment", toString(r.alignment));
   o.add("scale", r.transform.scale);
   o.add("reference_poses", r.reference_poses).add("estimate_poses", r.estimate_poses);
-  o.add("translation_m", statsJson(r.translation));
-  o.add("rotation_deg", statsJson(r.rotation_deg));
+  addSummaries(o, statsJson,
+               {{"translation_m", &r.translation}, {"rotation_deg", &r.rotation_deg}});
   return o.str();
 }
 
@@ -149,10 +157,11 @@ std::string toJson(const RpeResult& r) {
   JsonObject o;
   o.add("metric", std::string("rpe")).add("unit", toString(r.unit)).add("delta", r.delta);
   o.add("pairs", r.pairs);
-  o.add("translation_m", statsJson(r.translation));
-  o.add("rotation_deg", statsJson(r.rotation_deg));
-  o.add("translation_percent", statsJson(r.translation_percent));
-  o.add("length_m", statsJson(r.length_m));
+  addSummaries(o, statsJson,
+               {{"translation_m", &r.translation},
+                {"rotation_deg", &r.rotation_deg},
+                {"translation_percent", &r.translation_percent},
+                {"length_m", &r.length_m}});
   return o.str();
 }
 
@@ -163,10 +172,11 @@ std::string toJson(const RelationResult& r) {
   o.add("missing_both", r.missing_both);
   o.add("error", std::string("relation^-1 * (estimate(t1)^-1 * estimate(t2))"));
   o.add("max_time_diff_s", r.max_time_diff).add("largest_dt_s", r.largest_dt);
-  o.add("translation_m", meanStdJson(r.translation));
-  o.add("translation_sq_m2", meanStdJson(r.translation_sq));
-  o.add("rotation_deg", meanStdJson(r.rotation_deg));
-  o.add("rotation_sq_deg2", meanStdJson(r.rotation_sq_deg));
+  addSummaries(o, meanStdJson,
+               {{"translation_m", &r.translation},
+                {"translation_sq_m2", &r.translation_sq},
+                {"rotation_deg", &r.rotation_deg},
+                {"rotation_sq_deg2", &r.rotation_sq_deg}});
   return o.str();
 }
 
