@@ -19,57 +19,47 @@ namespace fs = boost::filesystem;
 
 namespace {
 
+// A map's dimension is an int in memory and 64 bits in the file. One out of range loads as 0,
+// which loadMap rejects once every field is read.
+void dimension(OutArchive& ar, const LocalMap& m) {
+  ar.field("dimension", static_cast<std::int64_t>(m.dimension));
+}
+void dimension(InArchive& ar, LocalMap& m) {
+  std::int64_t dim = 0;
+  ar.field("dimension", dim);
+  m.dimension = dim == 2 || dim == 3 ? static_cast<int>(dim) : 0;
+}
+
+// One field list per type serves both directions, as in sensor_data.cpp.
+template <class Ar, class M>
+void mapFields(Ar& ar, M& m) {
+  ar.field("id", m.id);
+  dimension(ar, m);
+  ar.field("origin", m.origin).field("scene", m.scene);
+  ar.field("first_seq", m.first_seq).field("last_seq", m.last_seq);
+  ar.field("first_stamp", m.first_stamp).field("last_stamp", m.last_stamp);
+  ar.field("previous", m.previous).field("relative", m.relative);
+  ar.field("information", m.information);
+}
+
 void saveMap(OutArchive& ar, const LocalMap& m) {
   ar.beginObject();
-  ar.field("id", static_cast<std::int64_t>(m.id));
-  ar.field("dimension", static_cast<std::int64_t>(m.dimension));
-  ar.field("origin", m.origin);
-  ar.field("scene", m.scene);
-  ar.field("first_seq", static_cast<std::uint64_t>(m.first_seq));
-  ar.field("last_seq", static_cast<std::uint64_t>(m.last_seq));
-  ar.field("first_stamp", m.first_stamp);
-  ar.field("last_stamp", m.last_stamp);
-  ar.field("previous", static_cast<std::int64_t>(m.previous));
-  ar.field("relative", m.relative);
-  ar.field("information", m.information);
+  mapFields(ar, m);
   ar.endObject();
 }
 
 void loadMap(InArchive& ar, LocalMap& m) {
   ar.beginObject();
-  std::int64_t id = 0, dim = 0, previous = 0;
-  std::uint64_t first_seq = 0, last_seq = 0;
-  ar.field("id", id).field("dimension", dim).field("origin", m.origin).field("scene", m.scene);
-  ar.field("first_seq", first_seq).field("last_seq", last_seq);
-  ar.field("first_stamp", m.first_stamp).field("last_stamp", m.last_stamp);
-  ar.field("previous", previous).field("relative", m.relative);
-  ar.field("information", m.information);
-  if (dim != 2 && dim != 3) ar.fail("a local map's dimension must be 2 or 3");
-  m.id = id;
-  m.dimension = static_cast<int>(dim);
-  m.previous = previous;
-  m.first_seq = first_seq;
-  m.last_seq = last_seq;
+  mapFields(ar, m);
+  if (m.dimension == 0) ar.fail("a local map's dimension must be 2 or 3");
   ar.endObject();
 }
 
-void saveEdge(OutArchive& ar, const GraphEdge& e) {
+template <class Ar, class E>
+void edgeFields(Ar& ar, E& e) {
   ar.beginObject();
-  ar.field("from", static_cast<std::int64_t>(e.from));
-  ar.field("to", static_cast<std::int64_t>(e.to));
-  ar.field("relative", e.relative);
-  ar.field("information", e.information);
-  ar.field("loop", e.loop);
-  ar.endObject();
-}
-
-void loadEdge(InArchive& ar, GraphEdge& e) {
-  ar.beginObject();
-  std::int64_t from = 0, to = 0;
-  ar.field("from", from).field("to", to).field("relative", e.relative);
+  ar.field("from", e.from).field("to", e.to).field("relative", e.relative);
   ar.field("information", e.information).field("loop", e.loop);
-  e.from = from;
-  e.to = to;
   ar.endObject();
 }
 
@@ -126,7 +116,7 @@ SessionSummary saveSession(const std::string& dir, const std::string& config_yam
     ar.endArray();
     ar.key("edges");
     ar.beginArray(result.edges.size());
-    for (const auto& e : result.edges) saveEdge(ar, e);
+    for (const auto& e : result.edges) edgeFields(ar, e);
     ar.endArray();
     ar.endObject();
   });
@@ -216,7 +206,7 @@ SessionMaps loadSessionMaps(const SessionManifest& manifest) {
     const size_t k = ar.beginArray();
     for (size_t i = 0; i < k; ++i) {
       GraphEdge e;
-      loadEdge(ar, e);
+      edgeFields(ar, e);
       if (e.from < 0 || e.to < 0 || e.from >= static_cast<int64_t>(n) ||
           e.to >= static_cast<int64_t>(n))
         ar.fail("edge " + std::to_string(e.from) + " -> " + std::to_string(e.to) +
