@@ -43,6 +43,13 @@ void odometryFields(Ar& ar, O& o) {
   ar.endObject();
 }
 
+// Width and height in pixels, as every type with a size writes them.
+template <class Ar, class T>
+void sizeFields(Ar& ar, T& t) {
+  ar.field("width", t.width);
+  ar.field("height", t.height);
+}
+
 // The pinhole fields, CameraInfo's first as CameraIntrinsics', for save and load.
 template <class Ar, class C>
 void pinholeFields(Ar& ar, C& c) {
@@ -50,8 +57,7 @@ void pinholeFields(Ar& ar, C& c) {
   ar.field("fy", c.fy);
   ar.field("cx", c.cx);
   ar.field("cy", c.cy);
-  ar.field("width", c.width);
-  ar.field("height", c.height);
+  sizeFields(ar, c);
 }
 
 // The pinhole fields as saved, and as loaded with their checks.
@@ -70,21 +76,19 @@ void intrinsicsFields(Ar& ar, C& c) {
   ar.endObject();
 }
 
-// The fields before an image's pixels, shared by save and load.
-template <class Ar, class I>
-void imageHeader(Ar& ar, I& im) {
-  ar.field("stamp", im.stamp);
-  ar.field("width", im.width);
-  ar.field("height", im.height);
-  ar.field("channels", im.channels);
-  ar.field("stride", im.stride);
-}
-
+// The fields before a depth image's pixels, shared by save and load.
 template <class Ar, class D>
 void depthHeader(Ar& ar, D& d) {
   ar.field("stamp", d.stamp);
-  ar.field("width", d.width);
-  ar.field("height", d.height);
+  sizeFields(ar, d);
+}
+
+// An image's: the depth image's, then its pixel layout.
+template <class Ar, class I>
+void imageHeader(Ar& ar, I& im) {
+  depthHeader(ar, im);
+  ar.field("channels", im.channels);
+  ar.field("stride", im.stride);
 }
 
 }  // namespace
