@@ -102,8 +102,8 @@ class RosbagReaderTest : public plugslam::testing::TempDirTest {
   RosbagReaderTest() : TempDirTest("plugslam_rosbag") {}
   // A bag with /scan (conn 0) and /odom (conn 1) messages split over two chunks.
   std::string smallBag(const std::string& how) {
-    std::string c1 = connection(0, "/scan", kLaserScanType, kLaserScanMd5) +
-                     connection(1, "/odom", kOdometryType, kOdometryMd5) +
+    std::string c1 = connection(0, "/scan", kRosLaserScan.name, kRosLaserScan.md5) +
+                     connection(1, "/odom", kRosOdometry.name, kRosOdometry.md5) +
                      message(0, 100, 0, laserScan(1, 100, 5)) +
                      message(1, 100, 200, odometry(7, 100, 1.0)) +
                      message(0, 101, 0, laserScan(2, 101, 5));
@@ -112,7 +112,7 @@ class RosbagReaderTest : public plugslam::testing::TempDirTest {
     std::string index =
         record(op(4) + field("ver", u32(1)) + field("conn", u32(0)) + field("count", u32(0)), "");
     return kMagic + bagHeader() + chunk(c1, how) + index + chunk(c2, how) +
-           connection(0, "/scan", kLaserScanType, kLaserScanMd5);
+           connection(0, "/scan", kRosLaserScan.name, kRosLaserScan.md5);
   }
 };
 
@@ -177,7 +177,7 @@ TEST_F(RosbagReaderTest, TopicFilterAndSummary) {
   auto topics = summarizeRosbag(p);
   ASSERT_EQ(topics.size(), 2u);
   EXPECT_EQ(topics[0].topic, "/odom");
-  EXPECT_EQ(topics[0].type, kOdometryType);
+  EXPECT_EQ(topics[0].type, kRosOdometry.name);
   EXPECT_EQ(topics[0].count, 2u);
   EXPECT_EQ(topics[1].topic, "/scan");
   EXPECT_EQ(topics[1].count, 3u);
@@ -186,7 +186,7 @@ TEST_F(RosbagReaderTest, TopicFilterAndSummary) {
 }
 
 TEST_F(RosbagReaderTest, SortsInterleavedChunksAndFlagsLateMessages) {
-  std::string conns = connection(0, "/odom", kOdometryType, kOdometryMd5);
+  std::string conns = connection(0, "/odom", kRosOdometry.name, kRosOdometry.md5);
   std::string a = conns + message(0, 5, 0, odometry(0, 5, 5)) +
                   message(0, 1, 0, odometry(0, 1, 1)) + message(0, 3, 0, odometry(0, 3, 3));
   std::string b = message(0, 2, 0, odometry(0, 2, 2)) + message(0, 6, 0, odometry(0, 6, 6)) +
@@ -265,8 +265,8 @@ TEST_F(RosbagReaderTest, CorruptBytesNeverCrash) {
         LaserScanMsg scan;
         OdometryMsg odom;
         while (bag->next(m)) {
-          if (m.connection->type == kLaserScanType) decodeLaserScan(*bag, m, scan);
-          if (m.connection->type == kOdometryType) decodeOdometry(*bag, m, odom);
+          if (m.connection->type == kRosLaserScan.name) decodeLaserScan(*bag, m, scan);
+          if (m.connection->type == kRosOdometry.name) decodeOdometry(*bag, m, odom);
         }
       } catch (const ParseError&) {
         ++parse_errors;
@@ -278,8 +278,8 @@ TEST_F(RosbagReaderTest, CorruptBytesNeverCrash) {
 
 TEST_F(RosbagReaderTest, LyingLengthsAreRejectedWithoutHugeAllocations) {
   // A chunk header claiming 2 GB of uncompressed data.
-  std::string inner =
-      connection(0, "/odom", kOdometryType, kOdometryMd5) + message(0, 1, 0, odometry(0, 1, 1));
+  std::string inner = connection(0, "/odom", kRosOdometry.name, kRosOdometry.md5) +
+                      message(0, 1, 0, odometry(0, 1, 1));
   std::string lying = record(op(5) + field("compression", "bz2") + field("size", u32(0x7fffffff)),
                              compress(inner, "bz2"));
   try {
@@ -350,7 +350,7 @@ TEST_F(RosbagReaderTest, WrongTypeOrUnknownConnection) {
     EXPECT_NE(e.message().find("connection 9"), std::string::npos) << e.message();
   }
   std::string other_md5 =
-      connection(0, "/scan", kLaserScanType, "0123") + message(0, 1, 0, laserScan(0, 1, 3));
+      connection(0, "/scan", kRosLaserScan.name, "0123") + message(0, 1, 0, laserScan(0, 1, 3));
   RosbagReader md5(write("m.bag", kMagic + bagHeader() + chunk(other_md5, "none")));
   ASSERT_TRUE(md5.next(m));
   LaserScanMsg scan;

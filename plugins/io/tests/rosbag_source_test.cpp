@@ -94,9 +94,9 @@ std::string writeBag(const std::string& name, const std::string& inner) {
 
 std::string syntheticBag() {
   using namespace plugslam::io;
-  std::string inner = connection(0, "/scan", kLaserScanType, kLaserScanMd5) +
-                      connection(1, "/rear", kLaserScanType, kLaserScanMd5) +
-                      connection(2, "/odom", kOdometryType, kOdometryMd5);
+  std::string inner = connection(0, "/scan", kRosLaserScan.name, kRosLaserScan.md5) +
+                      connection(1, "/rear", kRosLaserScan.name, kRosLaserScan.md5) +
+                      connection(2, "/odom", kRosOdometry.name, kRosOdometry.md5);
   inner += message(2, 9.95, odometry(9.95, 0.0, 0.5));
   inner += message(0, 10.0, laserScan(10.0, 1.0f));
   inner += message(1, 10.02, laserScan(10.02, 2.0f));
@@ -356,10 +356,10 @@ Eigen::Isometry2d bracketMount() {
 // With `laser_yaw_drift`, the laser turns on the bracket by that much at each /tf message.
 std::string mountedBag(const std::string& name, bool on_tf_static, double laser_yaw_drift = 0) {
   using namespace plugslam::io;
-  std::string inner = connection(0, "/scan", kLaserScanType, kLaserScanMd5) +
-                      connection(1, "/odom", kOdometryType, kOdometryMd5) +
-                      connection(2, "/tf", kTfMessageType, kTfMessageMd5) +
-                      connection(3, "/tf_static", kTfMessageType, kTfMessageMd5);
+  std::string inner = connection(0, "/scan", kRosLaserScan.name, kRosLaserScan.md5) +
+                      connection(1, "/odom", kRosOdometry.name, kRosOdometry.md5) +
+                      connection(2, "/tf", kRosTfMessage.name, kRosTfMessage.md5) +
+                      connection(3, "/tf_static", kRosTfMessage.name, kRosTfMessage.md5);
   auto bracket = [](double t) {
     return transform(t, "/base_link", "/bracket", 0.2, 0.1, 0.3, 0.5);
   };
@@ -524,8 +524,8 @@ TEST(RosbagSourceMounts, BaseFrameAndTopicsAreParameters) {
 // its mount, and only warns when `mounts` gives it.
 TEST(RosbagSourceMounts, ATransformTopicThatDoesNotDecode) {
   using namespace plugslam::io;
-  std::string inner = connection(0, "/scan", kLaserScanType, kLaserScanMd5) +
-                      connection(3, "/tf_static", kTfMessageType, "0123456789abcdef");
+  std::string inner = connection(0, "/scan", kRosLaserScan.name, kRosLaserScan.md5) +
+                      connection(3, "/tf_static", kRosTfMessage.name, "0123456789abcdef");
   inner += message(3, 9.9, tfMessage({transform(9.9, "base_link", "laser", 0.2, 0, 0, 0)}));
   inner += message(0, 10.0, laserScan(10.0, 2.0f, "laser"));
   const std::string path = writeBag("bad_tf.bag", inner);

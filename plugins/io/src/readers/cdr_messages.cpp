@@ -134,6 +134,48 @@ void transform(Cdr& c, TransformMsg& t) {
   c.f64Array(t.rotation, "transform.rotation");
 }
 
+void tf(Cdr& c, TfMsg& m) {
+  // Each element is at least a header and two strings: bound the count by the bytes present.
+  const std::uint32_t n = c.count(1, "transforms");
+  m.transforms.resize(n);
+  for (auto& t : m.transforms) transform(c, t);
+}
+
+// The fields Image and CameraInfo start with.
+template <typename Msg>
+void headerAndSize(Cdr& c, Msg& m) {
+  c.header(m.header);
+  m.height = c.u32("height");
+  m.width = c.u32("width");
+}
+
+void image(Cdr& c, ImageMsg& m) {
+  headerAndSize(c, m);
+  m.encoding = c.str("encoding");
+  m.is_bigendian = c.u8("is_bigendian") != 0;
+  m.step = c.u32("step");
+  c.bytes(m.data, "data");
+}
+
+void compressedImage(Cdr& c, CompressedImageMsg& m) {
+  c.header(m.header);
+  m.format = c.str("format");
+  c.bytes(m.data, "data");
+}
+
+void cameraInfo(Cdr& c, CameraInfoMsg& m) {
+  headerAndSize(c, m);
+  m.distortion_model = c.str("distortion_model");
+  c.f64Seq(m.d, "d");
+  c.f64Array(m.k, "k");
+  c.f64Array(m.r, "r");
+  c.f64Array(m.p, "p");
+  m.binning_x = c.u32("binning_x");
+  m.binning_y = c.u32("binning_y");
+  for (auto& v : m.roi) v = c.u32("roi");
+  m.do_rectify = c.u8("roi.do_rectify") != 0;
+}
+
 }  // namespace
 
 void decodeCdr(const std::uint8_t* data, std::size_t size, LaserScanMsg& m) {
@@ -145,49 +187,19 @@ void decodeCdr(const std::uint8_t* data, std::size_t size, OdometryMsg& m) {
 }
 
 void decodeCdr(const std::uint8_t* data, std::size_t size, ImageMsg& m) {
-  Cdr c(data, size);
-  c.header(m.header);
-  m.height = c.u32("height");
-  m.width = c.u32("width");
-  m.encoding = c.str("encoding");
-  m.is_bigendian = c.u8("is_bigendian") != 0;
-  m.step = c.u32("step");
-  c.bytes(m.data, "data");
-  c.finish();
+  layout::decodeWhole<Cdr>(data, size, m, image);
 }
 
 void decodeCdr(const std::uint8_t* data, std::size_t size, CompressedImageMsg& m) {
-  Cdr c(data, size);
-  c.header(m.header);
-  m.format = c.str("format");
-  c.bytes(m.data, "data");
-  c.finish();
+  layout::decodeWhole<Cdr>(data, size, m, compressedImage);
 }
 
 void decodeCdr(const std::uint8_t* data, std::size_t size, CameraInfoMsg& m) {
-  Cdr c(data, size);
-  c.header(m.header);
-  m.height = c.u32("height");
-  m.width = c.u32("width");
-  m.distortion_model = c.str("distortion_model");
-  c.f64Seq(m.d, "d");
-  c.f64Array(m.k, "k");
-  c.f64Array(m.r, "r");
-  c.f64Array(m.p, "p");
-  m.binning_x = c.u32("binning_x");
-  m.binning_y = c.u32("binning_y");
-  for (auto& v : m.roi) v = c.u32("roi");
-  m.do_rectify = c.u8("roi.do_rectify") != 0;
-  c.finish();
+  layout::decodeWhole<Cdr>(data, size, m, cameraInfo);
 }
 
 void decodeCdr(const std::uint8_t* data, std::size_t size, TfMsg& m) {
-  Cdr c(data, size);
-  // Each element is at least a header and two strings: bound the count by the bytes present.
-  const std::uint32_t n = c.count(1, "transforms");
-  m.transforms.resize(n);
-  for (auto& t : m.transforms) transform(c, t);
-  c.finish();
+  layout::decodeWhole<Cdr>(data, size, m, tf);
 }
 
 }  // namespace io

@@ -83,8 +83,10 @@ class Cursor {
   std::size_t pos_{0};
 };
 
-void checkType(const RosbagReader& bag, const RosbagMessage& m, const char* type, const char* md5,
+void checkType(const RosbagReader& bag, const RosbagMessage& m, RosType expected,
                const char* other_name = nullptr) {
+  const char* type = expected.name;
+  const char* md5 = expected.md5;
   if (!m.connection) throw ParseError(bag.path(), 0, "message without a connection");
   const RosbagConnection& c = *m.connection;
   if (c.type != type && !(other_name && c.type == other_name)) {
@@ -142,21 +144,21 @@ void decodeOdometry(const std::uint8_t* data, std::size_t size, OdometryMsg& out
 }
 
 void decodeLaserScan(const RosbagReader& bag, const RosbagMessage& message, LaserScanMsg& out) {
-  checkType(bag, message, kLaserScanType, kLaserScanMd5);
+  checkType(bag, message, kRosLaserScan);
   decodeWithContext(bag, message, out, [](const std::uint8_t* d, std::size_t n, LaserScanMsg& o) {
     decodeLaserScan(d, n, o);
   });
 }
 
 void decodeOdometry(const RosbagReader& bag, const RosbagMessage& message, OdometryMsg& out) {
-  checkType(bag, message, kOdometryType, kOdometryMd5);
+  checkType(bag, message, kRosOdometry);
   decodeWithContext(bag, message, out, [](const std::uint8_t* d, std::size_t n, OdometryMsg& o) {
     decodeOdometry(d, n, o);
   });
 }
 
 void decodeTf(const RosbagReader& bag, const RosbagMessage& message, TfMsg& out) {
-  checkType(bag, message, kTfMessageType, kTfMessageMd5, kTfMessageOldType);
+  checkType(bag, message, kRosTfMessage, kTfMessageOldType);
   decodeWithContext(bag, message, out,
                     [](const std::uint8_t* d, std::size_t n, TfMsg& o) { decodeTf(d, n, o); });
 }

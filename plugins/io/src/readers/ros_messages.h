@@ -59,21 +59,20 @@ struct TfMsg {
   std::vector<TransformMsg> transforms;  ///< one per parent -> child edge
 };
 
-/// The type name and md5sum ROS uses for LaserScan.
-inline constexpr const char* kLaserScanType = "sensor_msgs/LaserScan";
-/// md5sum of sensor_msgs/LaserScan's definition.
-inline constexpr const char* kLaserScanMd5 = "90c7ef2dc6895d81024acba2ac42f369";
-/// The type name ROS uses for Odometry.
-inline constexpr const char* kOdometryType = "nav_msgs/Odometry";
-/// md5sum of nav_msgs/Odometry's definition.
-inline constexpr const char* kOdometryMd5 = "cd5e73d190d741a2f92e81eda573aca7";
+/// A ROS 1 message type as a bag's connection names it: bags check both before decoding.
+struct RosType {
+  const char* name;  ///< the type name, e.g. "sensor_msgs/LaserScan"
+  const char* md5;   ///< md5sum of the message definition
+};
 
-/// The type name ROS uses for TFMessage (/tf, /tf_static).
-inline constexpr const char* kTfMessageType = "tf2_msgs/TFMessage";
-/// The same message as the older tf package names it.
+/// sensor_msgs/LaserScan.
+inline constexpr RosType kRosLaserScan{"sensor_msgs/LaserScan", "90c7ef2dc6895d81024acba2ac42f369"};
+/// nav_msgs/Odometry.
+inline constexpr RosType kRosOdometry{"nav_msgs/Odometry", "cd5e73d190d741a2f92e81eda573aca7"};
+/// tf2_msgs/TFMessage (/tf, /tf_static).
+inline constexpr RosType kRosTfMessage{"tf2_msgs/TFMessage", "94810edda583a504dfda3829e70d7eec"};
+/// The same message as the older tf package names it (the same md5sum).
 inline constexpr const char* kTfMessageOldType = "tf/tfMessage";
-/// md5sum of TFMessage's definition (both names).
-inline constexpr const char* kTfMessageMd5 = "94810edda583a504dfda3829e70d7eec";
 
 /// Deserializes a LaserScan; ParseError (no file, line 0, byte offset in the message) if short.
 void decodeLaserScan(const std::uint8_t* data, std::size_t size, LaserScanMsg& out);

@@ -103,10 +103,10 @@ std::vector<BagTransform> RosbagSource::rigidTransforms() {
   RosbagMessage m;
   while (bag.next(m)) {
     const RosbagConnection& c = *m.connection;
-    if (c.type != kTfMessageType && c.type != kTfMessageOldType) {
+    if (c.type != kRosTfMessage.name && c.type != kTfMessageOldType) {
       if (other_types.insert(c.topic).second)
         spdlog::warn("{}: topic {} is {}, not {}: no transforms read from it", bagName(), c.topic,
-                     c.type, kTfMessageType);
+                     c.type, kRosTfMessage.name);
       continue;
     }
     TfMsg msg;
