@@ -39,4 +39,10 @@ inline void expectHasAll(const std::string& out, std::initializer_list<std::stri
   for (const auto& part : parts) expectHas(out, part);
 }
 
+/// Expects a command to have exited with `code` and printed each of `parts`.
+inline void expectExit(const CommandResult& r, int code, std::initializer_list<std::string> parts) {
+  EXPECT_EQ(r.code, code) << r.out;
+  expectHasAll(r.out, parts);
+}
+
 }  // namespace plugslam::testing
