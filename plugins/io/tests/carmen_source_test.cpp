@@ -16,6 +16,7 @@
 #include "plugslam/eval/relations.h"
 #include "plugslam/geometry.h"
 #include "plugslam/pose_space.h"
+#include "source_frames.h"
 #include "temp_dir.h"
 #include "test_paths.h"
 
@@ -559,14 +560,8 @@ TEST(CarmenSourceData, FreiburgCampusHasNoTimestamps) {
   source.path = path;
   source.configure();
   Frame f;
-  int frames = 0;
-  double last = -1;
-  while (source.next(f)) {
-    EXPECT_GT(f.stamp, last);
-    last = f.stamp;
-    EXPECT_TRUE(f.raw.holds<Odometry2D>("odom"));
-    ++frames;
-  }
+  const int64_t frames = plugslam::testing::readInOrder(
+      source, f, [](const Frame& frame) { EXPECT_TRUE(frame.raw.holds<Odometry2D>("odom")); });
   EXPECT_EQ(frames, 2008);
   EXPECT_EQ(source.synthesizedStamps(), 2008u);
   EXPECT_NEAR(f.raw.get<LaserScan>("front_laser").mount.translation().x(), -0.04, 1e-12);

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <stdexcept>
 
 #include "plugslam/errors.h"
 #include "plugslam/pipeline.h"
@@ -19,13 +20,20 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The source configured as set, and its first frame (an error when it has none).
+template <class Source>
+Frame firstFrame(Source& source) {
+  source.configure();
+  Frame f;
+  if (!source.next(f)) throw std::runtime_error("the source gave no frame");
+  return f;
+}
+
 TEST(Simulator3DSource, RgbdFramesCarryImagesCameraAndGroundTruth) {
   Simulator3DSource source;
   source.duration = 1.0;
-  source.configure();
+  Frame f = firstFrame(source);
   EXPECT_EQ(source.sizeHint(), 31);
-  Frame f;
-  ASSERT_TRUE(source.next(f));
   const auto& rgb = f.raw.get<Image>("rgb");
   const auto& depth = f.raw.get<DepthImage>("depth");
   const auto& cam = f.raw.get<CameraInfo>("camera");
@@ -63,10 +71,8 @@ TEST(Simulator3DSource, StereoFramesAreKittiLike) {
   Simulator3DSource source;
   source.world = std::string("street");
   source.camera = std::string("stereo");
-  source.configure();
+  const Frame f = firstFrame(source);
   EXPECT_GT(source.sizeHint(), 400);  // about 500 m of block loop at 0.8 m per frame
-  Frame f;
-  ASSERT_TRUE(source.next(f));
   const auto& left = f.raw.get<Image>("left");
   const auto& right = f.raw.get<Image>("right");
   EXPECT_EQ(left.width, 1241);
@@ -199,10 +205,8 @@ TEST(SimulatorMixed, PlanarScanMatchesTheRoomGeometry) {
 TEST(SimulatorMixed, SourceGivesLaserRgbdOdometryAndGroundTruth) {
   SimulatorMixedSource source;
   source.path_length = 3.0;
-  source.configure();
+  Frame f = firstFrame(source);
   ASSERT_GT(source.sizeHint(), 10);
-  Frame f;
-  ASSERT_TRUE(source.next(f));
   const auto& scan = f.raw.get<LaserScan>("front_laser");
   size_t returns = 0;
   for (size_t i = 0; i < scan.ranges.size(); ++i) returns += scan.isReturn(i);

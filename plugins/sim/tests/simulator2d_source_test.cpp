@@ -9,6 +9,7 @@
 
 #include "plugslam/errors.h"
 #include "plugslam/geometry.h"
+#include "source_frames.h"
 #include "temp_dir.h"
 
 using plugslam::Frame;
@@ -34,14 +35,7 @@ TEST(Simulator2DSource, FramesHaveLasersOdometryAndGroundTruth) {
   source.configure();
   ASSERT_GT(source.sizeHint(), 100);
   Frame f;
-  int64_t frames = 0;
-  double last = -1;
-  while (source.next(f)) {
-    EXPECT_GT(f.stamp, last);
-    last = f.stamp;
-    ++frames;
-  }
-  EXPECT_EQ(frames, source.sizeHint());
+  EXPECT_EQ(plugslam::testing::readInOrder(source, f, [](const Frame&) {}), source.sizeHint());
   const auto& front = f.raw.get<LaserScan>("front_laser");
   const auto& rear = f.raw.get<LaserScan>("rear_laser");
   EXPECT_EQ(front.ranges.size(), 1081u);
