@@ -157,6 +157,15 @@ double toPolyline(const Eigen::Vector2d& q, const std::vector<Eigen::Vector2d>& 
   return best;
 }
 
+// An empty figure of that size in pixels, with its title.
+Figure figure(int width, int height, const std::string& title) {
+  Figure f;
+  f.width = width;
+  f.height = height;
+  f.title = title;
+  return f;
+}
+
 class Render : public ::testing::Test {
  protected:
   TempDir tmp;
@@ -383,10 +392,7 @@ TEST(RenderFigure, TicksAreRoundAndCoverTheRange) {
 // goes; PNG files read back pixel for pixel.
 TEST(RenderFigure, TextIsDrawnAndPngRoundTrips) {
   TempDir tmp;
-  Figure f;
-  f.width = 120;
-  f.height = 40;
-  f.title = "0.5 m";
+  Figure f = figure(120, 40, "0.5 m");
   const RgbImage img = rasterize(f);
   ASSERT_EQ(img.width, 120);
   ASSERT_EQ(img.height, 40);
@@ -415,10 +421,7 @@ TEST(RenderFigure, TextIsDrawnAndPngRoundTrips) {
 // One figure, three formats chosen by the file's extension.
 TEST(RenderFigure, WritesPngSvgAndPdfByExtension) {
   TempDir tmp;
-  Figure f;
-  f.width = 200;
-  f.height = 150;
-  f.title = "formats";
+  Figure f = figure(200, 150, "formats");
   Panel p;
   p.x = 40, p.y = 30, p.width = 140, p.height = 90;
   p.series.push_back({"line", "line", Series::Kind::Line, {200, 0, 0}, 2, 1, {{0, 0}, {1, 1}}});

@@ -46,15 +46,20 @@ struct VisualSession {
   size_t maps = 0;             // local maps saved
   RunReport mapped, localized;  // the two runs
   AteResult against_mapping;   // localization's poses against mapping's, not aligned
+  double tolerance = 0;         // [m] how far off a frame may be
   size_t off = 0;              // frames farther than the tolerance from mapping's pose
 
-  // The figures the test log keeps, for `name`, with the tolerance as `off` counted it.
-  void print(const std::string& name, const std::string& tolerance) const {
+  // Prints the figures the test log keeps, for `name`, then expects localization to have
+  // followed mapping: an rmse within the tolerance, and at most one frame in `per` farther.
+  void expectFollowedMapping(const std::string& name, size_t per) const {
     std::cout << name << ": " << maps << " maps, localization vs mapping ATE rmse "
               << against_mapping.translation.rmse << " m, max " << against_mapping.translation.max
               << " m, " << localized.tracking_failures << " failures; against the truth "
               << mapped.ate_rmse.value_or(NAN) << " m mapping, " << localized.ate_rmse.value_or(NAN)
-              << " m localizing; " << off << " frames more than " << tolerance << " off\n";
+              << " m localizing; " << off << " frames more than " << 100 * tolerance
+              << " cm off\n";
+    EXPECT_LT(against_mapping.translation.rmse, tolerance);
+    EXPECT_LE(off, localized.frames / per);
   }
 };
 
@@ -119,6 +124,7 @@ class Session : public plugslam::testing::TempDirTest {
     applyOverride(doc, "outputs=[]");
     applyOverride(doc, "pipeline.graph={type: sdk.GraphSlam3D, deterministic: true}");
     VisualSession v;
+    v.tolerance = tolerance;
     auto mapping = build(doc);
     v.mapped = run(*mapping, "map");
     const Trajectory reference = mapping->pipeline->result().trajectory;
@@ -377,12 +383,10 @@ TEST_F(Session, RgbdLivingRoomLocalizationFollowsTheMappedTrajectory) {
   if (const std::string why = cameraPluginsMissing("rgbd"); !why.empty()) GTEST_SKIP() << why;
   const VisualSession v = mapSaveLocalize("sim3d_rgbd.yaml", "source.duration=10", 0.05);
   ASSERT_GT(v.mapped.frames, 250u);
-  v.print("rgbd living room", "5 cm");
   // Measured (with the dense depth cue of sim3d_rgbd.yaml): rmse 0.012 m, max 0.089 m, 3 of 300
   // frames more than 5 cm off, 0 failures (without it: 0.025 m, one frame 0.40 m off). A localizer lost in the
   // frozen maps is off by decimetres on most frames; these bounds catch that, not the one spike.
-  EXPECT_LT(v.against_mapping.translation.rmse, 0.05);
-  EXPECT_LE(v.off, v.localized.frames / 50);
+  v.expectFollowedMapping("rgbd living room", 50);
 }
 
 // Issue 42: a stereo session, as the RGB-D one above. The rendered street (120 frames, 96 m at
@@ -392,9 +396,7 @@ TEST_F(Session, StereoStreetLocalizationFollowsTheMappedTrajectory) {
   // A quarter of a step: a frame localized in the wrong place is off by steps.
   const VisualSession v = mapSaveLocalize("sim3d_stereo.yaml", "max_frames=120", 0.2);
   ASSERT_EQ(v.mapped.frames, 120u);
-  v.print("stereo street", "20 cm");
   // Measured: rmse 0.046 m, max 0.40 m, 2 of 120 frames more than 20 cm off, 0 failures. A
   // localizer lost in the frozen maps is off by metres on most frames.
-  EXPECT_LT(v.against_mapping.translation.rmse, 0.2);
-  EXPECT_LE(v.off, v.localized.frames / 20);
+  v.expectFollowedMapping("stereo street", 20);
 }

@@ -95,8 +95,6 @@ TEST(Initialization, SpanningTreeComposesOdometry) {
 
 TEST(Initialization, ChordalThenGaussNewtonOnNoisyGraphBeatsOdometryStart) {
   // A long noisy loop with large heading noise: odometry drifts, chordal does not.
-  std::mt19937 rng(12);
-  std::normal_distribution<double> nd(0.0, 1.0);
   const int n = 200;
   std::vector<SE2> truth;
   for (int k = 0; k < n; ++k) {
