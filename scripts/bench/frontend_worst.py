@@ -21,7 +21,7 @@ import struct
 import sys
 import zlib
 
-from tum2d import load, relative
+from tum2d import load, matched, relative, take_options
 
 
 def read_scans(path):
@@ -90,23 +90,13 @@ def panel(scans, traj, first, last, half, res):
 
 def main():
     args = sys.argv[1:]
-    opts = {"--top": 15, "--png": "", "--context": 6, "--half": 5.0}
-    for key in list(opts):
-        if key in args:
-            k = args.index(key)
-            opts[key] = type(opts[key])(args[k + 1])
-            del args[k:k + 2]
+    opts = take_options(args, {"--top": 15, "--png": "", "--context": 6, "--half": 5.0})
     if len(args) not in (3, 4):
         print(__doc__, file=sys.stderr)
         return 2
     log = args[0]
     trajs = [load(p) for p in args[1:]]
-    by_time = [{round(p[0], 6): (i, p) for i, p in enumerate(t)} for t in trajs[1:]]
-    rows = []  # (index in the reference = scan index, poses...)
-    for i, r in enumerate(trajs[0]):
-        other = [m.get(round(r[0], 6)) for m in by_time]
-        if all(other):
-            rows.append((i, [r] + [o[1] for o in other]))
+    rows = matched(trajs)  # (index in the reference = scan index, poses...)
     steps = []
     for a, b in zip(rows, rows[1:]):
         if b[0] != a[0] + 1:

@@ -58,7 +58,7 @@ import subprocess
 import sys
 import tempfile
 
-from tum2d import load, relative
+from tum2d import load, matched, relative, take_options
 
 
 def rvar(values):
@@ -170,22 +170,12 @@ def main():
         k = args.index("--crispness")
         crisp_args = args[k + 1:k + 3]
         del args[k:k + 3]
-    opts = {"--delta": 1.0, "--block": 20, "--resamples": 400, "--seed": 1}
-    for key in list(opts):
-        if key in args:
-            k = args.index(key)
-            opts[key] = type(opts[key])(args[k + 1])
-            del args[k:k + 2]
+    opts = take_options(args, {"--delta": 1.0, "--block": 20, "--resamples": 400, "--seed": 1})
     if len(args) not in (4, 5):
         print(__doc__, file=sys.stderr)
         return 2
     trajs = [load(p) for p in args]
-    by_time = [{round(p[0], 6): p for p in t} for t in trajs[1:]]
-    rows = []
-    for r in trajs[0]:
-        other = [m.get(round(r[0], 6)) for m in by_time]
-        if all(other):
-            rows.append([r] + other)
+    rows = [poses for _, poses in matched(trajs)]
     n = len(rows)
     if n < 50:
         print("reference_noise.py: fewer than 50 matched poses", file=sys.stderr)
