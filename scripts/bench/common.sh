@@ -10,6 +10,14 @@ bin="${PLUGSLAM_BIN:-$root/build/bin/plugslam}"
 data="${PLUGSLAM_DATA:-$root/../shared/data}"
 out="${PLUGSLAM_BENCH_OUT:-$root/out/bench/$1}"
 
+# The start of the bench's section of docs/benchmarks.md: its title, then the machine it ran on
+# (every section says where its figures were measured).
+section_start() {
+  echo "## $1"
+  echo
+  echo "$("$here/machine_info.sh")"
+}
+
 # Stops unless the data folder holds SUBDIR (a bench that cannot run says so at once).
 need_data() { [ -d "$data/$1" ] || { echo "no data at $data/$1 (set PLUGSLAM_DATA)" >&2; exit 1; }; }
 

@@ -12,10 +12,7 @@
 # (default build/), BENCH_WORK (scratch folder, default out/bench/g2o). On a shared machine wrap
 # it in flock so that no build runs alongside.
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
-data="${PLUGSLAM_DATA:-$root/../shared/data}"
-build="${PLUGSLAM_BUILD_DIR:-$root/build}"
-plugslam="$build/bin/plugslam"
+. "$(dirname "$0")/build_paths.sh"
 work="${BENCH_WORK:-$root/out/bench/g2o}"
 g2o="${1:-}"
 reps="${2:-7}"

@@ -56,9 +56,7 @@ print(f\"{g['loops_accepted']} / {g['loops_rejected']} | {r['pipeline_hz']:.0f} 
   rows+="| $name | $rel | $crisp | $crisp_ref | $stats | ${peak:-n/a} | ![ours](img/$name-ours.png) ${errlink} ${reflink} |"$'\n'
 done
 {
-  echo "## 2D laser SLAM on real logs"
-  echo
-  echo "$("$(dirname "$0")/machine_info.sh")"
+  section_start "2D laser SLAM on real logs"
   echo "Command: \`scripts/bench/laser2d.sh\` (configs/laser2d_carmen.yaml, configs/laser2d_rosbag.yaml)."
   echo "Relations: \`plugslam eval relations\` against the log's GMapping poses (all pairs within 2 m plus"
   echo "consecutive pairs), mean ± std. Crispness: \`plugslam eval crispness\` (mean distance to points of"
@@ -89,9 +87,7 @@ r, o = d['odometry_sides_with_reference'], d['odometry_sides_with_ours']
 print(f\"{d['relations']} | {d['tracking_failures']} | {d['mean_m']:.4f} | {r['error_m']:.1f} m ({r['count']}) | {o['error_m']:.1f} m ({o['count']}) | {d['mean_without_ours_sided_m']:.4f}\")") |"$'\n'
 done
 {
-  echo "## 2D laser SLAM: whose relation errors (odometry as a third witness)"
-  echo
-  echo "$("$(dirname "$0")/machine_info.sh")"
+  section_start "2D laser SLAM: whose relation errors (odometry as a third witness)"
   echo "Command: \`scripts/bench/laser2d.sh\` (\`scripts/bench/odometry_witness.py\` on the full-SLAM runs above and"
   echo "the front-end section's dead-reckoning runs). Relation-metric pairs at most 40 scans apart, none"
   echo "spanning a front-end tracking failure (where our estimate is the odometry's). Each error of ours"

@@ -88,9 +88,7 @@ for dir in "$data"/laser2d/*/; do
   rows+="| $name | $beams | $frames | $best | $failures | $rpe | $crisp | $floor |"$'\n'
 done
 {
-  echo "## 2D laser front-end alone (no loop closure)"
-  echo
-  echo "$("$here/machine_info.sh")"
+  section_start "2D laser front-end alone (no loop closure)"
   echo "Command: \`scripts/bench/laser2d_frontend.sh\` (also run by \`scripts/bench/laser2d.sh\`): the shipped"
   echo "configs with \`--set pipeline.graph=null --set 'outputs=[{type: io.TrajectoryWriter, format: tum}]'\`."
   echo "Scans/s: frames / time inside the pipeline (run.json \`pipeline_hz\`), single thread, best of 3 runs."

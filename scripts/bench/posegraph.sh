@@ -10,10 +10,7 @@
 # docs/benchmarks.md). Peak memory comes from /usr/bin/time (Debian package `time`); the section is
 # written with scripts/bench/update_section.py (python3).
 set -euo pipefail
-root="$(cd "$(dirname "$0")/../.." && pwd)"
-data="${PLUGSLAM_DATA:-$root/../shared/data}"
-build="${PLUGSLAM_BUILD_DIR:-$root/build}"
-plugslam="$build/bin/plugslam"
+. "$(dirname "$0")/build_paths.sh"
 init="${BENCH_INIT:-best}"
 solver="${BENCH_SOLVER:-gn}"
 doc="${BENCH_DOC:-$root/docs/benchmarks.md}"

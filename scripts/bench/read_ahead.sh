@@ -38,9 +38,7 @@ for c in "${CASES[@]}"; do
   rows+="$row"$'\n'
 done
 {
-  echo "## Reading ahead of the pipeline (issue 42)"
-  echo
-  echo "$("$(dirname "$0")/machine_info.sh")"
+  section_start "Reading ahead of the pipeline (issue 42)"
   echo "Command: \`scripts/bench/read_ahead.sh\` (median of $repeats runs). End-to-end Hz (what a user"
   echo "waits for: reading and decoding included) / the pipeline's own Hz (run.json hz / pipeline_hz),"
   echo "and their ratio, with the source read on the pipeline's thread and ahead of it on its own."

@@ -56,9 +56,7 @@ for other in ("j2", "slurm"):
 PY
 )
 {
-  echo "## Sweeps on this machine: local and Slurm engines (issue 44)"
-  echo
-  echo "$("$here/machine_info.sh")"
+  section_start "Sweeps on this machine: local and Slurm engines (issue 44)"
   echo "Command: \`scripts/bench/sweep_engines.sh\`. The 48-case robustness sweep"
   echo "(scripts/bench/laser2d_robust.sweep.yaml, 2 runs a case: 96 runs) through three engines."
   echo "Two busy processes at once get $cores cores of this machine's $(nproc) (1.00: the second"

@@ -164,9 +164,7 @@ if stalls and all((d / "run.json").exists() for d in stalls):
           f"{', '.join(dropped)}.")
 PY
 {
-  echo "## Viewer stream: cost, bandwidth, stalled client (\`scripts/bench/viewer.sh\`)"
-  echo
-  echo "$("$(dirname "$0")/machine_info.sh")"
+  section_start "Viewer stream: cost, bandwidth, stalled client (\`scripts/bench/viewer.sh\`)"
   echo
   cat "$out/section.md"
 } | python3 "$(dirname "$0")/update_section.py" viewer "$root/docs/benchmarks.md"
