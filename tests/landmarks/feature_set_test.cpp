@@ -1,6 +1,7 @@
 // The landmark cue's value types: consistency checks, pruning and archive round trips.
 #include <gtest/gtest.h>
 
+#include <random>
 #include <sstream>
 
 #include "plugslam/archive.h"
@@ -38,6 +39,17 @@ TEST(HammingDistance, CountsDifferingBits) {
   uint8_t c[61] = {}, e[61] = {};
   e[60] = 0x0f;
   EXPECT_EQ(hammingDistance(c, e, 61), 4);
+}
+
+TEST(HammingDistance, TheInlineBitCountAgreesWithABitByBitCount) {
+  // popcount64 is the CPU's instruction or an inline count depending on the build's target.
+  std::mt19937_64 rng(7);
+  for (int i = 0; i < 1000; ++i) {
+    const uint64_t x = i < 2 ? (i == 0 ? 0 : ~uint64_t{0}) : rng();
+    int bits = 0;
+    for (int k = 0; k < 64; ++k) bits += static_cast<int>((x >> k) & 1u);
+    ASSERT_EQ(popcount64(x), bits) << std::hex << x;
+  }
 }
 
 TEST(FeatureSet, RoundTripsThroughBothArchives) {

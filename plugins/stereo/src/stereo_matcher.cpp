@@ -1,6 +1,8 @@
 #include "stereo_matcher.h"
 
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "plugslam/landmarks/feature_set.h"
@@ -13,30 +15,35 @@ double StereoMatcher::refine(const cv::Mat& left, const cv::Mat& right, int ul, 
   const double nan = std::numeric_limits<double>::quiet_NaN();
   if (v - w < 0 || v + w >= left.rows || ul - w < 0 || ul + w >= left.cols) return nan;
   if (ur0 - search - w < 0 || ur0 + search + w >= right.cols) return nan;
-  // Zero-mean windows: the two cameras' exposures need not agree.
+  // Zero-mean windows: the two cameras' exposures need not agree. With n pixels a window, the
+  // cost n * SAD = sum |(n l - sum l) - (n r - sum r)| is exact in integers, and the minimum and
+  // its parabola below are the same for any positive scale of the costs. The windows are copied
+  // into contiguous arrays so that the sums run over one vectorizable loop.
+  constexpr int kMaxSide = 15, kMaxSearch = 8;  // StereoMatchOptions: window 5, search 3
   const int side = 2 * w + 1;
-  double mean_l = 0;
-  for (int y = -w; y <= w; ++y) {
-    const uint8_t* pl = left.ptr<uint8_t>(v + y) + ul - w;
-    for (int x = 0; x < side; ++x) mean_l += pl[x];
-  }
-  mean_l /= side * side;
-  std::vector<double> cost(static_cast<size_t>(2 * search + 1));
+  if (side > kMaxSide || search > kMaxSearch) return nan;
+  const int n = side * side;
+  using Window = std::array<int32_t, kMaxSide * kMaxSide>;
+  Window a{}, b{};
+  const auto copyWindow = [&](const cv::Mat& image, int u, Window& out) {
+    int sum = 0;
+    for (int y = -w, k = 0; y <= w; ++y) {
+      const uint8_t* p = image.ptr<uint8_t>(v + y) + u - w;
+      for (int x = 0; x < side; ++x, ++k) {
+        out[static_cast<size_t>(k)] = n * p[x];
+        sum += p[x];
+      }
+    }
+    return sum;
+  };
+  const int sum_l = copyWindow(left, ul, a);
+  for (int k = 0; k < n; ++k) a[static_cast<size_t>(k)] -= sum_l;
+  std::array<double, 2 * kMaxSearch + 1> cost{};
   for (int s = -search; s <= search; ++s) {
-    const int ur = ur0 + s;
-    double mean_r = 0;
-    for (int y = -w; y <= w; ++y) {
-      const uint8_t* pr = right.ptr<uint8_t>(v + y) + ur - w;
-      for (int x = 0; x < side; ++x) mean_r += pr[x];
-    }
-    mean_r /= side * side;
-    const double offset = mean_l - mean_r;
-    double sad = 0;
-    for (int y = -w; y <= w; ++y) {
-      const uint8_t* pl = left.ptr<uint8_t>(v + y) + ul - w;
-      const uint8_t* pr = right.ptr<uint8_t>(v + y) + ur - w;
-      for (int x = 0; x < side; ++x) sad += std::abs(pl[x] - pr[x] - offset);
-    }
+    const int sum_r = copyWindow(right, ur0 + s, b);
+    int32_t sad = 0;
+    for (int k = 0; k < n; ++k)
+      sad += std::abs(a[static_cast<size_t>(k)] - b[static_cast<size_t>(k)] + sum_r);
     cost[static_cast<size_t>(s + search)] = sad;
   }
   int best = 0;
