@@ -4,11 +4,9 @@
 #include <signal.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <random>
-#include <thread>
 
 #include "landmark_cue.h"
 #include "plugslam/plugin.h"
@@ -30,8 +28,9 @@ class LandmarkSource : public Source {
   Param<double> range{this, "range", 6.0, "m", "sensing range", Range{0.1, 1e3}};
   Param<double> noise{this, "noise", 0.02, "m", "std. dev. of each landmark reading", Range{0, 10}};
   Param<int> seed{this, "seed", 3, "", "random seed", Range{0, 1e9}};
-  Param<double> delay{this,        "delay", 0.0, "s", "wait before each frame, like a live sensor",
-                      Range{0, 10}};
+  Param<bool> endless{this, "endless", false, "",
+                      "drive on past the last lap until the run is stopped (a run that is always "
+                      "mid-way, however fast the machine)"};
   Param<int> interrupt_at{this, "interrupt_at", -1, "",
                           "SIGINT to the process before this frame, as a Ctrl-C (-1: never)",
                           Range{-1, 1e9}};
@@ -47,10 +46,9 @@ class LandmarkSource : public Source {
     emitted_ = 0;
   }
   bool next(Frame& frame) override {
-    if (emitted_ >= frames_) return false;
+    if (!endless() && emitted_ >= frames_) return false;
     // The interrupt at a known frame, whatever the machine's speed: a test needs no timing.
     if (emitted_ == interrupt_at()) ::kill(::getpid(), SIGINT);
-    if (delay() > 0) std::this_thread::sleep_for(std::chrono::duration<double>(delay()));
     const double phi = emitted_ * step() / radius();
     const Eigen::Isometry2d pose =
         se2(radius() * std::sin(phi), radius() * (1 - std::cos(phi)), phi);
@@ -64,7 +62,7 @@ class LandmarkSource : public Source {
     ++emitted_;
     return true;
   }
-  int64_t sizeHint() const override { return frames_; }
+  int64_t sizeHint() const override { return endless() ? -1 : frames_; }
 
  private:
   Landmarks world_;
