@@ -401,35 +401,43 @@ TEST(Metrics, AnEvaluatorsCommandGivesMetrics) {
   const std::string evaluators =
       "evaluators:\n"
       "  steps:\n"
-      "    command: \"test -f {trajectory} && printf '{\\\"worst\\\": {\\\"percent\\\": 4.5}}'\"\n"
+      "    command: \"test -f {trajectory} && printf '{\\\"worst\\\": {\\\"percent\\\": 4.5}, "
+      "\\\"steps\\\": [1.5, 2.5]}'\"\n"
       "    metrics:\n"
       "      worst_step: {key: worst.percent, unit: \"%\", better: lower}\n"
+      "      second_step: {key: \"steps[1]\"}\n"
       "      missing: {key: worst.nothing}\n";
   EXPECT_NE(errorOf(base + evaluators + "metrics: [worst_stp]\n").find("did you mean 'worst_step'"),
             std::string::npos);
   EXPECT_NE(errorOf(base + "evaluators: {e: {command: x, metrics: {ate: {key: a}}}}\n")
                 .find("'ate' is already a metric"),
             std::string::npos);
+  // A key is a path as `--set` writes one, checked when the file is read.
+  EXPECT_NE(errorOf(base + "evaluators: {e: {command: x, metrics: {m: {key: \"a..b\"}}}}\n")
+                .find("malformed parameter path 'a..b'"),
+            std::string::npos);
   EXPECT_NE(errorOf(base + "evaluators: {e: {command: x, metrics: {m: {key: a, better: up}}}}\n")
                 .find("expected 'lower', 'higher' or 'none'"),
             std::string::npos);
-  const SweepFile s = parseSweep(base + evaluators + "metrics: [worst_step, missing]\n", "s.yaml");
-  ASSERT_EQ(s.custom_metrics.size(), 2u);
+  const SweepFile s =
+      parseSweep(base + evaluators + "metrics: [worst_step, second_step, missing]\n", "s.yaml");
+  ASSERT_EQ(s.custom_metrics.size(), 3u);
   // Through plan.json, as the case runner and the report read it.
   const plugslam::testing::TempDir temp("sweep-evaluators");
   const std::string dir = temp.path().string();
   writePlan(expandSweep(s), dir, "/bin/true");
   const Plan plan = readPlan(dir);
   ASSERT_EQ(plan.evaluators.size(), 1u);
-  ASSERT_EQ(plan.custom_metrics.size(), 2u);
+  ASSERT_EQ(plan.custom_metrics.size(), 3u);
   EXPECT_EQ(findMetric("worst_step", plan.custom_metrics)->unit, "%");
   std::ofstream(dir + "/trajectory.tum") << "0 0 0 0 0 0 0 1\n";
   std::ofstream(dir + "/run.json") << "{}";
   RunFacts run;
   run.out_dir = dir;
-  const MetricValues m = measure({"worst_step", "missing"}, Scoring{}, run, "/bin/false", dir,
-                                 "", plan.evaluators, plan.custom_metrics);
+  const MetricValues m = measure({"worst_step", "second_step", "missing"}, Scoring{}, run,
+                                 "/bin/false", dir, "", plan.evaluators, plan.custom_metrics);
   EXPECT_EQ(m.values.at("worst_step"), 4.5);
+  EXPECT_EQ(m.values.at("second_step"), 2.5);
   EXPECT_FALSE(m.values.at("missing").has_value());
   EXPECT_NE(m.errors.at("missing").find("no number at 'worst.nothing'"), std::string::npos);
   // A dataset whose `evaluate` leaves the evaluator out gets no value, and says why.

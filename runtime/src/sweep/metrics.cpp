@@ -8,6 +8,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "config_builder.h"
 #include "sweep/plan.h"
 #include "sweep/process.h"
 #include "sweep/sweep_file.h"
@@ -132,9 +133,21 @@ const MetricInfo* findMetric(const std::string& name, const std::vector<CustomMe
 
 namespace {
 
+// The number at `path` (splitPath's parts: keys, and "[i]" into a list), if there is one.
 std::optional<double> number(const json& j, const std::vector<std::string>& path) {
   const json* at = &j;
   for (const auto& key : path) {
+    if (key.size() > 2 && key.front() == '[') {
+      size_t i = 0;
+      try {
+        i = std::stoul(key.substr(1, key.size() - 2));
+      } catch (const std::out_of_range&) {
+        return std::nullopt;  // past the end of any list
+      }
+      if (!at->is_array() || i >= at->size()) return std::nullopt;
+      at = &(*at)[i];
+      continue;
+    }
     if (!at->is_object() || !at->contains(key)) return std::nullopt;
     at = &(*at)[key];
   }
@@ -219,15 +232,6 @@ Eval evaluateCommand(const Evaluator& e, const std::map<std::string, std::string
   return r;
 }
 
-std::vector<std::string> splitDots(const std::string& key) {
-  std::vector<std::string> parts;
-  size_t start = 0;
-  for (size_t dot; (dot = key.find('.', start)) != std::string::npos; start = dot + 1)
-    parts.push_back(key.substr(start, dot - start));
-  parts.push_back(key.substr(start));
-  return parts;
-}
-
 }  // namespace
 
 MetricValues measure(const std::vector<std::string>& names, const Scoring& scoring,
@@ -292,7 +296,7 @@ MetricValues measure(const std::vector<std::string>& names, const Scoring& scori
         evaluated[e->name] = evaluateCommand(*e, places, work_dir + "/" + e->name + ".json",
                                              log, run.cwd);
       const Eval& got = evaluated[e->name];
-      set(name, number(got.result, splitDots(own->key)),
+      set(name, number(got.result, splitPath(own->key)),
           got.error.empty() ? "evaluator '" + e->name + "' gave no number at '" + own->key + "'"
                             : got.error);
       continue;

@@ -199,9 +199,13 @@ std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& 
                                 repeats > 1 ? fmt::format(" x {} repeats", repeats) : "", present, failed);
   out += repeats > 1 ? "Cells: the median of the repeats, (min–max) when they differ; " : "Cells: ";
   out += "**bold**: the best value of the column.\n";
+  std::vector<std::string> verdicts;  // per row, when the sweep has targets
   if (!p.targets.empty()) {
     size_t met = 0;
-    for (const auto& r : t.rows) met += targetVerdict(p, r).rfind("yes", 0) == 0;
+    for (const auto& r : t.rows) {
+      verdicts.push_back(targetVerdict(p, r));
+      met += verdicts.back().rfind("yes", 0) == 0;
+    }
     std::string list;
     for (const auto& target : p.targets) list += (list.empty() ? "" : ", ") + target.text();
     out += fmt::format("Targets, met by every run of a grid point: {}; {} of {} grid points meet "
@@ -228,7 +232,8 @@ std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& 
     rule += "---|";
   }
   out += "\n" + rule + "\n";
-  for (const auto& r : t.rows) {
+  for (size_t row = 0; row < t.rows.size(); ++row) {
+    const Row& r = t.rows[row];
     out += "| " + md(r.first->config_label) + " | " + md(r.first->dataset) + " |";
     for (const auto& [k, v] : r.first->params) out += " " + md(v) + " |";
     std::string runs = fmt::format("{}", r.ok);
@@ -249,7 +254,7 @@ std::string reportMarkdown(const SweepTable& t, const std::vector<std::string>& 
       if (s.count > 1 && s.min != s.max) cell += " (" + num(s.min) + "–" + num(s.max) + ")";
       out += " " + cell + " |";
     }
-    if (!p.targets.empty()) out += " " + targetVerdict(p, r) + " |";
+    if (!verdicts.empty()) out += " " + verdicts[row] + " |";
     out += "\n";
   }
   // Heat tables: dataset x config, the best grid point's median of each; only where a dataset

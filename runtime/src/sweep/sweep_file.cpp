@@ -437,11 +437,20 @@ SweepFile parseSweep(const std::string& text, const std::string& name) {
         }
         const YAML::Node spec = m->second;
         if (!spec.IsMap() || !spec["key"]) {
-          r.error(spec, at, "expected {key: PATH (dots into the output), unit, better, doc}");
+          r.error(spec, at,
+                  "expected {key: PATH (dots into the output, [i] into a list), unit, better, "
+                  "doc}");
           continue;
         }
         r.knownKeys(spec, kCustomMetricKeys, at);
-        r.scalar(spec["key"], at + ".key", c.key);
+        // The path is read as `--set` reads its paths ("a.b[2].c"), checked now.
+        if (r.scalar(spec["key"], at + ".key", c.key)) {
+          try {
+            splitPath(c.key);
+          } catch (const InputError& e) {
+            r.error(spec["key"], at + ".key", e.what());
+          }
+        }
         c.info.doc = "'" + c.key + "' of evaluator " + e.name;  // unless `doc` says more
         if (spec["unit"]) r.scalar(spec["unit"], at + ".unit", c.info.unit);
         if (spec["doc"]) r.scalar(spec["doc"], at + ".doc", c.info.doc);

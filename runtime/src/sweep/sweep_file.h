@@ -60,7 +60,7 @@ struct Evaluator {
   std::string name, command;
 };
 
-/// A metric an evaluator gives: the number at `key` (a dot path) of its output.
+/// A metric an evaluator gives: the number at `key` (a path as `--set` writes one) of its output.
 struct CustomMetric {
   MetricInfo info;
   std::string evaluator, key;
