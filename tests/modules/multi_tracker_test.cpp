@@ -196,9 +196,10 @@ TEST(MultiTracker, TracksACircleAndSplitsLocalMaps) {
     worst = std::max(
         worst, Space2D::toVector(expected.inverse() * Space2D::from3D(f.estimate.world)).norm());
   }
-  // Exact landmarks; the constant-velocity prior (a factor with its covariance) moves the
-  // solution by a fraction of a millimetre on the turn.
-  EXPECT_LT(worst, 1e-3);
+  // Exact landmarks; the constant-velocity prior (a factor with its covariance, which on a
+  // circle driven exactly learns the floor of its typical error, 1 cm) moves the solution by
+  // about a millimetre on the turn.
+  EXPECT_LT(worst, 2e-3);
   // 31.4 m of travel with a split every metre.
   EXPECT_GT(tracker->stats().local_maps, 25u);
   EXPECT_EQ(tracker->stats().failed, 0u);

@@ -117,5 +117,90 @@ TEST(CorrelativeSearch, AFullTurnHasNoSeam) {
   EXPECT_LT((found.pose.translation() - truth.translation()).norm(), 0.11);
 }
 
+// Two peaks at heading 0: `near` at the center's cell, `far` 20 cells along x; a coarser node
+// bounds by the best peak it holds.
+class TwoPeaks : public LatticeScorer {
+ public:
+  TwoPeaks(double near, double far) : near_(near), far_(far) {}
+  double score(int level, int a, int x, int y) const override {
+    if (a != 0) return 0;
+    const int size = 1 << level;
+    const auto holds = [&](int px) { return x <= px && px < x + size && y <= 0 && 0 < y + size; };
+    return std::max(holds(0) ? near_ : 0.0, holds(20) ? far_ : 0.0);
+  }
+  double maxScore() const override { return 100; }
+
+ private:
+  double near_, far_;
+};
+
+// The motion prior in the search's score: a look-alike 2 m away (4 sigma of the typical error)
+// that fits a little better loses to the pose at the prediction; one that fits clearly better
+// (by more than prior_margin, the most the capped prior takes) wins.
+TEST(CorrelativeSearch, ThePriorFavoursThePredictionUpToItsMargin) {
+  SearchLattice<Space2D> lattice;
+  lattice.resolution = 0.1;
+  lattice.angular_step = 0.05;
+  lattice.cells = 30;
+  lattice.angles = 4;
+  lattice.levels = searchLevels(lattice.cells);
+  SearchOptions o;
+  o.min_score = 0.5;
+  o.ambiguity_margin = 0;
+  const auto found_x = [&](const TwoPeaks& scorer) {
+    const SearchResult<Space2D> r = correlativeSearch<Space2D>({&scorer}, lattice, o);
+    EXPECT_TRUE(r.found);
+    return r.pose.translation().x();
+  };
+  const TwoPeaks slightly(90, 95), clearly(85, 100);
+  EXPECT_NEAR(found_x(slightly), 2.0, 1e-9);  // the scores alone: the better fit
+  o.prior_margin = 0.1;
+  o.prior_translation = 1 / (0.5 * 0.5);
+  o.prior_rotation = 1 / (0.2 * 0.2);
+  o.prior_cap = 9;
+  EXPECT_NEAR(found_x(slightly), 0.0, 1e-9);
+  EXPECT_NEAR(found_x(clearly), 2.0, 1e-9);
+}
+
+// With the prior, branch and bound still finds the exhaustive best of score - penalty.
+TEST(CorrelativeSearch, BranchAndBoundWithThePriorFindsTheExhaustiveBest) {
+  std::vector<Eigen::Vector2d> room, normals;
+  roomOf(room, normals);
+  const SE2 truth = se2(0.4, -0.3, 0.1);
+  std::vector<Eigen::Vector2d> scan;
+  for (size_t i = 0; i < room.size(); i += 3) scan.push_back(truth.inverse() * room[i]);
+  SearchLattice<Space2D> lattice;
+  lattice.resolution = 0.1;
+  lattice.angular_step = 0.02;
+  lattice.cells = 8;
+  lattice.angles = 10;
+  lattice.levels = searchLevels(lattice.cells);
+  const Eigen::Vector2d reach(12, 12);
+  const CorrelativeGrid grid(room, normals, 0.1, lattice.resolution, lattice.levels, -reach, reach);
+  const GridScorer scorer(grid, scan, lattice);
+  SearchOptions o;
+  o.min_score = 0.1;
+  o.ambiguity_margin = 0;
+  o.prior_margin = 0.3;
+  o.prior_translation = 1 / (0.2 * 0.2);
+  o.prior_rotation = 1 / (0.05 * 0.05);
+  o.prior_cap = 9;
+  const double total = scorer.maxScore();
+  double best = -1e9;
+  for (int a = -lattice.angles; a <= lattice.angles; ++a)
+    for (int x = -lattice.cells; x <= lattice.cells; ++x)
+      for (int y = -lattice.cells; y <= lattice.cells; ++y) {
+        // A lattice pose's nearest point to the center: half a step closer on each axis.
+        const auto g = [](int i) { return std::max(0.0, std::abs(i) - 0.5); };
+        const double m2 = (g(x) * g(x) + g(y) * g(y)) * 0.01 * o.prior_translation +
+                          g(a) * g(a) * 0.02 * 0.02 * o.prior_rotation;
+        best = std::max(best, scorer.score(0, a, x, y) -
+                                  total * o.prior_margin * std::min(m2, 9.0) / 9.0);
+      }
+  const SearchResult<Space2D> found = correlativeSearch<Space2D>({&scorer}, lattice, o);
+  ASSERT_TRUE(found.found);
+  EXPECT_NEAR(found.score * total, best, 1e-6);
+}
+
 }  // namespace
 }  // namespace plugslam::laser2d

@@ -57,6 +57,9 @@ struct AlignContext {
   /// The raw entry `motion` was measured from, when the motion model reads exactly one (a slice
   /// that reads the same entry can take `motion` instead of computing it again); else empty.
   std::string motion_entry;
+  /// The covariance of the prediction's typical errors where the run measured them
+  /// (MotionPrediction::typical): the search favours poses within it; `covariance` bounds them.
+  std::optional<typename S::Matrix> typical;
 };
 
 /// One cue's contribution to the Multi-Aligner.

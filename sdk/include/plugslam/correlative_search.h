@@ -60,6 +60,13 @@ struct SearchOptions {
   double ambiguity_margin = 0.03;     ///< a distinct pose within this of the best is a rival
   double distinct_translation = 0.5;  ///< [m] poses farther apart than this are distinct...
   double distinct_rotation = 0.2;     ///< [rad] ...or turned more than this
+  /// The motion prior in the score (Olson's posterior, with a broad floor): a pose m standard
+  /// deviations of the prior from the lattice's center loses prior_margin x min(m^2, prior_cap)
+  /// / prior_cap of normalized score. 0: the scores alone decide.
+  double prior_margin = 0;
+  double prior_translation = 0;  ///< [1/m^2] the prior's information in translation (per axis)
+  double prior_rotation = 0;     ///< [1/rad^2] its information in heading
+  double prior_cap = 9;          ///< m^2 from which on the penalty stays the same
 };
 
 /// Outcome of a correlative search.

@@ -69,8 +69,9 @@ ConstantVelocityBounds constantVelocityBounds(double max_acceleration,
                                               double max_angular_acceleration);
 
 /// The motion a tracker predicts before aligning: the motion model's estimate when it has one
-/// for the frame, else the recent velocity kept over the time since the last frame, with the
-/// covariance the largest plausible accelerations give over that time.
+/// for the frame, else the recent velocity kept over the time since the last frame. That guess's
+/// covariance is what the largest plausible accelerations allow over that time, narrowed to how
+/// far the guess has been off on the recent frames whose step the data measured.
 template <class S>
 struct MotionPrediction {
   using Pose = typename S::Pose;
@@ -80,66 +81,19 @@ struct MotionPrediction {
   /// The raw entry `model_motion` was measured from when the model reads exactly one (a slice
   /// reading the same entry then takes that delta rather than computing it again); else empty.
   std::string model_entry;
+  /// With a constant-velocity prediction, once enough of its errors were measured: their
+  /// covariance (the prediction's covariance bounds them and sets the search window; the search
+  /// favours poses within this). Empty otherwise.
+  std::optional<typename S::Matrix> typical;
 
   /// The motion predicted for `frame` (in the previous robot frame) and its covariance.
   MotionEstimate<S> predict(MotionModel<S>* model, const ConstantVelocityBounds& bounds,
-                            const Frame& frame) {
-    model_motion.reset();
-    model_entry.clear();
-    interval_ = last_stamp_ ? frame.stamp - *last_stamp_ : 0.0;
-    last_stamp_ = frame.stamp;
-    if (model) {
-      model_motion = model->predict(frame);
-      if (model_motion) {
-        model_entry = soleRawInput(*model);
-        return *model_motion;
-      }
-    }
-    // A sensor runs at a steady rate, and a log's stamps say when a frame arrived, give or take
-    // the logger's buffering (some logs' stamps go backwards): a frame within twice the typical
-    // interval of the last one came at the usual rate; only a longer gap (a dropped scan, a
-    // pause) is time the robot had to change its velocity. The velocity is the mean over the
-    // last steps, per step.
-    const double n = static_cast<double>(steps_.size());
-    double sum = 0;
-    for (const auto& step : steps_) sum += std::max(step.first, 0.0);
-    const double typical = n > 0 ? sum / n : 0.0;
-    const double dt = typical > 0 && interval_ > 2 * typical ? interval_ : typical;
-    // Known at the middle of the steps averaged; from there to the middle of this one the
-    // velocity may change by at most acceleration x (their time + this) / 2, and the position by
-    // that times this step's duration. Before a step was seen (the second frame, after a reset)
-    // the velocity is unknown: the prediction says nothing (a standard deviation no search
-    // window or prior is narrowed by).
-    const bool known = n > 0;
-    typename S::Vector per_step = S::Vector::Zero();
-    if (known) {
-      Pose total = Pose::Identity();
-      for (const auto& step : steps_) total = total * step.second;
-      per_step = S::toVector(S::normalized(total)) / n;
-    }
-    // The mean is one step at that velocity: over a gap the robot may have gone on, slowed or
-    // stopped, which the covariance, not the mean, follows.
-    const Pose mean = S::normalized(S::boxplus(Pose::Identity(), per_step));
-    const double reach = dt * 0.5 * (n * typical + dt);
-    const double st =
-        known ? std::max(bounds.min_sigma_translation, bounds.acceleration * reach) : kUnknown;
-    const double sr =
-        known ? std::max(bounds.min_sigma_rotation, bounds.angular_acceleration * reach) : kUnknown;
-    return MotionEstimate<S>::isotropic(mean, st, sr);
-  }
-  /// Records the motion the frame just predicted really made.
-  void solved(const Pose& motion) {
-    steps_.emplace_back(interval_, motion);
-    while (steps_.size() > kMaxSteps) steps_.pop_front();
-  }
+                            const Frame& frame);
+  /// Records the motion the frame just predicted really made; `measured`: the data fixed it
+  /// (a valid, unambiguous alignment), so it also tells how far the prediction was off.
+  void solved(const Pose& motion, bool measured = false);
   /// Forgets the motion history.
-  void reset() {
-    steps_.clear();
-    interval_ = 0;
-    last_stamp_.reset();
-    model_motion.reset();
-    model_entry.clear();
-  }
+  void reset();
 
  private:
   static constexpr double kUnknown = 1e3;  // [m, rad] a standard deviation that bounds nothing
@@ -149,21 +103,18 @@ struct MotionPrediction {
   std::deque<std::pair<double, Pose>> steps_;  // (stamp interval, motion) of the last frames
   double interval_ = 0;                        // of the frame last predicted
   std::optional<double> last_stamp_;
-  // The name of the one raw entry `model` reads; empty when it reads none or several.
-  static std::string soleRawInput(const MotionModel<S>& model) {
-    std::string name;
-    int inputs = 0;
-    for (const EntryBase* e : model.entries())
-      if (!e->writes() && e->container() == Container::raw) {
-        ++inputs;
-        name = e->name();
-      }
-    return inputs == 1 ? name : std::string();
-  }
+  // How far constant velocity was off: the mean square of each tangent coordinate of the error
+  // (per step of the typical interval) over the recent measured frames, and how many there were.
+  typename S::Vector error_ms_ = S::Vector::Zero();
+  int errors_ = 0;
+  std::optional<Pose> guessed_;  // the last constant-velocity mean, until solved() judges it
+  double stretch_ = 1;           // its error's growth over a typical step's (a gap's is larger)
 };
 
 extern template class MotionModel<Space2D>;
 extern template class MotionModel<Space3D>;
+extern template struct MotionPrediction<Space2D>;
+extern template struct MotionPrediction<Space3D>;
 
 }  // namespace abi_v1
 }  // namespace plugslam

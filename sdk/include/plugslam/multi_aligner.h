@@ -147,6 +147,19 @@ class MultiAligner : public Configurable {
                           "starts from the prediction (after a step the scan sees much that the "
                           "local map never did)",
                           Range{0, 1}};
+  // The prediction's typical error, where the run measured it (AlignContext::typical), is a
+  // prior on the searched pose (Olson's posterior): near look-alikes (a corridor's next door, a
+  // turned room) lose to the pose the motion expects unless they fit clearly better. Beyond search_sigmas of the typical error the penalty stops
+  // growing: there only the motion's bound (the window) holds, and a pose that fits this much
+  // better still wins, so a sudden change of pace is found rather than forced to the prediction.
+  Param<double> prior_margin{this,
+                             "prior_margin",
+                             0.1,
+                             "",
+                             "normalized score a pose beyond search_sigmas of the prediction's "
+                             "typical error must gain over one at the prediction to win the "
+                             "search (0: the scores alone decide)",
+                             Range{0, 1}};
   Param<double> ambiguity_margin{this,
                                  "ambiguity_margin",
                                  0.03,
@@ -191,15 +204,17 @@ class MultiAligner : public Configurable {
  private:
   // The search window (translation m, rotation rad) a prediction's covariance sets.
   std::pair<double, double> window(const typename S::Matrix& covariance) const;
-  // The correlative search of `window` around `guess` with `scorers`; the lattice and the
-  // scorers that took part are kept in `lattice` and `ready`.
+  // The correlative search of `window` around `guess` with `scorers`, favouring poses near it
+  // by `prior` (the covariance of its typical error; none: the scores alone); the lattice and
+  // the scorers that took part are kept in `lattice` and `ready`.
   SearchResult<S> search(const std::vector<ScoringSlice<S>*>& scorers, const Pose& guess,
-                         std::pair<double, double> window, SearchLattice<S>& lattice,
-                         std::vector<const LatticeScorer*>& ready);
+                         const typename S::Matrix* prior, std::pair<double, double> window,
+                         SearchLattice<S>& lattice, std::vector<const LatticeScorer*>& ready);
   // Invalidates `result` (slid) when the solve from the searched pose `start` left it for
   // another peak, or left the window without a wider search confirming it.
-  void check(const std::vector<ScoringSlice<S>*>& scorers, const Pose& guess, const Pose& start,
-             const SearchLattice<S>& lattice, AlignResult<S>& result);
+  void check(const std::vector<ScoringSlice<S>*>& scorers, const Pose& guess,
+             const typename S::Matrix* prior, const Pose& start, const SearchLattice<S>& lattice,
+             AlignResult<S>& result);
   // Whether `pose` lies within the window the prediction's covariance sets (search_sigmas).
   bool withinWindow(const AlignContext<S>& context, const Pose& pose) const;
   // Whether the data in `result` (without the prediction's factor `prior_information`) measure

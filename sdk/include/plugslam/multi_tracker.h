@@ -87,7 +87,7 @@ class MultiTracker : public Tracker {
   // in the scene's frame), returned in the current map's frame.
   AlignResult<S> align(const Frame& frame, const PropertyContainer& scene, const Pose& to_scene,
                        const Pose& previous, const Pose& guess,
-                       const typename S::Matrix& covariance);
+                       const MotionEstimate<S>& predicted);
   // The constant-velocity model's bounds (max_acceleration, max_angular_acceleration).
   ConstantVelocityBounds bounds() const;
   // Counts the frame as aligned or failed.

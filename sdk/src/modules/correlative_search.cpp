@@ -65,6 +65,15 @@ class BranchAndBound {
                  int levels, int period)
       : scorers_(scorers), cells_(cells), angles_(angles), levels_(levels), period_(period) {}
 
+  // The motion prior's penalty (SearchOptions::prior_margin), in summed-score units.
+  void setPrior(const SearchOptions& o, double resolution, double angular_step, double total) {
+    if (!(o.prior_margin > 0) || !(o.prior_cap > 0)) return;
+    penalty_ = o.prior_margin * total / o.prior_cap;
+    cap_ = o.prior_cap;
+    cell_information_ = o.prior_translation * resolution * resolution;
+    heading_information_ = o.prior_rotation * angular_step * angular_step;
+  }
+
   // The best leaf scoring above `threshold` (score < 0: none); leaves within `radius` cells and
   // `turn` headings of `center` are skipped; with `first`, the first leaf found above it.
   Node run(double threshold, bool first, const Node* center = nullptr, double radius = 0,
@@ -93,7 +102,20 @@ class BranchAndBound {
   double score(int level, const Node& n) const {
     double sum = 0;
     for (const LatticeScorer* s : scorers_) sum += s->score(level, n.a, n.x, n.y);
-    return sum;
+    return sum - penalty(n, 1 << level);
+  }
+  // The prior's penalty at the node's pose nearest the center (a bound from below, as the
+  // scores' is from above, so branch and bound stays exact). A lattice pose stands for the
+  // poses of its cell and heading step, which the solve refines to: its nearest point counts,
+  // so a prior narrower than a cell does not judge the cells next to the center as far.
+  double penalty(const Node& n, int size) const {
+    if (penalty_ == 0) return 0;
+    const auto gap = [](int lo, int hi) {
+      return std::max(0.0, (lo > 0 ? lo : hi < 0 ? -hi : 0) - 0.5);
+    };
+    const double gx = gap(n.x, n.x + size - 1), gy = gap(n.y, n.y + size - 1), ga = gap(n.a, n.a);
+    const double m2 = (gx * gx + gy * gy) * cell_information_ + ga * ga * heading_information_;
+    return penalty_ * std::min(m2, cap_);
   }
   // Whether every pose of the node lies within the excluded neighbourhood.
   bool excluded(const Node& n, int size) const {
@@ -138,6 +160,7 @@ class BranchAndBound {
   const Node* center_ = nullptr;
   double radius_ = 0;
   int turn_ = 0;
+  double penalty_ = 0, cap_ = 0, cell_information_ = 0, heading_information_ = 0;
   bool first_ = false, done_ = false;
   double threshold_ = 0;
   Node* best_ = nullptr;
@@ -160,6 +183,7 @@ SearchResult<S> correlativeSearch(const std::vector<const LatticeScorer*>& score
           ? static_cast<int>(std::lround(2 * M_PI / lattice.angular_step))
           : 0;
   BranchAndBound search(scorers, lattice.cells, lattice.angles, lattice.levels, period);
+  search.setPrior(options, lattice.resolution, lattice.angular_step, total);
   // Scores are compared as sums; a threshold just below s * total admits a sum of s * total.
   const auto below = [total](double s) { return s * total * (1 - 1e-12) - 1e-9; };
   const Node best = search.run(below(options.min_score), false);

@@ -134,7 +134,8 @@ std::pair<double, double> MultiAligner<S>::window(const typename S::Matrix& cova
 
 template <class S>
 SearchResult<S> MultiAligner<S>::search(const std::vector<ScoringSlice<S>*>& scorers,
-                                        const Pose& guess, std::pair<double, double> window,
+                                        const Pose& guess, const typename S::Matrix* prior,
+                                        std::pair<double, double> window,
                                         SearchLattice<S>& lattice,
                                         std::vector<const LatticeScorer*>& ready) {
   const auto [linear, angular] = window;
@@ -157,13 +158,26 @@ SearchResult<S> MultiAligner<S>::search(const std::vector<ScoringSlice<S>*>& sco
   o.ambiguity_margin = ambiguity_margin();
   o.distinct_translation = distinct()[0];
   o.distinct_rotation = distinct()[1];
+  if (prior) {
+    // The lattice moves in the scene's plane: the prior's translation information is taken as
+    // isotropic at its least (the largest variance), heading as heading's alone.
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, S::kDim, S::kDim>> eig(
+        prior->template topLeftCorner<S::kDim, S::kDim>());
+    const double vt = eig.eigenvalues().maxCoeff(), vr = (*prior)(S::kDof - 1, S::kDof - 1);
+    if (vt > 0 && vr > 0) {
+      o.prior_margin = prior_margin();
+      o.prior_translation = 1.0 / vt;
+      o.prior_rotation = 1.0 / vr;
+      o.prior_cap = search_sigmas() * search_sigmas();
+    }
+  }
   return correlativeSearch(ready, lattice, o);
 }
 
 template <class S>
 void MultiAligner<S>::check(const std::vector<ScoringSlice<S>*>& scorers, const Pose& guess,
-                            const Pose& start, const SearchLattice<S>& lattice,
-                            AlignResult<S>& result) {
+                            const typename S::Matrix* prior, const Pose& start,
+                            const SearchLattice<S>& lattice, AlignResult<S>& result) {
   // A solve that ends a distinct peak away from the searched pose went to a minimum the search
   // did not find best (a corridor's slide, a wall pair's swap).
   const Pose moved = S::normalized(start.inverse() * result.pose);
@@ -186,7 +200,7 @@ void MultiAligner<S>::check(const std::vector<ScoringSlice<S>*>& scorers, const 
   SearchLattice<S> wide;
   std::vector<const LatticeScorer*> ready;
   const SearchResult<S> again =
-      search(scorers, guess,
+      search(scorers, guess, prior,
              {std::min(max_window()[0], std::max(linear, along + lattice.resolution)),
               std::min(max_window()[1], std::max(angular, turned + lattice.angular_step))},
              wide, ready);
@@ -222,15 +236,17 @@ AlignResult<S> MultiAligner<S>::align(const Frame& frame, const PropertyContaine
   SearchLattice<S> lattice;
   std::vector<const LatticeScorer*> ready;
   const auto t_search = Clock::now();
+  // The prediction's typical error, where this run measured it, weighs the search (a model's
+  // stated covariance bounds its error, it is no calibration of it); the bound sets the window.
+  const typename S::Matrix* typical = context.typical ? &*context.typical : nullptr;
+  const auto mahalanobis = [&](const Pose& p) {
+    const typename S::Vector d = S::toVector(S::normalized(context.guess.inverse() * p));
+    return d.dot((typical ? *typical : *context.covariance).ldlt().solve(d));
+  };
   if (context.covariance && !scorers.empty() && search_sigmas() > 0) {
-    found = search(scorers, context.guess, window(*context.covariance), lattice, ready);
+    found = search(scorers, context.guess, typical, window(*context.covariance), lattice, ready);
     if (found.found && found.ambiguous) {
       // Two distinct poses fit alike: the cues cannot tell them apart, the prediction can.
-      const Eigen::LDLT<typename S::Matrix> cov(*context.covariance);
-      const auto mahalanobis = [&](const Pose& p) {
-        const typename S::Vector d = S::toVector(S::normalized(context.guess.inverse() * p));
-        return d.dot(cov.solve(d));
-      };
       if (mahalanobis(found.rival) < mahalanobis(found.pose)) {
         std::swap(found.pose, found.rival);
         std::swap(found.score, found.rival_score);
@@ -243,7 +259,12 @@ AlignResult<S> MultiAligner<S>::align(const Frame& frame, const PropertyContaine
   const auto t_refine = Clock::now();
   std::optional<typename S::Matrix> prior_information;
   if (motion_prior() && context.covariance) {
-    const Eigen::LDLT<typename S::Matrix> ldlt(*context.covariance);
+    // The typical error's prior where the search found the pose within its reach; beyond it the
+    // motion was not typical, and only its bound is known.
+    const double reach = search_sigmas() * search_sigmas();
+    const typename S::Matrix& c =
+        context.typical && mahalanobis(start) <= reach ? *context.typical : *context.covariance;
+    const Eigen::LDLT<typename S::Matrix> ldlt(c);
     if (ldlt.info() == Eigen::Success && ldlt.isPositive())
       prior_information = ldlt.solve(S::Matrix::Identity());
   }
@@ -253,7 +274,7 @@ AlignResult<S> MultiAligner<S>::align(const Frame& frame, const PropertyContaine
   if (found.found) {
     result.searched = true;
     result.search_score = found.score;
-    if (result.valid) check(scorers, context.guess, start, lattice, result);
+    if (result.valid) check(scorers, context.guess, typical, start, lattice, result);
   }
   // Hypotheses made without the prediction (descriptor matching + RANSAC): each is refined by
   // the ordinary solve (every slice), and the result that explains more of the frame wins.

@@ -98,10 +98,10 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
   }
   // Align: search the window the covariance sets, refine from the best pose.
   AlignResult<S> aligned =
-      align(frame, map_->scene, Pose::Identity(), previous, guess, predicted.covariance);
+      align(frame, map_->scene, Pose::Identity(), previous, guess, predicted);
   if (!aligned.valid && previous_map_ && align_previous_map() && !previous_map_->scene.empty()) {
-    AlignResult<S> behind = align(frame, previous_map_->scene, origin_in_previous_, previous, guess,
-                                  predicted.covariance);
+    AlignResult<S> behind =
+        align(frame, previous_map_->scene, origin_in_previous_, previous, guess, predicted);
     if (behind.valid) aligned = behind;
   }
   if (!aligned.valid && map_->scene.empty()) {
@@ -117,7 +117,10 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
   // does not enter it (its data would sit there at an unverified pose), it seeds the next one.
   const bool lost = !aligned.valid;
   pose_ = lost ? guess : aligned.pose;
-  prediction_.solved(S::normalized(previous.inverse() * pose_));
+  // A step the data fixed says how far the prediction was off; an ambiguous one or one the cues
+  // could not vouch for may only repeat the prediction.
+  prediction_.solved(S::normalized(previous.inverse() * pose_),
+                     aligned.valid && !aligned.ambiguous && !aligned.unchecked);
   count(frame, aligned);
   // Merge, then split.
   if (lost) {
@@ -139,14 +142,15 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
 template <class S>
 AlignResult<S> MultiTracker<S>::align(const Frame& frame, const PropertyContainer& scene,
                                       const Pose& to_scene, const Pose& previous, const Pose& guess,
-                                      const typename S::Matrix& covariance) {
+                                      const MotionEstimate<S>& predicted) {
   std::optional<Pose> measured;
   if (prediction_.model_motion) measured = prediction_.model_motion->mean;
   AlignContext<S> context{S::normalized(to_scene * previous), S::normalized(to_scene * guess),
                           measured, prediction_.model_entry};
   // The covariance is in the robot's own tangent (boxplus multiplies on the right), which the
   // change of scene frame leaves as it is; so are the solution's H and its rival.
-  context.covariance = covariance;
+  context.covariance = predicted.covariance;
+  context.typical = prediction_.typical;
   AlignResult<S> aligned = aligner->align(frame, scene, context);
   aligned.pose = S::normalized(to_scene.inverse() * aligned.pose);
   stats_.search_s += aligned.search_s;
@@ -154,11 +158,13 @@ AlignResult<S> MultiTracker<S>::align(const Frame& frame, const PropertyContaine
   if (aligned.valid && aligned.searched) ++stats_.searched;
   if (spdlog::should_log(spdlog::level::trace)) {
     const Pose moved = S::normalized(guess.inverse() * aligned.pose);
+    const typename S::Matrix& c = predicted.covariance;
+    const typename S::Matrix& typical = prediction_.typical.value_or(c);
     spdlog::trace(
-        "frame {}: sigma {:.3f} m {:.3f} rad; search {} score {:.3f}; {:.3f} m {:.3f} "
-        "rad from the prediction; {} inliers of {}; {}",
-        frame.seq, std::sqrt(covariance(0, 0)), std::sqrt(covariance(S::kDof - 1, S::kDof - 1)),
-        aligned.searched ? "found" : "none", aligned.search_score, S::distance(moved),
+        "frame {}: sigma {:.3f} m {:.3f} rad (typical {:.3f} m {:.3f} rad); search {} score "
+        "{:.3f}; {:.3f} m {:.3f} rad from the prediction; {} inliers of {}; {}",
+        frame.seq, std::sqrt(c(0, 0)), std::sqrt(c(S::kDof - 1, S::kDof - 1)),
+        std::sqrt(typical(0, 0)), std::sqrt(typical(S::kDof - 1, S::kDof - 1)), aligned.searched ? "found" : "none", aligned.search_score, S::distance(moved),
         S::angle(moved), aligned.inliers, aligned.factors, toString(aligned.failure));
   }
   if (aligned.valid && aligned.ambiguous) {
