@@ -82,18 +82,16 @@ MotionEstimate<S> MotionPrediction<S>::predict(MotionModel<S>* model,
   if (!known) return e;
   guessed_ = mean;
   stretch_ = usual_reach > 0 ? reach / usual_reach : 1.0;
-  // The bounds assume the stamps tell the time and the robot's accelerations; this robot's
-  // recent steps say how much its velocity really changes from one frame to the next. Mostly
-  // far less (a log that keeps a scan per metre driven): that is the typical error, the bound
-  // stays. Sometimes more (stamps a logger wrote at a fixed rate, a faster vehicle): then the
-  // bound was wrong, and the errors seen are the bound too. A gap stretches them as it does it.
+  // The bounds hold for any robot; this one's recent steps say how much it really changes its
+  // velocity from one frame to the next (a log that keeps a scan per metre driven changes it far
+  // less than the seconds between its scans would allow): the typical error, never wider than
+  // the bound. A gap stretches it as it does the bound.
   if (errors_ >= kMinErrors) {
     typical = e.covariance;
     for (int i = 0; i < S::kDof; ++i) {
       const double floor = i < S::kDim ? bounds.min_sigma_translation : bounds.min_sigma_rotation;
       const double learned = std::max(floor, std::sqrt(error_ms_(i)) * stretch_);
-      (*typical)(i, i) = learned * learned;
-      e.covariance(i, i) = std::max(e.covariance(i, i), learned * learned);
+      (*typical)(i, i) = std::min(e.covariance(i, i), learned * learned);
     }
   }
   return e;
