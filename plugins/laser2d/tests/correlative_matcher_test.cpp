@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 namespace plugslam::laser2d {
@@ -48,40 +49,56 @@ void roomOf(std::vector<Eigen::Vector2d>& room, std::vector<Eigen::Vector2d>& no
   }
 }
 
+// A room seen from `truth` (every third wall point) and a search of +-`cells` cells (0.1 m) and
+// +-`angles` heading steps (0.02 rad) around the origin, with its grid and scorer.
+struct RoomSearch {
+  RoomSearch(const SE2& truth, int cells, int angles) {
+    roomOf(room, normals);
+    for (size_t i = 0; i < room.size(); i += 3) scan.push_back(truth.inverse() * room[i]);
+    lattice.resolution = 0.1;
+    lattice.angular_step = 0.02;
+    lattice.cells = cells;
+    lattice.angles = angles;
+    lattice.levels = searchLevels(lattice.cells);
+    const Eigen::Vector2d reach(12, 12);
+    grid = std::make_unique<CorrelativeGrid>(room, normals, 0.1, lattice.resolution, lattice.levels,
+                                             -reach, reach);
+    scorer = std::make_unique<GridScorer>(*grid, scan, lattice);
+  }
+  // The best of score - penalty(a, x, y) over every lattice pose, and that pose.
+  template <class Penalty>
+  double exhaustiveBest(Penalty penalty, SE2& pose) const {
+    double best = -1e9;
+    for (int a = -lattice.angles; a <= lattice.angles; ++a)
+      for (int x = -lattice.cells; x <= lattice.cells; ++x)
+        for (int y = -lattice.cells; y <= lattice.cells; ++y)
+          if (scorer->score(0, a, x, y) - penalty(a, x, y) > best) {
+            best = scorer->score(0, a, x, y) - penalty(a, x, y);
+            pose = lattice.pose(a, x, y);
+          }
+    return best;
+  }
+  std::vector<Eigen::Vector2d> room, normals, scan;
+  SearchLattice<Space2D> lattice;
+  std::unique_ptr<CorrelativeGrid> grid;
+  std::unique_ptr<GridScorer> scorer;
+};
+
 // The branch and bound of the SDK's correlative search finds the pose an exhaustive scoring of
 // every lattice pose finds (its bounds never prune the best), on a room seen from a guess that is
 // off in translation and heading.
 TEST(CorrelativeSearch, BranchAndBoundFindsTheExhaustiveBest) {
-  std::vector<Eigen::Vector2d> room, normals;
-  roomOf(room, normals);
   const SE2 truth = se2(0.3, -0.2, 0.16);  // on the lattice
-  std::vector<Eigen::Vector2d> scan;
-  for (size_t i = 0; i < room.size(); i += 3) scan.push_back(truth.inverse() * room[i]);
-  SearchLattice<Space2D> lattice;
-  lattice.center = se2(0, 0, 0);
-  lattice.resolution = 0.1;
-  lattice.angular_step = 0.02;
-  lattice.cells = 6;
-  lattice.angles = 12;
-  lattice.levels = searchLevels(lattice.cells);
-  const Eigen::Vector2d reach(12, 12);
-  const CorrelativeGrid grid(room, normals, 0.1, lattice.resolution, lattice.levels, -reach, reach);
-  const GridScorer scorer(grid, scan, lattice);
-  double best = -1;
+  const RoomSearch room(truth, 6, 12);
   SE2 best_pose = SE2::Identity();
-  for (int a = -lattice.angles; a <= lattice.angles; ++a)
-    for (int x = -lattice.cells; x <= lattice.cells; ++x)
-      for (int y = -lattice.cells; y <= lattice.cells; ++y)
-        if (scorer.score(0, a, x, y) > best) {
-          best = scorer.score(0, a, x, y);
-          best_pose = lattice.pose(a, x, y);
-        }
+  const double best = room.exhaustiveBest([](int, int, int) { return 0.0; }, best_pose);
   SearchOptions o;
   o.min_score = 0.1;
   o.ambiguity_margin = 0;
-  const SearchResult<Space2D> found = correlativeSearch<Space2D>({&scorer}, lattice, o);
+  const SearchResult<Space2D> found =
+      correlativeSearch<Space2D>({room.scorer.get()}, room.lattice, o);
   ASSERT_TRUE(found.found);
-  EXPECT_NEAR(found.score * scorer.maxScore(), best, 1e-9);
+  EXPECT_NEAR(found.score * room.scorer->maxScore(), best, 1e-9);
   EXPECT_LT((found.pose.translation() - truth.translation()).norm(), 0.11);
   EXPECT_NEAR(std::atan2(found.pose.linear()(1, 0), found.pose.linear()(0, 0)), 0.16, 0.021);
   EXPECT_LT((best_pose.translation() - found.pose.translation()).norm(), 1e-9);
@@ -164,20 +181,7 @@ TEST(CorrelativeSearch, ThePriorFavoursThePredictionUpToItsMargin) {
 
 // With the prior, branch and bound still finds the exhaustive best of score - penalty.
 TEST(CorrelativeSearch, BranchAndBoundWithThePriorFindsTheExhaustiveBest) {
-  std::vector<Eigen::Vector2d> room, normals;
-  roomOf(room, normals);
-  const SE2 truth = se2(0.4, -0.3, 0.1);
-  std::vector<Eigen::Vector2d> scan;
-  for (size_t i = 0; i < room.size(); i += 3) scan.push_back(truth.inverse() * room[i]);
-  SearchLattice<Space2D> lattice;
-  lattice.resolution = 0.1;
-  lattice.angular_step = 0.02;
-  lattice.cells = 8;
-  lattice.angles = 10;
-  lattice.levels = searchLevels(lattice.cells);
-  const Eigen::Vector2d reach(12, 12);
-  const CorrelativeGrid grid(room, normals, 0.1, lattice.resolution, lattice.levels, -reach, reach);
-  const GridScorer scorer(grid, scan, lattice);
+  const RoomSearch room(se2(0.4, -0.3, 0.1), 8, 10);
   SearchOptions o;
   o.min_score = 0.1;
   o.ambiguity_margin = 0;
@@ -185,19 +189,19 @@ TEST(CorrelativeSearch, BranchAndBoundWithThePriorFindsTheExhaustiveBest) {
   o.prior_translation = 1 / (0.2 * 0.2);
   o.prior_rotation = 1 / (0.05 * 0.05);
   o.prior_cap = 9;
-  const double total = scorer.maxScore();
-  double best = -1e9;
-  for (int a = -lattice.angles; a <= lattice.angles; ++a)
-    for (int x = -lattice.cells; x <= lattice.cells; ++x)
-      for (int y = -lattice.cells; y <= lattice.cells; ++y) {
-        // A lattice pose's nearest point to the center: half a step closer on each axis.
-        const auto g = [](int i) { return std::max(0.0, std::abs(i) - 0.5); };
+  const double total = room.scorer->maxScore();
+  // A lattice pose's nearest point to the center: half a step closer on each axis.
+  const auto g = [](int i) { return std::max(0.0, std::abs(i) - 0.5); };
+  SE2 pose = SE2::Identity();
+  const double best = room.exhaustiveBest(
+      [&](int a, int x, int y) {
         const double m2 = (g(x) * g(x) + g(y) * g(y)) * 0.01 * o.prior_translation +
                           g(a) * g(a) * 0.02 * 0.02 * o.prior_rotation;
-        best = std::max(best, scorer.score(0, a, x, y) -
-                                  total * o.prior_margin * std::min(m2, 9.0) / 9.0);
-      }
-  const SearchResult<Space2D> found = correlativeSearch<Space2D>({&scorer}, lattice, o);
+        return total * o.prior_margin * std::min(m2, 9.0) / 9.0;
+      },
+      pose);
+  const SearchResult<Space2D> found =
+      correlativeSearch<Space2D>({room.scorer.get()}, room.lattice, o);
   ASSERT_TRUE(found.found);
   EXPECT_NEAR(found.score * total, best, 1e-6);
 }
