@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "plugslam/aligner_slice.h"
 #include "plugslam/configurable.h"
 #include "plugslam/entry.h"
 #include "plugslam/frame.h"
@@ -69,9 +70,9 @@ ConstantVelocityBounds constantVelocityBounds(double max_acceleration,
                                               double max_angular_acceleration);
 
 /// The motion a tracker predicts before aligning: the motion model's estimate when it has one
-/// for the frame, else the recent velocity kept over the time since the last frame. That guess's
-/// covariance is what the largest plausible accelerations allow over that time, narrowed to how
-/// far the guess has been off on the recent frames whose step the data measured.
+/// for the frame, else the recent velocity kept over the time since the last frame, with the
+/// covariance the largest plausible accelerations allow over that time and, as `typical`, how
+/// far that guess has been off on the recent frames whose step the data measured.
 template <class S>
 struct MotionPrediction {
   using Pose = typename S::Pose;
@@ -89,6 +90,11 @@ struct MotionPrediction {
   /// The motion predicted for `frame` (in the previous robot frame) and its covariance.
   MotionEstimate<S> predict(MotionModel<S>* model, const ConstantVelocityBounds& bounds,
                             const Frame& frame);
+  /// The aligner's context for the frame just predicted (`predicted`, what predict() returned):
+  /// the previous pose and the guess in the scene's frame, the model's motion and its entry, the
+  /// covariance and the typical error.
+  AlignContext<S> context(const Pose& previous, const Pose& guess,
+                          const MotionEstimate<S>& predicted) const;
   /// Records the motion the frame just predicted really made; `measured`: the data fixed it
   /// (a valid, unambiguous alignment), so it also tells how far the prediction was off.
   void solved(const Pose& motion, bool measured = false);

@@ -70,6 +70,9 @@ struct AlignResult {
   bool unchecked = false;
   double search_s = 0;  ///< [s] spent searching
   double refine_s = 0;  ///< [s] spent in the solve
+  /// Valid, unambiguous and vouched for: the data fixed the step, so it tells how far the
+  /// prediction was off (MotionPrediction::solved).
+  bool fixesStep() const { return valid && !ambiguous && !unchecked; }
   /// inliers / factors, 0 without factors.
   double inlierRatio() const { return factors ? double(inliers) / factors : 0.0; }
   /// How much of the measurement the scene explains: inliers over candidates, summed over the

@@ -124,12 +124,8 @@ TrackEvents Localizer<S>::track(Frame& frame) {
     const Pose previous = S::normalized(S::from3D(to_map * previous_world));
     const Pose guess = S::normalized(S::from3D(to_map * guess_world));
     if (m == fallback) fallback_guess = guess;
-    std::optional<Pose> measured;
-    if (st.prediction.model_motion) measured = st.prediction.model_motion->mean;
-    AlignContext<S> context{previous, guess, measured, st.prediction.model_entry};
-    context.covariance = predicted.covariance;
-    context.typical = st.prediction.typical;
-    AlignResult<S> r = aligner->align(frame, m->scene, context);
+    AlignResult<S> r =
+        aligner->align(frame, m->scene, st.prediction.context(previous, guess, predicted));
     if (!r.valid) {
       if (m == fallback) fallback_failure = r.failure;
       continue;
@@ -148,10 +144,8 @@ TrackEvents Localizer<S>::track(Frame& frame) {
     st.pose = chosen->result.pose;
     ++stats_.aligned;
     stats_.inlier_ratio_sum += chosen->result.inlierRatio();
-    // As the tracker's: a step the data fixed says how far the prediction was off.
-    const AlignResult<S>& r = chosen->result;
     st.prediction.solved(S::normalized(chosen->previous.inverse() * st.pose),
-                         !r.ambiguous && !r.unchecked);
+                         chosen->result.fixesStep());
   } else {
     const Eigen::Isometry3d to_map = fallback->origin.inverse();
     const Pose previous = S::normalized(S::from3D(to_map * previous_world));

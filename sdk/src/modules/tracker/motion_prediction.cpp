@@ -98,6 +98,19 @@ MotionEstimate<S> MotionPrediction<S>::predict(MotionModel<S>* model,
 }
 
 template <class S>
+AlignContext<S> MotionPrediction<S>::context(const Pose& previous, const Pose& guess,
+                                             const MotionEstimate<S>& predicted) const {
+  std::optional<Pose> measured;
+  if (model_motion) measured = model_motion->mean;
+  AlignContext<S> c{previous, guess, measured, model_entry};
+  // The covariance is in the robot's own tangent (boxplus multiplies on the right), which a
+  // change of scene frame leaves as it is.
+  c.covariance = predicted.covariance;
+  c.typical = typical;
+  return c;
+}
+
+template <class S>
 void MotionPrediction<S>::solved(const Pose& motion, bool measured) {
   steps_.emplace_back(interval_, motion);
   while (steps_.size() > kMaxSteps) steps_.pop_front();

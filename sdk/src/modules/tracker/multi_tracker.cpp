@@ -97,8 +97,7 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
     return events;
   }
   // Align: search the window the covariance sets, refine from the best pose.
-  AlignResult<S> aligned =
-      align(frame, map_->scene, Pose::Identity(), previous, guess, predicted);
+  AlignResult<S> aligned = align(frame, map_->scene, Pose::Identity(), previous, guess, predicted);
   if (!aligned.valid && previous_map_ && align_previous_map() && !previous_map_->scene.empty()) {
     AlignResult<S> behind =
         align(frame, previous_map_->scene, origin_in_previous_, previous, guess, predicted);
@@ -119,8 +118,7 @@ TrackEvents MultiTracker<S>::track(Frame& frame) {
   pose_ = lost ? guess : aligned.pose;
   // A step the data fixed says how far the prediction was off; an ambiguous one or one the cues
   // could not vouch for may only repeat the prediction.
-  prediction_.solved(S::normalized(previous.inverse() * pose_),
-                     aligned.valid && !aligned.ambiguous && !aligned.unchecked);
+  prediction_.solved(S::normalized(previous.inverse() * pose_), aligned.fixesStep());
   count(frame, aligned);
   // Merge, then split.
   if (lost) {
@@ -143,15 +141,12 @@ template <class S>
 AlignResult<S> MultiTracker<S>::align(const Frame& frame, const PropertyContainer& scene,
                                       const Pose& to_scene, const Pose& previous, const Pose& guess,
                                       const MotionEstimate<S>& predicted) {
-  std::optional<Pose> measured;
-  if (prediction_.model_motion) measured = prediction_.model_motion->mean;
-  AlignContext<S> context{S::normalized(to_scene * previous), S::normalized(to_scene * guess),
-                          measured, prediction_.model_entry};
-  // The covariance is in the robot's own tangent (boxplus multiplies on the right), which the
-  // change of scene frame leaves as it is; so are the solution's H and its rival.
-  context.covariance = predicted.covariance;
-  context.typical = prediction_.typical;
-  AlignResult<S> aligned = aligner->align(frame, scene, context);
+  // The solution's H and its rival are in the robot's tangent too: the change of scene frame
+  // leaves them as they are.
+  AlignResult<S> aligned =
+      aligner->align(frame, scene,
+                     prediction_.context(S::normalized(to_scene * previous),
+                                         S::normalized(to_scene * guess), predicted));
   aligned.pose = S::normalized(to_scene.inverse() * aligned.pose);
   stats_.search_s += aligned.search_s;
   stats_.refine_s += aligned.refine_s;
@@ -164,7 +159,8 @@ AlignResult<S> MultiTracker<S>::align(const Frame& frame, const PropertyContaine
         "frame {}: sigma {:.3f} m {:.3f} rad (typical {:.3f} m {:.3f} rad); search {} score "
         "{:.3f}; {:.3f} m {:.3f} rad from the prediction; {} inliers of {}; {}",
         frame.seq, std::sqrt(c(0, 0)), std::sqrt(c(S::kDof - 1, S::kDof - 1)),
-        std::sqrt(typical(0, 0)), std::sqrt(typical(S::kDof - 1, S::kDof - 1)), aligned.searched ? "found" : "none", aligned.search_score, S::distance(moved),
+        std::sqrt(typical(0, 0)), std::sqrt(typical(S::kDof - 1, S::kDof - 1)),
+        aligned.searched ? "found" : "none", aligned.search_score, S::distance(moved),
         S::angle(moved), aligned.inliers, aligned.factors, toString(aligned.failure));
   }
   if (aligned.valid && aligned.ambiguous) {
