@@ -91,3 +91,31 @@ TEST(MotionPrediction, TheTypicalErrorStaysWithinTheBound) {
   ASSERT_TRUE(p.typical);
   EXPECT_NEAR((*p.typical)(0, 0), e.covariance(0, 0), 1e-12);
 }
+
+// Frames 0.1 s and 1 m apart, then one 0.4 s later: the mean is one step (a logger that writes a
+// frame when the robot moved), and through_gap the pace kept through the gap (a sensor that lost
+// three frames), both in the robot's frame and, in the aligner's context, in the scene's. Only a
+// gap has the second guess.
+TEST(MotionPrediction, AGapInTheStampsIsPredictedBothWays) {
+  const ConstantVelocityBounds bounds;
+  MotionPrediction<Space2D> p;
+  std::mt19937 rng(7);
+  double stamp = 0;
+  drive(p, 10, 0.0, true, rng, stamp, 0.1);
+  EXPECT_FALSE(p.through_gap);
+  const double gap = stamp + 0.3;
+  const MotionEstimate<Space2D> e = p.predict(nullptr, bounds, at(gap));
+  EXPECT_NEAR(e.mean.translation().x(), 1.0, 1e-9);
+  ASSERT_TRUE(p.through_gap);
+  EXPECT_NEAR(p.through_gap->translation().x(), 4.0, 1e-9);
+  EXPECT_NEAR(p.through_gap->translation().y(), 0.0, 1e-9);
+  const SE2 previous = se2(5, 2, 0.5);
+  const AlignContext<Space2D> c = p.context(previous, previous * e.mean, e);
+  ASSERT_TRUE(c.through_gap);
+  EXPECT_TRUE(c.through_gap->isApprox(previous * *p.through_gap));
+  p.solved(se2(4, 0, 0), true);
+  EXPECT_FALSE(p.through_gap);
+  p.predict(nullptr, bounds, at(gap + 0.1));
+  EXPECT_FALSE(p.through_gap);
+  EXPECT_FALSE(p.context(previous, previous, e).through_gap);
+}

@@ -60,6 +60,10 @@ struct AlignContext {
   /// The covariance of the prediction's typical errors where the run measured them
   /// (MotionPrediction::typical): the search favours poses within it; `covariance` bounds them.
   std::optional<typename S::Matrix> typical;
+  /// After a gap in the stamps, the pose had the robot kept its velocity through it
+  /// (MotionPrediction::through_gap, in the scene frame), with `covariance` about it: a guess the
+  /// aligner also tries when the solve from `guess` cannot be vouched for. Empty otherwise.
+  std::optional<Pose> through_gap;
 };
 
 /// One cue's contribution to the Multi-Aligner.

@@ -86,6 +86,11 @@ struct MotionPrediction {
   /// covariance (the prediction's covariance bounds them and sets the search window; the search
   /// favours poses within this). Empty otherwise.
   std::optional<typename S::Matrix> typical;
+  /// After a gap in the stamps (a frame more than twice the usual interval after the last), the
+  /// motion had the robot kept its velocity through the gap. The mean assumes one step (a logger
+  /// that writes a frame when the robot has moved); a sensor that lost frames kept its pace. The
+  /// covariance is about either; the aligner tries this one when the other cannot be vouched for.
+  std::optional<Pose> through_gap;
 
   /// The motion predicted for `frame` (in the previous robot frame) and its covariance.
   MotionEstimate<S> predict(MotionModel<S>* model, const ConstantVelocityBounds& bounds,

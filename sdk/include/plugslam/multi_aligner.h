@@ -61,8 +61,8 @@ struct AlignResult {
   bool ambiguous = false;
   /// With `ambiguous`: the rival pose as a tangent vector at `pose` (robot frame).
   typename S::Vector rival = S::Vector::Zero();
-  /// The pose came from a hypothesis a cue made without the prediction (recoverPose()), which
-  /// explained more than the solve from the prediction.
+  /// The pose came from another hypothesis than the prediction's mean (a cue's recoverPose(),
+  /// or the pace kept through a gap in the stamps), which explained more than the solve from it.
   bool hypothesis = false;
   /// The solve could not vouch for its motion (the data barely measure the step along the
   /// direction of travel, or the prediction was beyond the cues' reach) and no hypothesis

@@ -276,20 +276,22 @@ AlignResult<S> MultiAligner<S>::align(const Frame& frame, const PropertyContaine
     result.search_score = found.score;
     if (result.valid) check(scorers, context.guess, typical, start, lattice, result);
   }
-  // Hypotheses made without the prediction (descriptor matching + RANSAC): each is refined by
-  // the ordinary solve (every slice), and the result that explains more of the frame wins.
+  // Other hypotheses: the pace kept through a gap in the stamps (its prior is about it), and
+  // those made without the prediction (descriptor matching + RANSAC). Each is refined by the
+  // ordinary solve (every slice), and the result that explains more of the frame wins.
   const auto hypotheses = [&]() {
     bool made = false;
-    for (RecoverableSlice<S>* r : recoverable) {
-      const std::optional<Pose> proposed = r->recoverPose();
-      if (!proposed) continue;
+    const auto compete = [&](const Pose& from, const Pose* about) {
       made = true;
-      AlignResult<S> retry = solve(active, *proposed, prior, info);
+      AlignResult<S> retry = solve(active, from, about, info);
       if (retry.valid && (!result.valid || retry.inliers > result.inliers)) {
         retry.hypothesis = true;
         result = retry;
       }
-    }
+    };
+    if (context.through_gap) compete(*context.through_gap, prior ? &*context.through_gap : nullptr);
+    for (RecoverableSlice<S>* r : recoverable)
+      if (const std::optional<Pose> proposed = r->recoverPose()) compete(*proposed, prior);
     return made;
   };
   if (relocalise() && !recoverable.empty()) {

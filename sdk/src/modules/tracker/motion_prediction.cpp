@@ -37,6 +37,7 @@ MotionEstimate<S> MotionPrediction<S>::predict(MotionModel<S>* model,
   model_motion.reset();
   model_entry.clear();
   typical.reset();
+  through_gap.reset();
   guessed_.reset();
   interval_ = last_stamp_ ? frame.stamp - *last_stamp_ : 0.0;
   last_stamp_ = frame.stamp;
@@ -56,7 +57,8 @@ MotionEstimate<S> MotionPrediction<S>::predict(MotionModel<S>* model,
   double sum = 0;
   for (const auto& step : steps_) sum += std::max(step.first, 0.0);
   const double usual = n > 0 ? sum / n : 0.0;
-  const double dt = usual > 0 && interval_ > 2 * usual ? interval_ : usual;
+  const bool gap = usual > 0 && interval_ > 2 * usual;
+  const double dt = gap ? interval_ : usual;
   // Known at the middle of the steps averaged; from there to the middle of this one the
   // velocity may change by at most acceleration x (their time + this) / 2, and the position by
   // that times this step's duration. Before a step was seen (the second frame, after a reset)
@@ -81,6 +83,8 @@ MotionEstimate<S> MotionPrediction<S>::predict(MotionModel<S>* model,
   MotionEstimate<S> e = MotionEstimate<S>::isotropic(mean, st, sr);
   if (!known) return e;
   guessed_ = mean;
+  if (gap)
+    through_gap = S::normalized(S::boxplus(Pose::Identity(), per_step * (interval_ / usual)));
   stretch_ = usual_reach > 0 ? reach / usual_reach : 1.0;
   // The bounds hold for any robot; this one's recent steps say how much it really changes its
   // velocity from one frame to the next (a log that keeps a scan per metre driven changes it far
@@ -107,6 +111,7 @@ AlignContext<S> MotionPrediction<S>::context(const Pose& previous, const Pose& g
   // change of scene frame leaves as it is.
   c.covariance = predicted.covariance;
   c.typical = typical;
+  if (through_gap) c.through_gap = S::normalized(previous * *through_gap);
   return c;
 }
 
@@ -122,6 +127,7 @@ void MotionPrediction<S>::solved(const Pose& motion, bool measured) {
     error_ms_ += weight * (error.cwiseAbs2() - error_ms_);
   }
   guessed_.reset();
+  through_gap.reset();
 }
 
 template <class S>
@@ -132,6 +138,7 @@ void MotionPrediction<S>::reset() {
   model_motion.reset();
   model_entry.clear();
   typical.reset();
+  through_gap.reset();
   guessed_.reset();
   // How far constant velocity is off is the robot's (and the log's rate's), not the history's:
   // it survives a reset.

@@ -181,7 +181,7 @@ void MultiTracker<S>::count(const Frame& frame, const AlignResult<S>& aligned) {
     stats_.inlier_ratio_sum += aligned.inlierRatio();
     if (aligned.hypothesis) {
       ++stats_.hypotheses;
-      spdlog::debug("frame {}: placed by a hypothesis made without the prediction", frame.seq);
+      spdlog::debug("frame {}: placed by a hypothesis other than the prediction", frame.seq);
     }
     if (aligned.unchecked) {
       // Never silent: a pose the cues could not vouch for is said, and listed in the report.
