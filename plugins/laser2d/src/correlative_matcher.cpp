@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <unordered_set>
 
 #include "plugslam/errors.h"
@@ -89,23 +90,36 @@ CorrelativeGrid::CorrelativeGrid(double resolution, const Eigen::Vector2d& origi
 }
 
 void CorrelativeGrid::pool() {
-  // Level h from level h-1: the 2^h window at c is the union of four 2^(h-1) windows.
+  // Level h from level h-1: the 2^h window at c is the union of four 2^(h-1) windows, taken as
+  // the max of two columns s apart, then of two rows s apart, over a copy of level h-1 padded
+  // with `outside` so that no read needs a bounds check (the loops vectorize).
+  std::vector<uint8_t> padded, rows;
   for (size_t h = 1; h < levels_.size(); ++h) {
     const int s = 1 << (h - 1);
+    const Level& p = levels_[h - 1];
     Level& l = levels_[h];
     l.offset = (1 << h) - 1;
     l.width = width_ + l.offset;
     l.height = height_ + l.offset;
-    l.cells.assign(static_cast<size_t>(l.width) * l.height, 0);
-    const int lv = static_cast<int>(h) - 1;
-    for (int yi = 0; yi < l.height; ++yi) {
-      const int y = yi - l.offset;
-      for (int xi = 0; xi < l.width; ++xi) {
-        const int x = xi - l.offset;
-        const int v = std::max(std::max(value(lv, x, y), value(lv, x + s, y)),
-                               std::max(value(lv, x, y + s), value(lv, x + s, y + s)));
-        l.cells[static_cast<size_t>(yi) * l.width + xi] = static_cast<uint8_t>(v);
-      }
+    // The padded copy covers cells [-l.offset, base size + s) in x and y.
+    const int pw = l.width + s, ph = l.height + s;
+    padded.assign(static_cast<size_t>(pw) * ph, outside_);
+    const int shift = l.offset - p.offset;  // where level h-1's cell (0, 0) of its own lands
+    for (int y = 0; y < p.height; ++y)
+      std::copy_n(p.cells.begin() + static_cast<std::ptrdiff_t>(y) * p.width, p.width,
+                  padded.begin() + static_cast<std::ptrdiff_t>(y + shift) * pw + shift);
+    rows.resize(static_cast<size_t>(l.width) * ph);
+    for (int y = 0; y < ph; ++y) {
+      const uint8_t* in = padded.data() + static_cast<size_t>(y) * pw;
+      uint8_t* out = rows.data() + static_cast<size_t>(y) * l.width;
+      for (int x = 0; x < l.width; ++x) out[x] = std::max(in[x], in[x + s]);
+    }
+    l.cells.resize(static_cast<size_t>(l.width) * l.height);
+    for (int y = 0; y < l.height; ++y) {
+      const uint8_t* a = rows.data() + static_cast<size_t>(y) * l.width;
+      const uint8_t* b = a + static_cast<size_t>(s) * l.width;
+      uint8_t* out = l.cells.data() + static_cast<size_t>(y) * l.width;
+      for (int x = 0; x < l.width; ++x) out[x] = std::max(a[x], b[x]);
     }
   }
 }

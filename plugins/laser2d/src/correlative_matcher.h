@@ -96,15 +96,15 @@ struct CorrelativeOptions {
 
 /// Outcome of a correlative search.
 struct CorrelativeMatch {
-  bool found = false;          ///< a pose scored min_score or more
-  bool ambiguous = false;      ///< a distinct pose scored within the margin of the best
-  SE2 pose = SE2::Identity();  ///< best pose of the query's origin in the grid's frame
-  double score = 0;            ///< mean grid value (0..1) of the query's points at `pose`
-  double second_score = 0;     ///< a distinct pose's score when ambiguous
+  bool found = false;                 ///< a pose scored min_score or more
+  bool ambiguous = false;             ///< a distinct pose scored within the margin of the best
+  SE2 pose = SE2::Identity();         ///< best pose of the query's origin in the grid's frame
+  double score = 0;                   ///< mean grid value (0..1) of the query's points at `pose`
+  double second_score = 0;            ///< a distinct pose's score when ambiguous
   SE2 second_pose = SE2::Identity();  ///< that pose, when ambiguous
-  double angular_step = 0;     ///< [rad] step used
-  int angles = 0;              ///< rotations searched
-  int leaves = 0;              ///< poses scored exactly (search effort)
+  double angular_step = 0;            ///< [rad] step used
+  int angles = 0;                     ///< rotations searched
+  int leaves = 0;                     ///< poses scored exactly (search effort)
 };
 
 /// Finds the pose of `query` (points in its own frame) in `grid`'s frame, within the windows

@@ -38,6 +38,47 @@ TEST(CorrelativeGrid, PooledLevelsBoundTheBase) {
   }
 }
 
+// A grid given its base values and a non-zero `outside` (a map's unknown space): the pooled
+// levels take the outside into account where their windows leave the grid, and a scorer's sum
+// is the points' cells' values whether the query lies wholly inside a level or reaches out of it.
+TEST(CorrelativeGrid, PoolingAndScoringAgreeWithTheCellsOutsideToo) {
+  const int w = 23, h = 17;
+  std::vector<uint8_t> base(static_cast<size_t>(w) * h);
+  for (size_t i = 0; i < base.size(); ++i) base[i] = static_cast<uint8_t>((i * 37) % 251);
+  const CorrelativeGrid grid(0.1, Eigen::Vector2d(-1.0, -0.5), w, h, base, 3, 60);
+  for (int l = 1; l <= 3; ++l) {
+    const int s = 1 << l;
+    for (int y = -s - 1; y < h + 1; ++y)
+      for (int x = -s - 1; x < w + 1; ++x) {
+        int m = 0;
+        for (int dy = 0; dy < s; ++dy)
+          for (int dx = 0; dx < s; ++dx) m = std::max(m, grid.value(0, x + dx, y + dy));
+        ASSERT_EQ(grid.value(l, x, y), m) << l << " " << x << " " << y;
+      }
+  }
+  const std::vector<Eigen::Vector2d> query = {{0.0, 0.0}, {0.33, 0.12}, {-0.2, 0.41}, {0.05, -0.3}};
+  SearchLattice<Space2D> lattice;
+  lattice.resolution = 0.1;
+  lattice.angular_step = 0.1;
+  lattice.angles = 2;
+  const GridScorer scorer(grid, query, lattice);
+  const double r = grid.resolution();
+  for (int a = -2; a <= 2; ++a) {
+    const Eigen::Rotation2Dd rot(a * 0.1);
+    for (int l = 0; l <= 3; ++l)
+      for (int y = -12; y <= 12; ++y)
+        for (int x = -14; x <= 14; ++x) {
+          int sum = 0;
+          for (const auto& q : query) {
+            const Eigen::Vector2d p = rot * q - grid.origin();
+            sum += grid.value(l, static_cast<int>(std::floor(p.x() / r)) + x,
+                              static_cast<int>(std::floor(p.y() / r)) + y);
+          }
+          ASSERT_DOUBLE_EQ(scorer.score(l, a, x, y), sum / 255.0) << l << " " << x << " " << y;
+        }
+  }
+}
+
 // A room with an inner wall (no symmetry): its wall points and their normals.
 void roomOf(std::vector<Eigen::Vector2d>& room, std::vector<Eigen::Vector2d>& normals) {
   for (int i = 0; i < 200; ++i) {
