@@ -211,6 +211,39 @@ TEST(MultiTracker, TracksACircleAndSplitsLocalMaps) {
   }
 }
 
+namespace {
+// A tracker slice that refines each frame it merges by 5 cm to the left (as a bundle adjustment
+// would move it by what its map knows).
+class NudgingSlice : public TrackerSlice<Space2D>, public RefiningSlice<Space2D> {
+ public:
+  std::optional<Eigen::Isometry2d> refinedPose() const override { return refined_; }
+
+ protected:
+  void integrate(const MergeContext<Space2D>& context) override {
+    refined_ = context.pose * se2(0.0, 0.05, 0.0);
+  }
+
+ private:
+  std::optional<Eigen::Isometry2d> refined_;
+};
+}  // namespace
+
+TEST(MultiTracker, TakesTheRefinedPoseOfARefiningSlice) {
+  auto tracker = landmarkTracker(100.0);
+  tracker->slices.assign(std::make_shared<NudgingSlice>());
+  auto pipeline = trackingOnly(tracker);
+  const Landmarks world = grid(1.5, 12.0);
+  for (uint64_t i = 0; i < 4; ++i) {
+    Frame f = sequenceFrame(i);
+    f.measurement.set<Landmarks>("landmarks", observe(world, Eigen::Isometry2d::Identity(), 6.0));
+    pipeline->process(f);
+    ASSERT_TRUE(f.estimate.valid);
+    // The landmarks place the standing robot at the origin; the refining slice has the last word.
+    EXPECT_NEAR(f.estimate.world.translation().x(), 0.0, 1e-6) << "frame " << i;
+    EXPECT_NEAR(f.estimate.world.translation().y(), 0.05, 1e-6) << "frame " << i;
+  }
+}
+
 TEST(MultiTracker, ReportsTheMapsItStartsAndCloses) {
   // A split every metre at 0.1 m per frame: every 10th frame closes the map and starts the next;
   // a reset closes the map at once and the next frame starts a new chain.

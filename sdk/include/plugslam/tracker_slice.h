@@ -3,6 +3,7 @@
 // It declares what it reads (Input<T>, typically a measurement entry) and the scene entry it
 // writes (Output<T>, Container::scene); the SDK binds them before it calls integrate().
 #include <cstdint>
+#include <optional>
 
 #include "plugslam/configurable.h"
 #include "plugslam/entry.h"
@@ -52,10 +53,23 @@ class HandoverSlice {
                         const typename S::Pose& origin, uint64_t seq) = 0;
 };
 
+/// Optional second base of a tracker slice whose merge refines the pose of the frame it merged
+/// (a local bundle adjustment): the tracker takes the refined pose as the frame's estimate.
+template <class S>
+class RefiningSlice {
+ public:
+  virtual ~RefiningSlice();
+  /// The frame just merged, refined (in the local map's frame); empty when the merge did not
+  /// refine it.
+  virtual std::optional<typename S::Pose> refinedPose() const = 0;
+};
+
 extern template class TrackerSlice<Space2D>;
 extern template class TrackerSlice<Space3D>;
 extern template class HandoverSlice<Space2D>;
 extern template class HandoverSlice<Space3D>;
+extern template class RefiningSlice<Space2D>;
+extern template class RefiningSlice<Space3D>;
 
 }  // namespace abi_v1
 }  // namespace plugslam

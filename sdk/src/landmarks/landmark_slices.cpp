@@ -219,7 +219,47 @@ std::vector<Statistic> LandmarkMapSlice<S>::statistics() const {
           {"matched_per_frame", perFrame(matched_, frames_)},
           {"created_per_frame", perFrame(created_, frames_)},
           {"pruned_per_frame", perFrame(pruned_, frames_)},
-          {"landmarks_per_frame", perFrame(landmarks_, frames_)}};
+          {"landmarks_per_frame", perFrame(landmarks_, frames_)},
+          {"bundles", static_cast<double>(bundles_)},
+          {"bundle_s", bundle_s_}};
+}
+
+template <class S>
+void LandmarkMapSlice<S>::bundle(const MergeContext<S>& context, const FeatureSet& f,
+                                 LandmarkMap& map,
+                                 const std::vector<std::pair<size_t, uint64_t>>& observed) {
+  refined_.reset();
+  if (&map != bundle_map_) {  // a new local map: its frames start over
+    bundle_.clear();
+    bundle_map_ = &map;
+  }
+  BundleFrame frame;
+  frame.seq = context.seq;
+  frame.pose = S::to3D(context.pose);
+  frame.mount = f.mount;
+  frame.camera = f.camera;
+  frame.observations.reserve(observed.size());
+  for (const auto& [i, id] : observed) {
+    const bool depth = f.hasDepth(i);
+    const double wp = 1.0 / (f.pixel_sigma[i] * f.pixel_sigma[i]);
+    const double wq = depth ? 1.0 / (f.inverse_depth_sigma[i] * f.inverse_depth_sigma[i]) : 0.0;
+    frame.observations.push_back(
+        BundleObservation{id, Eigen::Vector3d(f.pixels[i].x(), f.pixels[i].y(),
+                                              depth ? f.inverse_depth[i] : 0.0),
+                          Eigen::Vector3d(wp, wp, wq)});
+  }
+  bundle_.push_back(std::move(frame));
+  while (bundle_.size() > static_cast<size_t>(bundle_frames())) bundle_.erase(bundle_.begin());
+  if (bundle_.size() < 2 || frames_ % static_cast<uint64_t>(bundle_every()) != 0) return;
+  Stopwatch watch(bundle_s_);
+  // The first frame ties the bundle to the poses before it (the map's origin, or frames the
+  // bundle no longer holds): it stays. The frame just merged moves with the rest, and the tracker
+  // takes its refined pose. A planar robot's poses are the tracker's own: only the landmarks move.
+  for (size_t k = 0; k < bundle_.size(); ++k) bundle_[k].fixed = S::kDim == 2 || k == 0;
+  const BundleResult r = adjustBundle(bundle_, map);
+  ++bundles_;
+  if constexpr (S::kDim == 3)
+    if (r.chi2_after < r.chi2_before) refined_ = bundle_.back().pose;
 }
 
 template <class S>
@@ -282,10 +322,12 @@ void LandmarkMapSlice<S>::integrate(const MergeContext<S>& context) {
     if (visible_[j]) ++map->visible[j];
 
   std::vector<bool> matched(f->size(), false);
+  std::vector<std::pair<size_t, uint64_t>> observed;  // (keypoint, landmark track id)
   const size_t bytes = static_cast<size_t>(f->descriptor_bytes);
   for (const LandmarkMatch& m : matches_) {
     const size_t i = static_cast<size_t>(m.feature), j = static_cast<size_t>(m.landmark);
     matched[i] = true;
+    observed.emplace_back(i, map->ids[j]);
     ++last_matched_;
     ++map->observations[j];
     if (!visible_[j]) ++map->visible[j];
@@ -312,6 +354,7 @@ void LandmarkMapSlice<S>::integrate(const MergeContext<S>& context) {
   for (size_t i = 0; i < f->size(); ++i) {
     if (matched[i] || !f->hasDepth(i)) continue;
     if (max_depth() > 0 && f->points[i].z() > max_depth()) continue;
+    observed.emplace_back(i, next_id_);
     map->push(camera * f->points[i], r * f->covariances[i] * r.transpose(), next_id_++,
               f->descriptor(i), f->colours[i], context.seq,
               f->points[i].norm() * f->scales[i]);
@@ -328,6 +371,7 @@ void LandmarkMapSlice<S>::integrate(const MergeContext<S>& context) {
     map->keepOnly(keep);
   else
     map->touch();
+  if (bundle_frames() > 0) bundle(context, *f, *map, observed);
   ++frames_;
   matched_ += last_matched_;
   created_ += last_created_;

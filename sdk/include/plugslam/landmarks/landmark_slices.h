@@ -6,10 +6,12 @@
 // robot's one pose with a planar laser.
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "plugslam/aligner_slice.h"
 #include "plugslam/landmarks/association.h"
+#include "plugslam/landmarks/local_bundle.h"
 #include "plugslam/solver/robust_kernel.h"
 #include "plugslam/statistics.h"
 #include "plugslam/tracker_slice.h"
@@ -151,6 +153,7 @@ class ReprojectionSlice final : public AlignerSlice<S>,
 template <class S>
 class LandmarkMapSlice final : public TrackerSlice<S>,
                                public HandoverSlice<S>,
+                               public RefiningSlice<S>,
                                public StatisticsSource {
  public:
   using Pose = typename S::Pose;
@@ -179,11 +182,22 @@ class LandmarkMapSlice final : public TrackerSlice<S>,
                                 "judged landmarks matched in fewer of the frames they projected "
                                 "into are pruned",
                                 Range{0, 1}};
+  Param<int> bundle_frames{this, "bundle_frames", 0, "frames",
+                           "a local bundle adjustment refines the landmarks the map's last this "
+                           "many frames observed and those frames' poses but the first, the "
+                           "frame just merged's included (a planar robot's poses stay as "
+                           "tracked); 0: none",
+                           Range{0, 1000}};
+  Param<int> bundle_every{this, "bundle_every", 5, "frames",
+                          "frames between two bundle adjustments", Range{1, 1000000}};
 
   /// On a split: the landmarks frame `seq` matched or created (their fused positions,
   /// covariances, track ids and counters) move into the new map's frame.
   void handOver(const PropertyContainer& previous, PropertyContainer& next, const Pose& origin,
                 uint64_t seq) override;
+
+  /// After a bundle adjustment, the frame just merged as the bundle placed it.
+  std::optional<Pose> refinedPose() const override { return refined_; }
 
   /// Counters of the last merge: matched landmarks, new landmarks, pruned landmarks.
   size_t lastMatched() const { return last_matched_; }
@@ -196,9 +210,17 @@ class LandmarkMapSlice final : public TrackerSlice<S>,
   void integrate(const MergeContext<S>& context) override;
 
  private:
+  // Records the frame's observations (keypoint, landmark track id) and adjusts the bundle.
+  void bundle(const MergeContext<S>& context, const FeatureSet& f, LandmarkMap& map,
+              const std::vector<std::pair<size_t, uint64_t>>& observed);
   FeatureGrid grid_;
   std::vector<LandmarkMatch> matches_;
   std::vector<bool> visible_;
+  std::vector<BundleFrame> bundle_;          // the current map's last frames
+  const LandmarkMap* bundle_map_ = nullptr;  // the map they belong to
+  std::optional<Pose> refined_;              // the last frame as the last bundle placed it
+  uint64_t bundles_ = 0;
+  double bundle_s_ = 0;
   uint64_t next_id_ = 0;
   size_t last_matched_ = 0, last_created_ = 0, last_pruned_ = 0;
   uint64_t frames_ = 0, matched_ = 0, created_ = 0, pruned_ = 0, landmarks_ = 0;

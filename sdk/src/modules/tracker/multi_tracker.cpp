@@ -225,6 +225,11 @@ template <class S>
 void MultiTracker<S>::merge(const Frame& frame) {
   const auto start = std::chrono::steady_clock::now();
   for (auto& slice : slices) slice->merge(frame, map_->scene, pose_);
+  // A slice that refined the frame's pose with what its map knows (a bundle adjustment) gives
+  // the frame's estimate, and where the next prediction starts.
+  for (auto& slice : slices)
+    if (const auto* r = dynamic_cast<const RefiningSlice<S>*>(slice.get()))
+      if (const std::optional<Pose> refined = r->refinedPose()) pose_ = *refined;
   stats_.merge_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ++frames_in_map_;
   map_->last_seq = frame.seq;

@@ -72,11 +72,15 @@ ConstantVelocityBounds constantVelocityBounds(double max_acceleration,
 
 template <class S>
 HandoverSlice<S>::~HandoverSlice() = default;
+template <class S>
+RefiningSlice<S>::~RefiningSlice() = default;
 
 template class TrackerSlice<Space2D>;
 template class TrackerSlice<Space3D>;
 template class HandoverSlice<Space2D>;
 template class HandoverSlice<Space3D>;
+template class RefiningSlice<Space2D>;
+template class RefiningSlice<Space3D>;
 template class MotionModel<Space2D>;
 template class MotionModel<Space3D>;
 
