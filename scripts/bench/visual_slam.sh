@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The visual SLAM benches (issues 16, 42), three sweeps, each writing its own section of
 # docs/benchmarks.md with `plugslam sweep report --section`:
-#   street   scripts/bench/visual_slam.sweep.yaml        stereo SLAM on the rendered street and the
+#   street   scripts/bench/visual_slam.sweep.yaml        stereo SLAM (alone and with odometry) on the
+#            rendered street, at highway speed and on the
 #            KITTI-00 path, loops checked against the ground truth (section visual_slam)
 #   rgbd     scripts/bench/visual_slam_rgbd.sweep.yaml   RGB-D data tracked alone and with SLAM
 #            (section visual_slam_rgbd)

@@ -249,13 +249,18 @@ void LandmarkMapSlice<S>::bundle(const MergeContext<S>& context, const FeatureSe
                           Eigen::Vector3d(wp, wp, wq)});
   }
   bundle_.push_back(std::move(frame));
-  while (bundle_.size() > static_cast<size_t>(bundle_frames())) bundle_.erase(bundle_.begin());
+  // Frames before the last bundle_frames stay in the bundle, fixed, for their observations: a
+  // landmark seen long before keeps what those frames said of it (its place is not re-decided
+  // by the last few views alone).
+  const size_t window = static_cast<size_t>(bundle_frames());
+  while (bundle_.size() > kBundleHistory * window) bundle_.erase(bundle_.begin());
   if (bundle_.size() < 2 || frames_ % static_cast<uint64_t>(bundle_every()) != 0) return;
   Stopwatch watch(bundle_s_);
-  // The first frame ties the bundle to the poses before it (the map's origin, or frames the
-  // bundle no longer holds): it stays. The frame just merged moves with the rest, and the tracker
-  // takes its refined pose. A planar robot's poses are the tracker's own: only the landmarks move.
-  for (size_t k = 0; k < bundle_.size(); ++k) bundle_[k].fixed = S::kDim == 2 || k == 0;
+  // The oldest frame ties the bundle to the poses before it: it stays. The frame just merged
+  // moves with the others of the window, and the tracker takes its refined pose. A planar robot's
+  // poses are the tracker's own: only the landmarks move.
+  for (size_t k = 0; k < bundle_.size(); ++k)
+    bundle_[k].fixed = S::kDim == 2 || k == 0 || k + window < bundle_.size();
   const BundleResult r = adjustBundle(bundle_, map);
   ++bundles_;
   if constexpr (S::kDim == 3)
@@ -285,6 +290,11 @@ void LandmarkMapSlice<S>::handOver(const PropertyContainer& previous, PropertyCo
     map.descriptors.insert(map.descriptors.end(), old->descriptor(j), old->descriptor(j) + bytes);
   }
   map.touch();
+  // The bundle's frames saw the landmarks carried over: they go on, in the new map's frame.
+  if (bundle_map_ == old) {
+    for (BundleFrame& f : bundle_) f.pose = to_new * f.pose;
+    bundle_map_ = &map;
+  }
 }
 
 template <class S>

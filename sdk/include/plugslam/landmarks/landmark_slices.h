@@ -184,9 +184,10 @@ class LandmarkMapSlice final : public TrackerSlice<S>,
                                 Range{0, 1}};
   Param<int> bundle_frames{this, "bundle_frames", 0, "frames",
                            "a local bundle adjustment refines the landmarks the map's last this "
-                           "many frames observed and those frames' poses but the first, the "
-                           "frame just merged's included (a planar robot's poses stay as "
-                           "tracked); 0: none",
+                           "many frames observed and those frames' poses, the frame just "
+                           "merged's included, with the observations of the twice as many "
+                           "frames before (fixed; a planar robot's poses stay as tracked); 0: "
+                           "none",
                            Range{0, 1000}};
   Param<int> bundle_every{this, "bundle_every", 5, "frames",
                           "frames between two bundle adjustments", Range{1, 1000000}};
@@ -216,6 +217,8 @@ class LandmarkMapSlice final : public TrackerSlice<S>,
   FeatureGrid grid_;
   std::vector<LandmarkMatch> matches_;
   std::vector<bool> visible_;
+  // The frames a bundle keeps, in windows: the last window's poses move, the older stay.
+  static constexpr size_t kBundleHistory = 3;
   std::vector<BundleFrame> bundle_;          // the current map's last frames
   const LandmarkMap* bundle_map_ = nullptr;  // the map they belong to
   std::optional<Pose> refined_;              // the last frame as the last bundle placed it
