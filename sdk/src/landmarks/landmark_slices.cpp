@@ -228,11 +228,6 @@ template <class S>
 void LandmarkMapSlice<S>::bundle(const MergeContext<S>& context, const FeatureSet& f,
                                  LandmarkMap& map,
                                  const std::vector<std::pair<size_t, uint64_t>>& observed) {
-  refined_.reset();
-  if (&map != bundle_map_) {  // a new local map: its frames start over
-    bundle_.clear();
-    bundle_map_ = &map;
-  }
   BundleFrame frame;
   frame.seq = context.seq;
   frame.pose = S::to3D(context.pose);
@@ -291,9 +286,10 @@ void LandmarkMapSlice<S>::handOver(const PropertyContainer& previous, PropertyCo
   }
   map.touch();
   // The bundle's frames saw the landmarks carried over: they go on, in the new map's frame.
-  if (bundle_map_ == old) {
+  if (bundle_map_ == old && old->revision == bundle_revision_) {
     for (BundleFrame& f : bundle_) f.pose = to_new * f.pose;
     bundle_map_ = &map;
+    bundle_revision_ = map.revision;
   }
 }
 
@@ -301,6 +297,7 @@ template <class S>
 void LandmarkMapSlice<S>::integrate(const MergeContext<S>& context) {
   const Pose& t = context.pose;
   last_matched_ = last_created_ = last_pruned_ = 0;
+  refined_.reset();
   const FeatureSet* f = measurement.get();
   if (f->empty()) return;
   Stopwatch watch(time_s_);
@@ -311,6 +308,12 @@ void LandmarkMapSlice<S>::integrate(const MergeContext<S>& context) {
     map->descriptor_bytes = f->descriptor_bytes;
   }
   map->checkConsistent();
+  // The bundle's frames are those of the map this slice last merged into, as it left it (another
+  // map, or one changed since, starts them over).
+  if (map != bundle_map_ || map->revision != bundle_revision_) {
+    bundle_.clear();
+    bundle_map_ = map;
+  }
   if (map->empty()) map->descriptor_bytes = f->descriptor_bytes;
   if (map->descriptor_bytes != f->descriptor_bytes)
     throw InputError("LandmarkMapSlice: the map's descriptors have " +
@@ -382,6 +385,7 @@ void LandmarkMapSlice<S>::integrate(const MergeContext<S>& context) {
   else
     map->touch();
   if (bundle_frames() > 0) bundle(context, *f, *map, observed);
+  bundle_revision_ = map->revision;
   ++frames_;
   matched_ += last_matched_;
   created_ += last_created_;

@@ -221,6 +221,7 @@ class LandmarkMapSlice final : public TrackerSlice<S>,
   static constexpr size_t kBundleHistory = 3;
   std::vector<BundleFrame> bundle_;          // the current map's last frames
   const LandmarkMap* bundle_map_ = nullptr;  // the map they belong to
+  uint64_t bundle_revision_ = 0;             // its revision when this slice last changed it
   std::optional<Pose> refined_;              // the last frame as the last bundle placed it
   uint64_t bundles_ = 0;
   double bundle_s_ = 0;
