@@ -31,6 +31,19 @@ typename Eigen::Matrix<double, 3, S::kDof> restrictJacobian(const Eigen::Matrix<
     return out;
   }
 }
+
+// Keypoint i as the landmark factor measures it: (u, v, 1/z) and the information of each (the
+// inverse depth has none without `depth`).
+struct KeypointObservation {
+  Eigen::Vector3d measured;
+  Eigen::Vector3d information;
+};
+KeypointObservation observationOf(const FeatureSet& f, size_t i, bool depth) {
+  const double wp = 1.0 / (f.pixel_sigma[i] * f.pixel_sigma[i]);
+  const double wq = depth ? 1.0 / (f.inverse_depth_sigma[i] * f.inverse_depth_sigma[i]) : 0.0;
+  return {Eigen::Vector3d(f.pixels[i].x(), f.pixels[i].y(), depth ? f.inverse_depth[i] : 0.0),
+          Eigen::Vector3d(wp, wp, wq)};
+}
 }  // namespace
 
 template <class S>
@@ -146,16 +159,15 @@ void ReprojectionSlice<S>::linearize(const Pose& t, NormalEquations<S>& eq) cons
   for (const LandmarkMatch& m : matches_) {
     const size_t i = static_cast<size_t>(m.feature);
     const bool depth = use_depth() && f.hasDepth(i);
-    const double wp = 1.0 / (f.pixel_sigma[i] * f.pixel_sigma[i]);
-    const double wq = depth ? 1.0 / (f.inverse_depth_sigma[i] * f.inverse_depth_sigma[i]) : 0.0;
-    const LandmarkReprojection<S> factor{
-        f.mount, f.camera, scene->positions[m.landmark],
-        Eigen::Vector3d(f.pixels[i].x(), f.pixels[i].y(), depth ? f.inverse_depth[i] : 0)};
+    const KeypointObservation o = observationOf(f, i, depth);
+    const double wp = o.information.x(), wq = o.information.z();
+    const LandmarkReprojection<S> factor{f.mount, f.camera, scene->positions[m.landmark],
+                                         o.measured};
     // Inliers: within the chi-square 95 % band of the residual's dimensions.
     Robust robust{kernel_.get()};
     robust.inlier_chi2 = kInlierChi2[depth ? 3 : 2];
     if (!landmark_uncertainty()) {
-      eq.addDiagonal(factor, t, Eigen::Vector3d(wp, wp, wq), robust);
+      eq.addDiagonal(factor, t, o.information, robust);
       continue;
     }
     // The residual's covariance is the keypoint's plus the landmark's, carried into (u, v, 1/z)
@@ -235,13 +247,8 @@ void LandmarkMapSlice<S>::bundle(const MergeContext<S>& context, const FeatureSe
   frame.camera = f.camera;
   frame.observations.reserve(observed.size());
   for (const auto& [i, id] : observed) {
-    const bool depth = f.hasDepth(i);
-    const double wp = 1.0 / (f.pixel_sigma[i] * f.pixel_sigma[i]);
-    const double wq = depth ? 1.0 / (f.inverse_depth_sigma[i] * f.inverse_depth_sigma[i]) : 0.0;
-    frame.observations.push_back(
-        BundleObservation{id, Eigen::Vector3d(f.pixels[i].x(), f.pixels[i].y(),
-                                              depth ? f.inverse_depth[i] : 0.0),
-                          Eigen::Vector3d(wp, wp, wq)});
+    const KeypointObservation o = observationOf(f, i, f.hasDepth(i));
+    frame.observations.push_back(BundleObservation{id, o.measured, o.information});
   }
   bundle_.push_back(std::move(frame));
   // Frames before the last bundle_frames stay in the bundle, fixed, for their observations: a
