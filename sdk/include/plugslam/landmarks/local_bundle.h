@@ -46,8 +46,8 @@ struct BundleResult {
   double chi2_after = 0;   ///< and after
 };
 
-/// Refines the landmarks of `map` that two or more of `frames` observed, and the poses of the
-/// frames not `fixed`, by minimising the observations' robust reprojection error; writes the
+/// Refines the landmarks of `map` that two or more of `frames` observed (one of them not `fixed`,
+/// when any is not), and the poses of the frames not `fixed`, by minimising the observations' robust reprojection error; writes the
 /// refined positions into `map` and the poses into `frames`. A landmark no longer in the map is
 /// skipped. Leaves everything as it was when the solve does not lower the cost.
 BundleResult adjustBundle(std::vector<BundleFrame>& frames, LandmarkMap& map,
