@@ -1,6 +1,7 @@
 #include "simulator3d_source.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "plugslam/errors.h"
 #include "sim3d/odometry.h"
@@ -24,6 +25,12 @@ void Simulator3DSource::configure() {
   o.duration = duration();
   o.speed = speed();
   o.acceleration = acceleration();
+  o.pan = pan() * M_PI / 180.0;
+  o.pan_period = pan_period();
+  if (pan() != 0.0 && !odometry().empty())
+    throw ParamError("pan",
+                     "a panned camera turns on the vehicle: its wheel odometry would not follow "
+                     "the camera (set pan: 0 or odometry: '')");
   for (int k : drop_frames())
     if (k < 0) throw ParamError("drop_frames", "frame indices must be >= 0");
   o.seed = static_cast<uint64_t>(seed());

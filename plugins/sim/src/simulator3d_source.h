@@ -55,6 +55,14 @@ class Simulator3DSource : public Source {
                              "generated street drive: start standing and speed up at this rate "
                              "to `speed` (0: at speed from the first frame)",
                              Range{0.0, 100.0}};
+  // Turning is what a camera's own rotation estimate is least sure of (every pixel moves, near
+  // and far alike): a panned camera stresses it beyond what the path's own turns do.
+  Param<double> pan{this, "pan", 0.0, "deg",
+                    "the camera's heading swings this far either side of the path's (a camera "
+                    "panned by hand or on a turret); 0 = fixed on the path",
+                    Range{0.0, 180.0}};
+  Param<double> pan_period{this, "pan_period", 2.0, "s", "one pan swing there and back",
+                           Range{0.1, 1e6}};
   // A camera driver that loses frames (a full buffer, a busy bus) delivers the next one late:
   // the motion between two delivered frames is then several steps long.
   Param<std::vector<int>> drop_frames{this, "drop_frames", {}, "",

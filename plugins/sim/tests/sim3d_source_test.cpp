@@ -92,6 +92,35 @@ TEST(Simulator3DSource, BadParametersAreRejected) {
   EXPECT_THROW(missing.configure(), InputError);
 }
 
+TEST(Simulator3DSource, APannedCameraTurnsAboutTheVerticalOnTheSamePath) {
+  Simulator3DSource still, panned;
+  still.duration = 2.0;
+  panned.duration = 2.0;
+  panned.pan = 60.0;
+  panned.pan_period = 2.0;
+  still.configure();
+  panned.configure();
+  const Trajectory& a = still.simulator().trajectory();
+  const Trajectory& b = panned.simulator().trajectory();
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t k = 0; k < a.size(); ++k) {
+    EXPECT_TRUE(a[k].pose.translation().isApprox(b[k].pose.translation(), 1e-12)) << k;
+    // Turned about the world's vertical (z up) by 60 deg * sin(2 pi t / 2 s).
+    const double angle = M_PI / 3.0 * std::sin(M_PI * a[k].t);
+    const Eigen::Matrix3d turn = b[k].pose.linear() * a[k].pose.linear().transpose();
+    EXPECT_TRUE(
+        turn.isApprox(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()).toRotationMatrix(), 1e-9))
+        << k;
+  }
+  // The vehicle's wheel odometry cannot follow a camera turning on it.
+  Simulator3DSource on_car;
+  on_car.world = std::string("street");
+  on_car.camera = std::string("stereo");
+  on_car.odometry = std::string("odom");
+  on_car.pan = 30.0;
+  EXPECT_THROW(on_car.configure(), ParamError);
+}
+
 // The real trajectory's relative motion is kept exactly (up to the anchoring transform).
 void expectSameMotion(const Trajectory& file, const Trajectory& sim, size_t stride) {
   ASSERT_EQ(file.size(), sim.size());

@@ -63,6 +63,7 @@ Simulator3D Simulator3D::fromOptions(const ScenarioOptions& o) {
           anchorTrajectory(trajectory, o.world == "street" ? streetStart() : livingRoomStart());
     if (o.world == "street") road = roadUnder(trajectory, camera_height, 3.0);
   }
+  if (o.pan != 0.0) trajectory = panTrajectory(trajectory, o.pan, o.pan_period);
   const PinholeCamera camera = stereo ? PinholeCamera::kitti() : PinholeCamera::vga();
   return Simulator3D(makeWorld(o.world, o.seed, road), o.rig, camera, 0.54, std::move(trajectory),
                      o.depth_noise, o.image_noise, o.seed);

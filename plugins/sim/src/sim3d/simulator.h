@@ -38,6 +38,9 @@ struct ScenarioOptions {
   double speed = 8.0;      ///< generated street drive speed [m/s]
   /// Generated street drive: starts standing and speeds up at this rate [m/s^2]; 0 = at speed.
   double acceleration = 0.0;
+  /// The camera's heading swings this far either side of the trajectory's [rad]; 0 = none.
+  double pan = 0.0;
+  double pan_period = 2.0;  ///< one swing there and back [s]
   uint64_t seed = 0;       ///< textures, buildings and every noise stream
   DepthNoise depth_noise;  ///< RGB-D depth errors
   ImageNoise image_noise;  ///< image noise and exposure

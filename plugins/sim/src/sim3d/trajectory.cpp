@@ -88,6 +88,19 @@ Trajectory anchorTrajectory(const Trajectory& trajectory, const Eigen::Isometry3
   return out;
 }
 
+Trajectory panTrajectory(const Trajectory& trajectory, double amplitude, double period) {
+  if (!(period > 0)) throw InputError("sim3d panTrajectory: period must be positive");
+  Trajectory out;
+  const double t0 = trajectory.empty() ? 0.0 : trajectory.startTime();
+  for (const StampedPose& p : trajectory) {
+    const double a = amplitude * std::sin(2.0 * M_PI * (p.t - t0) / period);
+    Eigen::Isometry3d pose = p.pose;
+    pose.linear() = Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()) * p.pose.linear();
+    out.push_back(p.t, pose);
+  }
+  return out;
+}
+
 Trajectory resampleTrajectory(const Trajectory& tr, double rate) {
   if (!(rate > 0)) throw InputError("sim3d resampleTrajectory: rate must be positive");
   if (tr.size() < 2) throw InputError("sim3d resampleTrajectory: needs at least two poses");

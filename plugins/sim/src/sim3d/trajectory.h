@@ -32,6 +32,10 @@ Eigen::Isometry3d livingRoomStart();
 /// The street's anchor for loaded trajectories: the origin, 1.65 m up, looking along +x.
 Eigen::Isometry3d streetStart();
 
+/// Turns each pose about the world's vertical through the camera by amplitude * sin(2 pi t /
+/// period) [rad, s]: a camera panned from side to side as it moves along the trajectory.
+Trajectory panTrajectory(const Trajectory& trajectory, double amplitude, double period);
+
 /// Moves a trajectory rigidly so its first pose becomes `start` (relative motion unchanged).
 Trajectory anchorTrajectory(const Trajectory& trajectory, const Eigen::Isometry3d& start);
 
